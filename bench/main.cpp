@@ -1,0 +1,48 @@
+// hail-bench: the benchmark tool. Every time it prints comes with the run's error figures,
+// the machine, the SIMD path and a hash of the final state.
+
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "kernel/errors.h"
+#include "run_command.h"
+#include "scenes.h"
+
+namespace {
+
+void print_help() {
+  std::puts(
+      "usage: hail-bench <command> [options]\n"
+      "\n"
+      "commands:\n"
+      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--json FILE] [--quiet]\n"
+      "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
+      "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash)\n"
+      "\n"
+      "scenes (shared/scenes/README.md):");
+  for (const auto& s : hail::bench::scene_registry()) std::printf("  %-14s %s\n", s.name, s.summary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    print_help();
+    return args.empty() ? 2 : 0;
+  }
+  try {
+    const std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (args[0] == "run") return hail::bench::run_command(rest);
+    std::fprintf(stderr, "hail-bench: unknown command '%s' (try --help)\n", args[0].c_str());
+    return 2;
+  } catch (const hail::InvalidArgument& e) {
+    std::fprintf(stderr, "hail-bench: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hail-bench: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,76 @@
+#include "metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace hail::bench {
+namespace {
+
+double max_pair_overlap(const SphereSoA& s) {
+  const std::size_t n = s.size();
+  float max_radius = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, s.radius[i]);
+  if (n < 2 || max_radius <= 0.0f) return 0.0;
+  const double cell = 2.0 * max_radius;
+  auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^
+           (static_cast<std::uint64_t>(z) * 83492791u);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+  grid.reserve(n);
+  std::vector<std::int64_t> cx(n), cy(n), cz(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(s.px[i]) || !std::isfinite(s.py[i]) || !std::isfinite(s.pz[i])) continue;
+    cx[i] = static_cast<std::int64_t>(std::floor(s.px[i] / cell));
+    cy[i] = static_cast<std::int64_t>(std::floor(s.py[i] / cell));
+    cz[i] = static_cast<std::int64_t>(std::floor(s.pz[i] / cell));
+    grid[key(cx[i], cy[i], cz[i])].push_back(static_cast<std::uint32_t>(i));
+  }
+  double deepest = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(s.px[i]) || !std::isfinite(s.py[i]) || !std::isfinite(s.pz[i])) continue;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find(key(cx[i] + dx, cy[i] + dy, cz[i] + dz));
+          if (it == grid.end()) continue;
+          for (std::uint32_t j : it->second) {
+            if (j <= i) continue;
+            const double ddx = double(s.px[j]) - s.px[i], ddy = double(s.py[j]) - s.py[i], ddz = double(s.pz[j]) - s.pz[i];
+            const double overlap = double(s.radius[i]) + s.radius[j] - std::sqrt(ddx * ddx + ddy * ddy + ddz * ddz);
+            deepest = std::max(deepest, overlap);
+          }
+        }
+  }
+  return deepest;
+}
+
+}  // namespace
+
+ErrorFigures measure_errors(const Scene& scene) {
+  const World& world = *scene.world;
+  const SphereSoA& s = world.soa();
+  ErrorFigures e;
+  e.nan_count = world.nan_count();
+  e.kinetic_energy = world.kinetic_energy();
+  e.max_sphere_penetration = max_pair_overlap(s);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    for (const Plane& p : world.planes())
+      e.max_terrain_penetration = std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));
+    if (!scene.ground_height) continue;
+    const float x = s.px[i], z = s.pz[i];
+    if (!(x >= scene.min_x && x <= scene.max_x && z >= scene.min_z && z <= scene.max_z)) {
+      ++e.fell_off;
+      continue;
+    }
+    const double ground = scene.ground_height(x, z);
+    if (s.py[i] < ground) ++e.tunnelled;
+    e.max_terrain_penetration = std::max(e.max_terrain_penetration, ground - (double(s.py[i]) - s.radius[i]));
+  }
+  return e;
+}
+
+}  // namespace hail::bench

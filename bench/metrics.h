@@ -1,0 +1,22 @@
+#pragma once
+// Error figures every benchmark run reports next to its time. Computed independently of the
+// kernel's own contact lists (a grid hash here), so a kernel bug cannot hide its own overlap.
+
+#include <cstddef>
+
+#include "scenes.h"
+
+namespace hail::bench {
+
+struct ErrorFigures {
+  double max_sphere_penetration = 0;   ///< m, deepest overlap of two spheres
+  double max_terrain_penetration = 0;  ///< m, deepest sphere below the ground surface (vertical)
+  std::size_t tunnelled = 0;           ///< centres below the ground at their (x, z)
+  std::size_t fell_off = 0;            ///< centres outside the ground's x/z extent
+  std::size_t nan_count = 0;
+  double kinetic_energy = 0;           ///< J
+};
+
+ErrorFigures measure_errors(const Scene& scene);
+
+}  // namespace hail::bench

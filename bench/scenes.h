@@ -1,0 +1,44 @@
+#pragma once
+// The benchmark scenes of shared/scenes/README.md, built exactly as defined there so that runs
+// compare with other engines' runs of the same scene.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kernel/world.h"
+
+namespace hail::bench {
+
+struct SceneParams {
+  std::size_t spheres = 4000;
+  int threads = 0;
+  float dt = 1.0f / 60.0f;
+};
+
+/// What a scene builds and how its results are judged.
+struct Scene {
+  std::unique_ptr<World> world;
+  int default_steps = 600;
+  bool has_terrain = false;
+  /// Height of the ground under (x, z), for tunnelling checks; empty when there is none.
+  std::function<float(float, float)> ground_height;
+  float min_x = 0, max_x = 0, min_z = 0, max_z = 0;  ///< ground extent (fell_off outside)
+  std::string description;
+};
+
+using SceneBuilder = Scene (*)(const SceneParams&);
+
+struct SceneEntry {
+  const char* name;
+  const char* summary;
+  SceneBuilder build;
+};
+
+/// Every scene hail-bench knows.
+const std::vector<SceneEntry>& scene_registry();
+
+Scene build_implosion(const SceneParams& params);
+
+}  // namespace hail::bench

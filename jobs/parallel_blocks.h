@@ -1,0 +1,39 @@
+#pragma once
+// jobs/ decides how a step's work is spread over threads. Everything here splits work into
+// blocks whose boundaries depend only on the problem size, never on the thread count, and
+// callers merge per-block output in block order: that is what makes a step bitwise identical
+// for 1 thread or 16.
+
+#include <algorithm>
+#include <cstddef>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
+namespace hail {
+
+/// Calls f(block, begin, end) for the fixed blocks [k * block_size, (k+1) * block_size) of
+/// [0, count), in parallel when there is more than one block.
+template <class F>
+void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
+  const std::size_t blocks = (count + block_size - 1) / block_size;
+  if (blocks == 0) return;
+  if (blocks == 1) {
+    f(std::size_t{0}, std::size_t{0}, count);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, blocks, 1),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) f(b, b * block_size, std::min(count, (b + 1) * block_size));
+      },
+      tbb::simple_partitioner());
+}
+
+/// Number of fixed blocks of block_size covering count items.
+constexpr std::size_t block_count(std::size_t count, std::size_t block_size) {
+  return (count + block_size - 1) / block_size;
+}
+
+}  // namespace hail

@@ -1,0 +1,174 @@
+// World::step: the phases of one step, in order, each a parallel loop over fixed blocks.
+//
+//   predict      v += g dt; largest speed (sizes the speculative contact margin)
+//   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
+//                time; per-block buffers merged in block order
+//   solve        contacts coloured so that a colour has no shared sphere; colours solved one
+//                after another, each in parallel: collision passes, then resting passes
+//   integrate    positions, with exact time-of-impact bounces on planes
+//   depenetrate  push overlapping spheres apart, colour by colour
+//
+// Nothing here depends on the thread count except which thread runs a block, so the state
+// after a step is bitwise the same for any number of threads.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <oneapi/tbb/parallel_invoke.h>
+
+#include "jobs/parallel_blocks.h"
+#include "jobs/phase_timer.h"
+#include "kernel/contact_impulse.h"
+#include "kernel/world.h"
+
+namespace hail {
+
+namespace {
+constexpr std::size_t kSphereBlock = 1024;   // spheres per block in per-sphere phases
+constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
+constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
+}  // namespace
+
+struct StepPipeline {
+  World& w;
+  IntegrationParams params;
+
+  void predict(float& margin) {
+    SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    w.block_max_speed_.assign(block_count(n, kSphereBlock), 0.0f);
+    for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      w.block_max_speed_[b] = predict_velocities(s, first, last, params);
+    });
+    float max_speed = 0.0f, max_radius = 0.0f;
+    for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
+    for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, s.radius[i]);
+    margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
+  }
+
+  void detect_static() {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kSphereBlock);
+    if (w.contact_blocks_.size() < blocks) w.contact_blocks_.resize(blocks);
+    for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      w.contact_blocks_[b].clear();
+      find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
+    });
+  }
+
+  void detect_pairs(float margin) {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kPairRowBlock);
+    if (w.pair_blocks_.size() < blocks) w.pair_blocks_.resize(blocks);
+    for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      w.pair_blocks_[b].clear();
+      if (w.settings_.sphere_collisions) find_sphere_pairs_simd(s, first, last, margin, w.pair_blocks_[b]);
+    });
+  }
+
+  void merge_contacts() {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    w.contacts_.clear();
+    for (std::size_t b = 0; b < block_count(n, kSphereBlock); ++b)
+      w.contacts_.insert(w.contacts_.end(), w.contact_blocks_[b].begin(), w.contact_blocks_[b].end());
+    w.stats_.static_contacts = w.contacts_.size();
+    for (std::size_t b = 0; b < block_count(n, kPairRowBlock); ++b)
+      for (const SpherePair& pair : w.pair_blocks_[b]) w.contacts_.push_back(make_sphere_contact(s, pair));
+    w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
+  }
+
+  /// Runs f(contact) over every contact, colour after colour; contacts of one colour in parallel.
+  template <class F>
+  void for_each_contact_by_colour(F&& f) {
+    const ContactColouring& col = w.colouring_;
+    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
+      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
+      auto run = [&](std::size_t, std::size_t first, std::size_t last) {
+        for (std::size_t k = begin + first; k < begin + last; ++k) f(w.contacts_[col.order[k]]);
+      };
+      if (col.is_serial(colour))
+        run(0, 0, end - begin);
+      else
+        for_each_block(end - begin, kContactChunk, run);
+    }
+  }
+
+  void solve() {
+    SphereSoA& s = w.spheres_;
+    colour_contacts(w.contacts_, s.size(), w.colouring_);
+    w.stats_.colours = w.colouring_.colour_count();
+    w.stats_.collision_passes = 0;
+    const float threshold = params.restitution_threshold;
+    for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
+      std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
+      for_each_contact_by_colour([&](Contact& c) {
+        ContactBodies bodies = gather_bodies(s, c);
+        if (solve_collision(c, bodies, params.dt, threshold)) {
+          scatter_bodies(s, c, bodies);
+          any.store(true, std::memory_order_relaxed);
+        }
+      });
+      if (!any.load()) break;
+      ++w.stats_.collision_passes;
+    }
+    const float inv_dt = 1.0f / params.dt;
+    for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
+      for_each_contact_by_colour([&](Contact& c) {
+        ContactBodies bodies = gather_bodies(s, c);
+        solve_resting(c, bodies, inv_dt);
+        scatter_bodies(s, c, bodies);
+      });
+    }
+  }
+
+  void integrate() {
+    SphereSoA& s = w.spheres_;
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      integrate_positions(s, first, last, w.planes_, params);
+    });
+  }
+
+  void depenetrate() {
+    SphereSoA& s = w.spheres_;
+    for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass)
+      for_each_contact_by_colour([&](Contact& c) { push_apart(s, c, w.settings_.depenetration); });
+  }
+
+  void run() {
+    PhaseTimes& t = w.times_;
+    float margin = 0.0f;
+    { ScopedPhaseTimer timer(t.predict); predict(margin); }
+    {
+      double both = 0.0;
+      ScopedPhaseTimer timer(both);
+      tbb::parallel_invoke([&] { ScopedPhaseTimer inner(t.detect_terrain); detect_static(); },
+                           [&] { ScopedPhaseTimer inner(t.detect_pairs); detect_pairs(margin); });
+    }
+    { ScopedPhaseTimer timer(t.solve); merge_contacts(); solve(); }
+    { ScopedPhaseTimer timer(t.integrate); integrate(); }
+    { ScopedPhaseTimer timer(t.depenetrate); depenetrate(); }
+  }
+};
+
+void World::step(float dt) {
+  if (!(std::isfinite(dt) && dt > 0.0f))
+    throw InvalidArgument("hail: World::step dt must be finite and > 0, got " + std::to_string(dt));
+  const float scaled = dt * settings_.time_scale;
+  times_ = {};
+  if (scaled <= 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
+  StepPipeline pipeline{*this, {}};
+  pipeline.params.integrator = settings_.integrator;
+  pipeline.params.gravity[0] = settings_.gravity.x();
+  pipeline.params.gravity[1] = settings_.gravity.y();
+  pipeline.params.gravity[2] = settings_.gravity.z();
+  pipeline.params.dt = scaled;
+  // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
+  pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
+  arena_->execute([&] { pipeline.run(); });
+}
+
+}  // namespace hail

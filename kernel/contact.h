@@ -1,0 +1,26 @@
+#pragma once
+// A contact between a sphere and another sphere or a static surface (plane, terrain).
+// Contacts are plain data produced by the detect phase and consumed by solve and depenetrate.
+
+#include <cstdint>
+
+namespace hail {
+
+/// `Contact::b` of a contact whose second body is static geometry (infinite mass).
+inline constexpr std::uint32_t kStaticBody = 0xFFFFFFFFu;
+
+struct Contact {
+  std::uint32_t a = 0;            ///< dense slot of the first sphere
+  std::uint32_t b = kStaticBody;  ///< dense slot of the second sphere, or kStaticBody
+  float nx = 0, ny = 1, nz = 0;   ///< unit normal pointing from a towards b (into the surface)
+  float gap = 0;                  ///< signed distance between surfaces: < 0 overlapping, > 0 speculative
+  float restitution = 0;          ///< effective: min of the two
+  float friction = 0;             ///< effective: sqrt of the product (geometric mean)
+  float normal_impulse = 0;       ///< accumulated by the resting-contact passes, N s
+  float tx = 0, ty = 0, tz = 0;   ///< accumulated friction impulse, N s
+  /// For static contacts the surface is linearised as the plane {x : n.x = surface_d}, so the
+  /// gap after the sphere moves is surface_d - n.x - r (depenetration recomputes it this way).
+  float surface_d = 0;
+};
+
+}  // namespace hail

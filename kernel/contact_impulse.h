@@ -1,0 +1,167 @@
+#pragma once
+// Per-contact impulse rules (after "Game Physics Cookbook", with its known traps removed).
+//
+// The solver runs two kinds of pass (Guendelman, Bridson & Fedkiw 2003, "Nonconvex rigid
+// bodies with stacking"):
+//  * collision passes: every contact closing faster than the restitution threshold gets the
+//    impulse j = (1 + e) * closing / K computed from the *current* relative velocity, so chains
+//    of contacts pass momentum along one by one (Newton's cradle gives its textbook answer);
+//  * resting passes: accumulated, clamped impulses (Catto's sequential impulses) driving the
+//    closing speed to zero (or to what closes a speculative gap), with friction clamped to
+//    +-mu * (the same contact's accumulated normal impulse).
+// Friction in both: a Coulomb cone around the tangential slip, with the angular impulse so that
+// spheres spin and roll. No damping, no snapping of small velocities to zero.
+
+#include <cmath>
+
+#include "kernel/contact.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+/// Velocity state of one contact's two bodies, gathered from the SoA (static side: all zero).
+struct ContactBodies {
+  float ima = 0, iia = 0, ra = 0;  // inverse mass, inverse inertia, radius of a
+  float imb = 0, iib = 0, rb = 0;
+  float va[3] = {0, 0, 0}, wa[3] = {0, 0, 0};
+  float vb[3] = {0, 0, 0}, wb[3] = {0, 0, 0};
+};
+
+inline ContactBodies gather_bodies(const SphereSoA& s, const Contact& c) {
+  ContactBodies k;
+  const std::uint32_t a = c.a;
+  k.ima = s.inv_mass[a]; k.iia = s.inv_inertia[a]; k.ra = s.radius[a];
+  k.va[0] = s.vx[a]; k.va[1] = s.vy[a]; k.va[2] = s.vz[a];
+  k.wa[0] = s.wx[a]; k.wa[1] = s.wy[a]; k.wa[2] = s.wz[a];
+  if (c.b != kStaticBody) {
+    const std::uint32_t b = c.b;
+    k.imb = s.inv_mass[b]; k.iib = s.inv_inertia[b]; k.rb = s.radius[b];
+    k.vb[0] = s.vx[b]; k.vb[1] = s.vy[b]; k.vb[2] = s.vz[b];
+    k.wb[0] = s.wx[b]; k.wb[1] = s.wy[b]; k.wb[2] = s.wz[b];
+  }
+  return k;
+}
+
+inline void scatter_bodies(SphereSoA& s, const Contact& c, const ContactBodies& k) {
+  const std::uint32_t a = c.a;
+  s.vx[a] = k.va[0]; s.vy[a] = k.va[1]; s.vz[a] = k.va[2];
+  s.wx[a] = k.wa[0]; s.wy[a] = k.wa[1]; s.wz[a] = k.wa[2];
+  if (c.b != kStaticBody) {
+    const std::uint32_t b = c.b;
+    s.vx[b] = k.vb[0]; s.vy[b] = k.vb[1]; s.vz[b] = k.vb[2];
+    s.wx[b] = k.wb[0]; s.wy[b] = k.wb[1]; s.wz[b] = k.wb[2];
+  }
+}
+
+/// Velocity of b relative to a at the contact point. The contact point sits at +n ra from a's
+/// centre and -n rb from b's, so w x r contributes the rolling/spinning part.
+inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, float out[3]) {
+  const float n[3] = {c.nx, c.ny, c.nz};
+  const float ra[3] = {n[0] * k.ra, n[1] * k.ra, n[2] * k.ra};
+  const float rb[3] = {-n[0] * k.rb, -n[1] * k.rb, -n[2] * k.rb};
+  const float wa_x_ra[3] = {k.wa[1] * ra[2] - k.wa[2] * ra[1], k.wa[2] * ra[0] - k.wa[0] * ra[2],
+                            k.wa[0] * ra[1] - k.wa[1] * ra[0]};
+  const float wb_x_rb[3] = {k.wb[1] * rb[2] - k.wb[2] * rb[1], k.wb[2] * rb[0] - k.wb[0] * rb[2],
+                            k.wb[0] * rb[1] - k.wb[1] * rb[0]};
+  for (int d = 0; d < 3; ++d) out[d] = (k.vb[d] + wb_x_rb[d]) - (k.va[d] + wa_x_ra[d]);
+}
+
+/// Applies impulse p (N s) to b at its contact point and -p to a at its contact point.
+inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
+  const float n[3] = {c.nx, c.ny, c.nz};
+  const float ra[3] = {n[0] * k.ra, n[1] * k.ra, n[2] * k.ra};
+  const float rb[3] = {-n[0] * k.rb, -n[1] * k.rb, -n[2] * k.rb};
+  const float ra_x_p[3] = {ra[1] * p[2] - ra[2] * p[1], ra[2] * p[0] - ra[0] * p[2], ra[0] * p[1] - ra[1] * p[0]};
+  const float rb_x_p[3] = {rb[1] * p[2] - rb[2] * p[1], rb[2] * p[0] - rb[0] * p[2], rb[0] * p[1] - rb[1] * p[0]};
+  for (int d = 0; d < 3; ++d) {
+    k.va[d] -= p[d] * k.ima;
+    k.wa[d] -= ra_x_p[d] * k.iia;
+    k.vb[d] += p[d] * k.imb;
+    k.wb[d] += rb_x_p[d] * k.iib;
+  }
+}
+
+/// Effective mass denominators: along the normal (no lever arm for spheres) and tangentially.
+inline float normal_mass_denominator(const ContactBodies& k) { return k.ima + k.imb; }
+inline float tangent_mass_denominator(const ContactBodies& k) {
+  return k.ima + k.imb + k.ra * k.ra * k.iia + k.rb * k.rb * k.iib;
+}
+
+/// Friction impulse opposing the current slip, limited to the cone |p_t| <= limit.
+/// `accumulated` is the friction impulse already applied at this contact (resting passes);
+/// returns the new accumulated value and applies only the difference.
+inline void apply_friction(const Contact& c, ContactBodies& k, float limit, float accumulated[3]) {
+  float v[3];
+  relative_contact_velocity(c, k, v);
+  const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
+  const float vt[3] = {v[0] - vn * c.nx, v[1] - vn * c.ny, v[2] - vn * c.nz};
+  const float kt = tangent_mass_denominator(k);
+  if (kt <= 0.0f) return;
+  float target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
+  const float len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
+  if (len2 > limit * limit) {
+    const float scale = limit / std::sqrt(len2);
+    for (float& t : target) t *= scale;
+  }
+  const float delta[3] = {target[0] - accumulated[0], target[1] - accumulated[1], target[2] - accumulated[2]};
+  apply_impulse(c, k, delta);
+  for (int d = 0; d < 3; ++d) accumulated[d] = target[d];
+}
+
+/// Impact found by the integrator at its exact time: bounce with restitution when closing
+/// faster than the threshold, else stop the closing motion; friction within mu * j.
+inline void solve_impact(const Contact& c, ContactBodies& k, float restitution_threshold) {
+  float v[3];
+  relative_contact_velocity(c, k, v);
+  const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
+  const float kn = normal_mass_denominator(k);
+  if (closing <= 0.0f || kn <= 0.0f) return;
+  const float e = closing > restitution_threshold ? c.restitution : 0.0f;
+  const float j = (1.0f + e) * closing / kn;
+  const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
+  apply_impulse(c, k, p);
+  float fresh[3] = {0, 0, 0};
+  apply_friction(c, k, c.friction * j, fresh);
+}
+
+/// Collision pass on one contact. Returns true when it applied an impulse.
+/// A speculative contact (gap > 0) collides only if it closes the gap within dt.
+inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
+  float v[3];
+  relative_contact_velocity(c, k, v);
+  const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
+  if (closing <= restitution_threshold) return false;
+  if (c.gap > 0.0f && closing * dt <= c.gap) return false;
+  const float kn = normal_mass_denominator(k);
+  if (kn <= 0.0f) return false;
+  const float j = (1.0f + c.restitution) * closing / kn;
+  const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
+  apply_impulse(c, k, p);
+  float fresh[3] = {0, 0, 0};
+  apply_friction(c, k, c.friction * j, fresh);
+  return true;
+}
+
+/// Resting pass on one contact: accumulated normal impulse >= 0 making the closing speed at
+/// most gap/dt (zero for overlapping contacts), then friction within mu * that impulse.
+inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
+  float v[3];
+  relative_contact_velocity(c, k, v);
+  const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
+  const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
+  const float kn = normal_mass_denominator(k);
+  if (kn <= 0.0f) return;
+  const float lambda = c.normal_impulse - (vn + allowed_closing) / kn;
+  const float clamped = lambda > 0.0f ? lambda : 0.0f;
+  const float dj = clamped - c.normal_impulse;
+  c.normal_impulse = clamped;
+  const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
+  apply_impulse(c, k, p);
+  float accumulated[3] = {c.tx, c.ty, c.tz};
+  apply_friction(c, k, c.friction * c.normal_impulse, accumulated);
+  c.tx = accumulated[0];
+  c.ty = accumulated[1];
+  c.tz = accumulated[2];
+}
+
+}  // namespace hail

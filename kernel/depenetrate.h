@@ -1,0 +1,47 @@
+#pragma once
+// Position correction after integration: push overlapping bodies apart along the contact
+// normal, shared by inverse mass. Velocities are untouched, so this can neither add nor remove
+// kinetic energy; it only stops overlap from accumulating step after step.
+
+#include "kernel/contact.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+struct DepenetrationParams {
+  float fraction = 0.8f;       ///< share of the excess overlap removed per pass
+  float slop_fraction = 0.01f; ///< overlap tolerated, as a fraction of the smaller radius
+};
+
+/// Current signed gap of a contact from the spheres' present positions (normal kept fixed).
+inline float current_gap(const SphereSoA& s, const Contact& c) {
+  const std::uint32_t a = c.a;
+  if (c.b == kStaticBody)
+    return c.surface_d - (c.nx * s.px[a] + c.ny * s.py[a] + c.nz * s.pz[a]) - s.radius[a];
+  const std::uint32_t b = c.b;
+  return c.nx * (s.px[b] - s.px[a]) + c.ny * (s.py[b] - s.py[a]) + c.nz * (s.pz[b] - s.pz[a]) - s.radius[a] -
+         s.radius[b];
+}
+
+inline void push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
+  const std::uint32_t a = c.a;
+  const bool dynamic_b = c.b != kStaticBody;
+  const float rmin = dynamic_b && s.radius[c.b] < s.radius[a] ? s.radius[c.b] : s.radius[a];
+  const float excess = -current_gap(s, c) - p.slop_fraction * rmin;
+  if (excess <= 0.0f) return;
+  const float ima = s.inv_mass[a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
+  const float w = ima + imb;
+  if (w <= 0.0f) return;
+  const float move = p.fraction * excess / w;
+  s.px[a] -= c.nx * move * ima;
+  s.py[a] -= c.ny * move * ima;
+  s.pz[a] -= c.nz * move * ima;
+  if (dynamic_b) {
+    const std::uint32_t b = c.b;
+    s.px[b] += c.nx * move * imb;
+    s.py[b] += c.ny * move * imb;
+    s.pz[b] += c.nz * move * imb;
+  }
+}
+
+}  // namespace hail

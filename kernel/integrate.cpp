@@ -1,0 +1,108 @@
+#include "kernel/integrate.h"
+
+#include <cmath>
+
+#include "kernel/contact_impulse.h"
+#include "kernel/sphere_pairs.h"
+
+namespace hail {
+
+float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p) {
+  const float gx = p.gravity[0] * p.dt, gy = p.gravity[1] * p.dt, gz = p.gravity[2] * p.dt;
+  float max_speed2 = 0.0f;
+  for (std::size_t i = first; i < last; ++i) {
+    if (s.inv_mass[i] > 0.0f) {
+      s.vx[i] += gx;
+      s.vy[i] += gy;
+      s.vz[i] += gz;
+    }
+    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+    max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
+  }
+  return std::sqrt(max_speed2);
+}
+
+namespace {
+
+/// Earliest t in (0, limit] where d0 + vn t + an t^2 / 2 = 0, or a negative value if none.
+/// Computed in double: it runs once per sphere per plane and must not lose the root to rounding.
+double earliest_root(double d0, double vn, double an, double limit) {
+  double best = -1.0;
+  auto consider = [&](double t) {
+    if (t > 0.0 && t <= limit && (best < 0.0 || t < best)) best = t;
+  };
+  if (std::fabs(an) < 1e-12) {
+    if (vn < 0.0) consider(-d0 / vn);
+    return best;
+  }
+  const double a = 0.5 * an, disc = vn * vn - 4.0 * a * d0;
+  if (disc < 0.0) return best;
+  const double q = -0.5 * (vn + std::copysign(std::sqrt(disc), vn));
+  if (q != 0.0) {
+    consider(q / a);
+    consider(d0 / q);
+  }
+  return best;
+}
+
+}  // namespace
+
+void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
+                         const IntegrationParams& p) {
+  const bool uniform = p.integrator == Integrator::UniformAcceleration;
+  const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
+  for (std::size_t i = first; i < last; ++i) {
+    const float movable = s.inv_mass[i] > 0.0f ? 1.0f : 0.0f;
+    const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
+    float x[3] = {s.px[i], s.py[i], s.pz[i]};
+    // Velocity at the start of the (sub)step: the solved end velocity minus the gravity the
+    // uniform-acceleration integrator adds back along the parabola.
+    float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
+    float remaining = p.dt;
+    for (int impact = 0; impact < 4 && !planes.empty(); ++impact) {
+      double hit_t = -1.0;
+      std::size_t hit_plane = 0;
+      for (std::size_t k = 0; k < planes.size(); ++k) {
+        const Plane& pl = planes[k];
+        const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
+        if (d0 <= 0.0f) continue;  // touching: the solver already owns this contact
+        const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
+        const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
+        const double t = earliest_root(d0, vn, an, remaining);
+        if (t > 0.0 && (hit_t < 0.0 || t < hit_t)) {
+          hit_t = t;
+          hit_plane = k;
+        }
+      }
+      if (hit_t < 0.0) break;
+      const float t = static_cast<float>(hit_t);
+      for (int d = 0; d < 3; ++d) {
+        x[d] += u[d] * t + 0.5f * a[d] * t * t;
+        u[d] += a[d] * t;
+      }
+      remaining -= t;
+      const Plane& pl = planes[hit_plane];
+      Contact contact;
+      contact.a = static_cast<std::uint32_t>(i);
+      contact.nx = -pl.nx;
+      contact.ny = -pl.ny;
+      contact.nz = -pl.nz;
+      contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
+      contact.friction = combine_friction(s.friction[i], pl.friction);
+      ContactBodies bodies = gather_bodies(s, contact);
+      for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
+      solve_impact(contact, bodies, p.restitution_threshold);
+      for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
+      s.wx[i] = bodies.wa[0];
+      s.wy[i] = bodies.wa[1];
+      s.wz[i] = bodies.wa[2];
+    }
+    for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
+    s.px[i] = x[0]; s.py[i] = x[1]; s.pz[i] = x[2];
+    s.vx[i] = u[0] + a[0] * remaining;
+    s.vy[i] = u[1] + a[1] * remaining;
+    s.vz[i] = u[2] + a[2] * remaining;
+  }
+}
+
+}  // namespace hail

@@ -1,0 +1,39 @@
+#pragma once
+// Integration of sphere state over one (time-scaled) step.
+//
+// Velocities get gravity first (predict), the solver then corrects them, and positions move
+// last with the corrected velocity. Against static planes the position update is exact in
+// time: a sphere that reaches a plane during the step is advanced to the moment of impact,
+// bounced there (restitution and friction), and moved on for the rest of the step, so bounce
+// heights carry no error from where inside a step the impact fell.
+
+#include <span>
+
+#include "kernel/plane.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+enum class Integrator {
+  /// v += a dt, then x += v dt with the solved velocity (symplectic; the default).
+  SemiImplicitEuler,
+  /// x += v dt + a dt^2 / 2: exact for uniformly accelerated motion (the original design).
+  UniformAcceleration,
+};
+
+struct IntegrationParams {
+  Integrator integrator = Integrator::SemiImplicitEuler;
+  float gravity[3] = {0.0f, -9.81f, 0.0f};
+  float dt = 0.0f;                     ///< time-scaled step
+  float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
+};
+
+/// v += g dt for movable spheres in [first, last); returns the largest speed after it.
+float predict_velocities(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params);
+
+/// Moves spheres in [first, last) over dt with their solved velocities, resolving impacts with
+/// the planes at their exact time (at most four per sphere per step).
+void integrate_positions(SphereSoA& spheres, std::size_t first, std::size_t last, std::span<const Plane> planes,
+                         const IntegrationParams& params);
+
+}  // namespace hail

@@ -1,0 +1,168 @@
+#pragma once
+// kernel/ is hail's geometry and physics: primitives, contacts, the solver rules, the
+// integrator and World, the object users create. How a step's work is spread over threads lives
+// in jobs/; kernel/ only provides the range-based functions the phases call.
+//
+// World owns sphere state (SoA), static planes, settings and the per-step scratch buffers.
+// It is not thread-safe: call its methods from one thread at a time. step() itself runs in
+// parallel inside a tbb::task_arena (the caller's, or one the World makes of `threads` slots).
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "kernel/contact.h"
+#include "kernel/contact_colouring.h"
+#include "kernel/depenetrate.h"
+#include "kernel/errors.h"
+#include "kernel/integrate.h"
+#include "kernel/plane.h"
+#include "kernel/sphere_pairs.h"
+#include "kernel/vec3.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+/// How a World steps. Every field is checked by the World constructor (InvalidArgument).
+struct WorldSettings {
+  Vec3 gravity{0.0f, -9.81f, 0.0f};  ///< m/s^2
+  /// Slow motion factor: each step advances time_scale * dt of simulated time. 0 freezes.
+  float time_scale = 1.0f;
+  Integrator integrator = Integrator::SemiImplicitEuler;
+  /// Worker threads for step(); 0 = all hardware threads; 1 = strictly the calling thread.
+  /// Ignored when the World is given the caller's task_arena.
+  int threads = 0;
+  /// Passes that bounce closing contacts with restitution, propagating impulses through
+  /// chains (a Newton's cradle of n spheres needs n). Stops early once nothing is closing.
+  int collision_iterations = 16;
+  /// Sequential-impulse passes for resting contacts (piles, rolling). Too few: piles sag.
+  int resting_iterations = 8;
+  /// Position-correction passes after integration.
+  int depenetration_iterations = 4;
+  DepenetrationParams depenetration{};
+  /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
+  /// a sphere lying on the ground closes at |g| dt every step and must not hop.
+  float restitution_threshold = 0.2f;
+  /// Sphere-sphere collisions on/off (off: spheres only meet static geometry).
+  bool sphere_collisions = true;
+  /// Sphere-sphere contacts are made speculatively for spheres whose gap is less than the
+  /// distance they could close this step (2 * max speed * dt), capped at this many radii of the
+  /// larger sphere. Larger: fewer missed fast contacts, more contact pairs.
+  float speculative_radii = 1.0f;
+};
+
+/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves).
+struct SphereDesc {
+  Vec3 position{0.0f, 0.0f, 0.0f};          ///< m
+  Vec3 velocity{0.0f, 0.0f, 0.0f};          ///< m/s
+  Vec3 angular_velocity{0.0f, 0.0f, 0.0f};  ///< rad/s
+  float radius = 0.5f;                      ///< m, > 0
+  float mass = 1.0f;                        ///< kg, > 0 (ignored when is_static)
+  float restitution = 0.5f;                 ///< [0, 1]
+  float friction = 0.5f;                    ///< Coulomb coefficient, >= 0
+  bool is_static = false;                   ///< infinite mass: collides but never moves
+};
+
+/// A static plane: the solid half-space {x : normal . x < offset}. The normal is normalised.
+struct PlaneDesc {
+  Vec3 normal{0.0f, 1.0f, 0.0f};
+  float offset = 0.0f;  ///< m
+  float restitution = 0.5f;
+  float friction = 0.5f;
+};
+
+/// Wall-clock milliseconds spent in each phase of the last step (cheap enough to stay on).
+struct PhaseTimes {
+  double predict = 0, detect_terrain = 0, detect_pairs = 0, solve = 0, integrate = 0, depenetrate = 0;
+  [[nodiscard]] double total() const { return predict + detect_terrain + detect_pairs + solve + integrate + depenetrate; }
+};
+
+/// Counters of the last step.
+struct StepStats {
+  std::size_t static_contacts = 0;
+  std::size_t sphere_contacts = 0;
+  std::size_t colours = 0;
+  int collision_passes = 0;  ///< collision passes that applied an impulse
+};
+
+/// Read-only views of the dense sphere state (slot order; use World::slot_of for a handle).
+/// Valid until the next call that adds or removes spheres.
+struct SphereState {
+  std::span<const float> px, py, pz, vx, vy, vz, wx, wy, wz, radius, inv_mass;
+};
+
+class World {
+ public:
+  /// Creates its own task_arena of settings.threads slots.
+  explicit World(const WorldSettings& settings = {});
+  /// Runs every step inside the caller's arena (the host owns the threads). The arena must
+  /// outlive the World.
+  World(const WorldSettings& settings, tbb::task_arena& host_arena);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Adds a sphere; throws InvalidArgument (world unchanged) on a bad value.
+  SphereId add_sphere(const SphereDesc& desc);
+  /// Removes a sphere; false if the handle is stale. Other handles stay valid.
+  bool remove_sphere(SphereId id);
+  /// Adds a static plane; returns its index. Throws InvalidArgument on a bad value.
+  std::size_t add_plane(const PlaneDesc& desc);
+  /// Reserves room for n spheres so that adding them does not reallocate.
+  void reserve(std::size_t spheres);
+
+  /// Advances the world by dt * time_scale seconds. dt must be finite and > 0.
+  void step(float dt);
+
+  [[nodiscard]] std::size_t sphere_count() const { return spheres_.size(); }
+  [[nodiscard]] SphereState spheres() const;
+  [[nodiscard]] const SphereSoA& soa() const { return spheres_; }
+  [[nodiscard]] std::int64_t slot_of(SphereId id) const { return spheres_.slot_of(id); }
+  /// Throws InvalidArgument for a stale handle.
+  [[nodiscard]] Vec3 position(SphereId id) const;
+  [[nodiscard]] Vec3 velocity(SphereId id) const;
+  [[nodiscard]] Vec3 angular_velocity(SphereId id) const;
+  [[nodiscard]] std::span<const Plane> planes() const { return planes_; }
+  [[nodiscard]] const WorldSettings& settings() const { return settings_; }
+  [[nodiscard]] int thread_count() const;
+
+  /// Translational + rotational kinetic energy of all movable spheres, J.
+  [[nodiscard]] double kinetic_energy() const;
+  /// Total linear momentum of all movable spheres, kg m/s.
+  [[nodiscard]] Eigen::Vector3d linear_momentum() const;
+  /// Number of non-finite position or velocity components.
+  [[nodiscard]] std::size_t nan_count() const;
+  /// FNV-1a over the bits of positions and velocities in slot order: equal hashes mean
+  /// bitwise equal state.
+  [[nodiscard]] std::uint64_t state_hash() const;
+
+  [[nodiscard]] const PhaseTimes& last_phase_times() const { return times_; }
+  [[nodiscard]] const StepStats& last_step_stats() const { return stats_; }
+  /// Contacts of the last step (after solving: normal_impulse holds the resting impulse).
+  [[nodiscard]] std::span<const Contact> last_contacts() const { return contacts_; }
+
+ private:
+  friend struct StepPipeline;
+  static void validate(const WorldSettings& settings);
+  std::size_t require_slot(SphereId id) const;
+
+  WorldSettings settings_;
+  std::unique_ptr<tbb::task_arena> own_arena_;
+  tbb::task_arena* arena_ = nullptr;
+  SphereSoA spheres_;
+  std::vector<Plane> planes_;
+
+  // Per-step scratch, reused so that a steady-state step does not allocate.
+  std::vector<std::vector<SpherePair>> pair_blocks_;
+  std::vector<std::vector<Contact>> contact_blocks_;
+  std::vector<Contact> contacts_;
+  ContactColouring colouring_;
+  std::vector<float> block_max_speed_;
+  PhaseTimes times_;
+  StepStats stats_;
+};
+
+}  // namespace hail

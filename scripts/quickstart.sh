@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# hail quick start: installs the Debian packages hail needs (when missing), builds the
+# `release` preset, then either runs the main benchmark or the whole test suite.
+#
+#   ./scripts/quickstart.sh bench   # terrain-rain benchmark: speed and error
+#   ./scripts/quickstart.sh test    # every test through ctest
+#
+# As root it runs apt-get itself; otherwise it prints the exact sudo line and stops.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+mode="${1:-bench}"
+case "$mode" in bench|test) ;; *) echo "usage: $0 bench|test" >&2; exit 2 ;; esac
+
+packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libstb-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "quickstart: installing ${missing[*]}"
+    apt-get update
+    DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+  else
+    echo "quickstart: missing Debian packages. Install them with:" >&2
+    echo "    sudo apt-get install -y ${missing[*]}" >&2
+    echo "then run $0 $mode again." >&2
+    exit 1
+  fi
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake --preset release
+cmake --build --preset release -j "$jobs"
+
+if [ "$mode" = bench ]; then
+  ./build/release/bench/hail-bench run terrain-rain --spheres 4000
+else
+  ctest --preset release -j "$jobs"
+fi
