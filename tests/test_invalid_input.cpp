@@ -1,0 +1,128 @@
+// Every invalid value is rejected with hail::InvalidArgument naming it, and the world is left
+// exactly as it was.
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "catch.h"
+#include "kernel/world.h"
+
+using hail::InvalidArgument;
+using hail::PlaneDesc;
+using hail::SphereDesc;
+using hail::Vec3;
+using hail::World;
+using hail::WorldSettings;
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct Snapshot {
+  std::size_t spheres, planes;
+  std::uint64_t hash;
+  friend bool operator==(const Snapshot&, const Snapshot&) = default;
+};
+Snapshot snapshot(const World& w) { return {w.sphere_count(), w.planes().size(), w.state_hash()}; }
+
+/// A small world in motion, so "unchanged" is a real claim.
+void populate(World& w) {
+  w.add_plane({});
+  w.add_sphere({.position = {0, 1, 0}, .velocity = {1, 0, 0}});
+  w.add_sphere({.position = {2, 3, 0}});
+  w.step(1.0f / 60);
+}
+
+/// Runs `call`, which must throw InvalidArgument whose message contains `needle`, and checks
+/// the world did not change.
+template <class Call>
+void expect_rejected(World& w, Call&& call, const std::string& needle) {
+  const Snapshot before = snapshot(w);
+  try {
+    call();
+    FAIL("expected hail::InvalidArgument mentioning '" << needle << "'");
+  } catch (const InvalidArgument& e) {
+    INFO("message: " << e.what());
+    CHECK(std::string(e.what()).find(needle) != std::string::npos);
+  }
+  CHECK(snapshot(w) == before);
+}
+
+}  // namespace
+
+TEST_CASE("add_sphere rejects every invalid value and leaves the world unchanged", "[invalid]") {
+  World w(WorldSettings{.threads = 1});
+  populate(w);
+  auto sphere = [](auto edit) { SphereDesc d{.position = {0, 5, 0}}; edit(d); return d; };
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.x() = kNaN; })); }, "position");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.y() = kInf; })); }, "position");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.velocity.z() = kNaN; })); }, "velocity");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.angular_velocity.x() = kInf; })); }, "angular_velocity");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 0; })); }, "radius");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = -1; })); }, "radius");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = kNaN; })); }, "radius");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = 0; })); }, "mass");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = -2; })); }, "mass");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = kInf; })); }, "mass");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = -0.1f; })); }, "restitution");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = 1.5f; })); }, "restitution");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = -0.5f; })); }, "friction");
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = kNaN; })); }, "friction");
+  // An explicitly static sphere needs no mass.
+  const auto before = w.sphere_count();
+  w.add_sphere(sphere([](SphereDesc& d) { d.mass = 0; d.is_static = true; }));
+  CHECK(w.sphere_count() == before + 1);
+}
+
+TEST_CASE("add_plane rejects every invalid value and leaves the world unchanged", "[invalid]") {
+  World w(WorldSettings{.threads = 1});
+  populate(w);
+  expect_rejected(w, [&] { w.add_plane({.normal = {0, 0, 0}}); }, "normal");
+  expect_rejected(w, [&] { w.add_plane({.normal = {0, kNaN, 0}}); }, "normal");
+  expect_rejected(w, [&] { w.add_plane({.offset = kInf}); }, "offset");
+  expect_rejected(w, [&] { w.add_plane({.restitution = 2}); }, "restitution");
+  expect_rejected(w, [&] { w.add_plane({.friction = -1}); }, "friction");
+}
+
+TEST_CASE("step rejects dt <= 0 and non-finite dt", "[invalid]") {
+  World w(WorldSettings{.threads = 1});
+  populate(w);
+  for (float dt : {0.0f, -1.0f / 60, kNaN, kInf}) expect_rejected(w, [&] { w.step(dt); }, "dt");
+}
+
+TEST_CASE("World settings are validated", "[invalid]") {
+  auto rejected = [](WorldSettings s, const std::string& needle) {
+    try {
+      World w(s);
+      FAIL("expected rejection of " << needle);
+    } catch (const InvalidArgument& e) {
+      CHECK(std::string(e.what()).find(needle) != std::string::npos);
+    }
+  };
+  rejected(WorldSettings{.gravity = {0, kNaN, 0}}, "gravity");
+  rejected(WorldSettings{.time_scale = -1}, "time_scale");
+  rejected(WorldSettings{.time_scale = kInf}, "time_scale");
+  rejected(WorldSettings{.threads = -2}, "threads");
+  rejected(WorldSettings{.restitution_threshold = -1}, "restitution_threshold");
+}
+
+TEST_CASE("A stale handle is reported, not dereferenced", "[invalid]") {
+  World w(WorldSettings{.threads = 1});
+  const auto id = w.add_sphere({});
+  REQUIRE(w.remove_sphere(id));
+  CHECK_FALSE(w.remove_sphere(id));
+  CHECK_THROWS_AS(w.position(id), InvalidArgument);
+}
+
+TEST_CASE("time_scale 0 freezes the world; time_scale slows it", "[settings]") {
+  World frozen(WorldSettings{.time_scale = 0, .threads = 1});
+  const auto a = frozen.add_sphere({.position = {0, 5, 0}, .velocity = {1, 0, 0}});
+  frozen.step(1.0f / 60);
+  CHECK(frozen.position(a) == Vec3(0, 5, 0));
+  World slow(WorldSettings{.gravity = Vec3::Zero(), .time_scale = 0.5f, .threads = 1});
+  const auto b = slow.add_sphere({.position = {0, 5, 0}, .velocity = {1, 0, 0}});
+  for (int k = 0; k < 60; ++k) slow.step(1.0f / 60);
+  CHECK(slow.position(b).x() == Approx(0.5).epsilon(1e-4));
+}
