@@ -63,9 +63,17 @@ struct StepPipeline {
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kPairRowBlock);
     if (w.pair_blocks_.size() < blocks) w.pair_blocks_.resize(blocks);
+    if (w.pair_row_scratch_.size() < blocks) w.pair_row_scratch_.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
+    if (!w.settings_.sphere_collisions) return;
+    const PairSearch search = w.settings_.pair_search;
+    const bool grid = search == PairSearch::Grid || (search == PairSearch::Automatic && n >= kGridPairSearchMinSpheres);
+    if (grid) w.grid_.build(s, margin);
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      w.pair_blocks_[b].clear();
-      if (w.settings_.sphere_collisions) find_sphere_pairs_simd(s, first, last, margin, w.pair_blocks_[b]);
+      if (grid)
+        w.grid_.find_pairs(s, first, last, margin, w.pair_blocks_[b], w.pair_row_scratch_[b]);
+      else
+        find_sphere_pairs_simd(s, first, last, margin, w.pair_blocks_[b]);
     });
   }
 

@@ -10,7 +10,7 @@ void find_sphere_pairs_scalar(const SphereSoA& s, std::size_t first, std::size_t
   const std::size_t n = s.size();
   for (std::size_t i = first; i < last; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
-      const float reach = s.radius[i] + s.radius[j] + margin;
+      const float reach = s.radius[j] + (s.radius[i] + margin);  // the SIMD kernel's order
       if (spheres_within(s.px[j] - s.px[i], s.py[j] - s.py[i], s.pz[j] - s.pz[i], reach))
         out.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
     }

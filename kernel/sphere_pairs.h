@@ -18,8 +18,9 @@ struct SpherePair {
   friend bool operator==(SpherePair, SpherePair) = default;
 };
 
-/// The predicate both kernels evaluate: |pb - pa|^2 < (ra + rb + margin)^2, in this order of
-/// float operations.
+/// The predicate every pair search evaluates: |pb - pa|^2 < reach^2 with
+/// reach = rb + (ra + margin), in exactly this order of float operations, so that brute force
+/// (scalar or SIMD) and the grid agree to the last bit on which pairs exist.
 inline bool spheres_within(float dx, float dy, float dz, float reach) {
   const float d2 = dx * dx + dy * dy + dz * dz;
   return d2 < reach * reach;

@@ -20,11 +20,22 @@
 #include "kernel/errors.h"
 #include "kernel/integrate.h"
 #include "kernel/plane.h"
+#include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/vec3.h"
 #include "soa/sphere_soa.h"
 
 namespace hail {
+
+/// How sphere-sphere pairs are found. All give exactly the same pairs in the same order.
+enum class PairSearch {
+  Automatic,   ///< brute force below kGridPairSearchMinSpheres spheres, grid above
+  BruteForce,  ///< SIMD all-pairs: O(n^2), fastest for small n
+  Grid,        ///< hashed uniform grid of the largest diameter: O(n) for similar radii
+};
+
+/// Sphere count from which PairSearch::Automatic uses the grid (measured: see README).
+inline constexpr std::size_t kGridPairSearchMinSpheres = 1024;
 
 /// How a World steps. Every field is checked by the World constructor (InvalidArgument).
 struct WorldSettings {
@@ -48,6 +59,7 @@ struct WorldSettings {
   float restitution_threshold = 0.2f;
   /// Sphere-sphere collisions on/off (off: spheres only meet static geometry).
   bool sphere_collisions = true;
+  PairSearch pair_search = PairSearch::Automatic;
   /// Sphere-sphere contacts are made speculatively for spheres whose gap is less than the
   /// distance they could close this step (2 * max speed * dt), capped at this many radii of the
   /// larger sphere. Larger: fewer missed fast contacts, more contact pairs.
@@ -157,6 +169,8 @@ class World {
 
   // Per-step scratch, reused so that a steady-state step does not allocate.
   std::vector<std::vector<SpherePair>> pair_blocks_;
+  std::vector<std::vector<std::uint32_t>> pair_row_scratch_;
+  SphereGrid grid_;
   std::vector<std::vector<Contact>> contact_blocks_;
   std::vector<Contact> contacts_;
   ContactColouring colouring_;

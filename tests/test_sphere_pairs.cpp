@@ -1,10 +1,12 @@
 // The SIMD brute-force pair kernel finds exactly the pairs of its scalar reference.
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
 #include "catch.h"
+#include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
 
 namespace {
@@ -50,4 +52,21 @@ TEST_CASE("Coincident centres give a finite fallback normal", "[pairs]") {
   CHECK(c.ny == 1.0f);
   CHECK(c.nz == 0.0f);
   CHECK(c.gap == -1.0f);
+}
+
+TEST_CASE("Grid pair search returns exactly the brute-force pairs, in order", "[pairs][grid]") {
+  const std::size_t n = GENERATE(1, 2, 17, 300, 3000);
+  const float margin = GENERATE(0.0f, 0.25f);
+  hail::SphereSoA s = random_cloud(n, 1.0f + 0.5f * std::cbrt(static_cast<float>(n)), static_cast<std::uint32_t>(n + 11));
+  // Mixed radii: one sphere ten times larger than the rest.
+  if (n > 2) s.radius[1] = 3.0f;
+  std::vector<hail::SpherePair> brute, grid;
+  std::vector<std::uint32_t> row;
+  hail::find_sphere_pairs_scalar(s, 0, s.size(), margin, brute);
+  hail::SphereGrid g;
+  g.build(s, margin);
+  g.find_pairs(s, 0, s.size() / 2, margin, grid, row);
+  g.find_pairs(s, s.size() / 2, s.size(), margin, grid, row);
+  INFO(n << " spheres, margin " << margin << ": " << brute.size() << " pairs");
+  CHECK(grid == brute);
 }
