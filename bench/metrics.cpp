@@ -68,7 +68,8 @@ ErrorFigures measure_errors(const Scene& scene) {
     }
     const double ground = scene.ground_height(x, z);
     if (s.py[i] < ground) ++e.tunnelled;
-    e.max_terrain_penetration = std::max(e.max_terrain_penetration, ground - (double(s.py[i]) - s.radius[i]));
+    if (const Terrain* terrain = world.terrain())
+      e.max_terrain_penetration = std::max<double>(e.max_terrain_penetration, terrain->penetration(x, s.py[i], z, s.radius[i]));
   }
   return e;
 }

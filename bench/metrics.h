@@ -10,7 +10,7 @@ namespace hail::bench {
 
 struct ErrorFigures {
   double max_sphere_penetration = 0;   ///< m, deepest overlap of two spheres
-  double max_terrain_penetration = 0;  ///< m, deepest sphere below the ground surface (vertical)
+  double max_terrain_penetration = 0;  ///< m, deepest sphere-triangle (or plane) overlap
   std::size_t tunnelled = 0;           ///< centres below the ground at their (x, z)
   std::size_t fell_off = 0;            ///< centres outside the ground's x/z extent
   std::size_t nan_count = 0;

@@ -40,5 +40,8 @@ struct SceneEntry {
 const std::vector<SceneEntry>& scene_registry();
 
 Scene build_implosion(const SceneParams& params);
+Scene build_terrain_rain(const SceneParams& params);
+Scene build_terrain_rain_dem(const SceneParams& params);
+Scene build_bowl_pile(const SceneParams& params);
 
 }  // namespace hail::bench

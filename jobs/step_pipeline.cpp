@@ -25,7 +25,7 @@
 namespace hail {
 
 namespace {
-constexpr std::size_t kSphereBlock = 1024;   // spheres per block in per-sphere phases
+constexpr std::size_t kSphereBlock = 256;    // spheres per block in per-sphere phases
 constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
 constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
 }  // namespace
@@ -55,6 +55,9 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       w.contact_blocks_[b].clear();
       find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
+      if (w.terrain_)
+        w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
+                                  w.contact_blocks_[b]);
     });
   }
 

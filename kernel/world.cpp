@@ -95,6 +95,13 @@ std::size_t World::add_plane(const PlaneDesc& d) {
   return planes_.size() - 1;
 }
 
+void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
+  require_material(restitution, friction, "terrain");
+  terrain_ = std::move(terrain);
+  terrain_restitution_ = restitution;
+  terrain_friction_ = friction;
+}
+
 void World::reserve(std::size_t n) { spheres_.reserve(n); }
 
 SphereState World::spheres() const {

@@ -22,6 +22,7 @@
 #include "kernel/plane.h"
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
+#include "kernel/terrain.h"
 #include "kernel/vec3.h"
 #include "soa/sphere_soa.h"
 
@@ -123,6 +124,10 @@ class World {
   bool remove_sphere(SphereId id);
   /// Adds a static plane; returns its index. Throws InvalidArgument on a bad value.
   std::size_t add_plane(const PlaneDesc& desc);
+  /// Sets (or with nullptr removes) the static terrain and its material. The terrain is
+  /// immutable and may be shared by several worlds. Throws InvalidArgument on a bad material.
+  void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
+  [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   /// Reserves room for n spheres so that adding them does not reallocate.
   void reserve(std::size_t spheres);
 
@@ -166,6 +171,8 @@ class World {
   tbb::task_arena* arena_ = nullptr;
   SphereSoA spheres_;
   std::vector<Plane> planes_;
+  std::shared_ptr<const Terrain> terrain_;
+  float terrain_restitution_ = 0.5f, terrain_friction_ = 0.5f;
 
   // Per-step scratch, reused so that a steady-state step does not allocate.
   std::vector<std::vector<SpherePair>> pair_blocks_;

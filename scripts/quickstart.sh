@@ -2,7 +2,7 @@
 # hail quick start: installs the Debian packages hail needs (when missing), builds the
 # `release` preset, then either runs the main benchmark or the whole test suite.
 #
-#   ./scripts/quickstart.sh bench   # main benchmark (implosion, 4,000 spheres): speed and error
+#   ./scripts/quickstart.sh bench   # main benchmark (terrain-rain, 4,000 spheres): speed and error
 #   ./scripts/quickstart.sh test    # every test through ctest
 #
 # As root it runs apt-get itself; otherwise it prints the exact sudo line and stops.
@@ -35,7 +35,7 @@ cmake --preset release
 cmake --build --preset release -j "$jobs"
 
 if [ "$mode" = bench ]; then
-  ./build/release/bench/hail-bench run implosion --spheres 4000
+  ./build/release/bench/hail-bench run terrain-rain --spheres 4000
 else
   ctest --preset release -j "$jobs"
 fi

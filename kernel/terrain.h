@@ -1,0 +1,54 @@
+#pragma once
+// Static terrain: a heightmap's triangles with their per-triangle data computed once at load
+// (vertices, unit normal, plane offset, internal-edge mask), stored SoA in BVH order so that a
+// leaf's triangles are contiguous, and the flat BVH over them.
+
+#include <cstdint>
+#include <vector>
+
+#include "kernel/contact.h"
+#include "kernel/flat_bvh.h"
+#include "kernel/heightmap.h"
+#include "soa/aligned_array.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+/// Per-triangle data in structure-of-arrays form (index = BVH order).
+struct TerrainTriangles {
+  AlignedArray<float> ax, ay, az, bx, by, bz, cx, cy, cz;  ///< vertices, m
+  AlignedArray<float> nx, ny, nz;                          ///< unit normal, pointing up out of the ground
+  AlignedArray<float> d;                                   ///< plane offset n . a
+  AlignedArray<std::uint8_t> internal_edges;               ///< kEdge{0,1,2}Internal bits
+  [[nodiscard]] std::size_t size() const { return d.size(); }
+};
+
+/// Edges whose two triangles' normals differ by less than this angle are internal (smooth).
+inline constexpr float kInternalEdgeCosine = 0.9961947f;  // cos 5 degrees, as Jolt's active edges
+
+class Terrain {
+ public:
+  /// Builds triangles and BVH (leaf_size 1..8). Cost: see `hail-bench` set-up time.
+  explicit Terrain(Heightmap heightmap, std::uint32_t leaf_size = 4);
+
+  [[nodiscard]] const Heightmap& heightmap() const { return heightmap_; }
+  [[nodiscard]] const TerrainTriangles& triangles() const { return triangles_; }
+  [[nodiscard]] const FlatBvh& bvh() const { return bvh_; }
+
+  /// Appends the contacts of spheres [first, last) with the terrain: every triangle whose gap
+  /// is below the sphere's travel this step (|v| dt, speculative), reduced so that triangles
+  /// giving the same normal (a flat area split into many triangles) yield one contact.
+  /// `restitution` and `friction` are the terrain's material, combined with each sphere's.
+  void find_contacts(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt, float restitution,
+                     float friction, std::vector<Contact>& out) const;
+
+  /// Deepest penetration (m, >= 0) of a sphere into the terrain: for error reports.
+  [[nodiscard]] float penetration(float x, float y, float z, float r) const;
+
+ private:
+  Heightmap heightmap_;
+  TerrainTriangles triangles_;
+  FlatBvh bvh_;
+};
+
+}  // namespace hail
