@@ -1,101 +1,172 @@
 #pragma once
-// The flat BVH (the original design, after Wald et al. 2007 and Laine's restart trail): built
-// once by splitting at the median along the longest axis, then stored depth-first in one array
-// of 32-byte nodes, two per cache line. Each node keeps `skip`, the index of the node after its
-// whole subtree, so a query is one loop with no stack and no pointers:
+// The flat BVH (the original design, after Wald et al. 2007 and Laine's restart trail,
+// "Restart Trail for Stackless BVH Traversal", HPG 2010): built once over primitive boxes
+// (kernel/bvh_build.h), then stored in depth-first pre-order in one array of 32-byte
+// FlatNodes, two per cache line. A node's subtree is the contiguous run of nodes after it, so
+// its left child is i + 1, and `skip`, the index of the node after the whole subtree, is at once
+// "where to go when this box is missed" and the right child of its parent (nodes[i + 1].skip).
+// A query is one loop with no stack and no pointers:
 //
 //   i = 0; while (i != END) { if (overlaps(node[i])) { if leaf: visit; i = i + 1 } else i = node[i].skip }
 //
-// (for a leaf i + 1 == skip; the last subtree's skip is END = 0xFFFFFFFF).
+// (for a leaf i + 1 == skip, except for the last node whose skip is END = 0xFFFFFFFF). The walk
+// cannot visit children in front-to-back order or stop early from a stack, which a sphere
+// query never needs; the ray query prunes by its best hit so far instead.
+//
+// Primitive indices: the builder permutes primitives into BVH order so that each leaf covers a
+// contiguous range; every query reports k in BVH order. primitive_order[k] is the caller's
+// original index. Callers that store per-primitive data in BVH order (as the terrain does)
+// index it with k directly.
+//
+// SIMD: a stackless walk tests one node per step and branches on the result, so there is
+// nothing to vectorise per node (3 lanes of 8). The win is in the leaf (8 triangles = one AVX2
+// batch, hence kMaxLeafSize) or in packets of spheres per node; neither is done here yet.
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#include "soa/aligned_array.h"
+#include "kernel/aabb.h"
+#include "kernel/bvh_build.h"
+#include "kernel/bvh_walk.h"
+#include "kernel/flat_node.h"
 
 namespace hail {
 
-struct alignas(32) FlatNode {
-  float min[3];
-  std::uint32_t skip;  ///< next node when this box is missed (after the subtree); kFlatBvhEnd ends the walk
-  float max[3];
-  std::uint32_t leaf;  ///< 0 for inner nodes; leaves: (first primitive << 4) | count, count 1..8
-};
-static_assert(sizeof(FlatNode) == 32 && alignof(FlatNode) == 32, "FlatNode must be 32 bytes, two per cache line");
-
-inline constexpr std::uint32_t kFlatBvhEnd = 0xFFFFFFFFu;
-inline constexpr std::uint32_t kMaxLeafSize = 8;
-inline constexpr std::uint32_t kMaxBvhPrimitives = 1u << 28;
-
-inline std::uint32_t leaf_first(const FlatNode& n) { return n.leaf >> 4; }
-inline std::uint32_t leaf_count(const FlatNode& n) { return n.leaf & 0xFu; }
-
-/// Axis-aligned bounds of one primitive.
-struct Aabb {
-  float min[3], max[3];
-};
-
+/// A built flat BVH: the node array and the primitive permutation. `nodes` lives in a
+/// std::vector whose std::allocator (C++17) honours alignas(32), so nodes never straddle a
+/// cache line. The members are public for the existing terrain code; treat them as read-only,
+/// the walks rely on the skip links the builder wrote.
 struct FlatBvh {
-  AlignedArray<FlatNode> nodes;
-  /// primitive_order[k] = index (in the caller's input) of the k-th primitive in BVH order;
-  /// leaves cover ranges of BVH order.
+  std::vector<FlatNode> nodes;  ///< depth-first; empty for no primitives
+  /// primitive_order[k] = index (in the builder's input) of the k-th primitive in BVH order.
   std::vector<std::uint32_t> primitive_order;
+
+  /// Rebuilds over `bounds` (see build_bvh: deterministic, reuses capacity, throws
+  /// InvalidArgument and leaves the BVH unchanged on bad input).
+  void build(std::span<const Aabb> bounds, const BvhBuildOptions& options = {});
+  /// Number of primitives indexed.
+  [[nodiscard]] std::size_t primitive_count() const { return primitive_order.size(); }
 };
 
-/// Builds the flat BVH over `bounds` by median split on the longest axis of the centroids'
-/// bounds; leaf_size in 1..8 (InvalidArgument otherwise). Deterministic.
-FlatBvh build_flat_bvh(std::span<const Aabb> bounds, std::uint32_t leaf_size = 4);
+/// A new FlatBvh over `bounds`.
+[[nodiscard]] FlatBvh build_flat_bvh(std::span<const Aabb> bounds, const BvhBuildOptions& options = {});
+/// A new median-split FlatBvh with the given leaf size (1..8; InvalidArgument otherwise).
+[[nodiscard]] FlatBvh build_flat_bvh(std::span<const Aabb> bounds, std::uint32_t leaf_size);
 
-/// True when the sphere touches the node's box (squared distance from the centre to the box).
-inline bool sphere_overlaps_node(const FlatNode& n, float cx, float cy, float cz, float r) {
-  auto excess = [](float c, float lo, float hi) { return c < lo ? lo - c : (c > hi ? c - hi : 0.0f); };
-  const float dx = excess(cx, n.min[0], n.max[0]), dy = excess(cy, n.min[1], n.max[1]), dz = excess(cz, n.min[2], n.max[2]);
-  return dx * dx + dy * dy + dz * dz <= r * r;
+/// Stackless sphere query: visit(k) for every primitive k (BVH order) of every leaf whose box
+/// the sphere touches. These are candidates: the caller tests the primitive itself.
+template <class Visit, class Count = NoNodeCount>
+void query_sphere(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit, Count&& count = {}) {
+  walk_stackless(
+      bvh.nodes, [&](const FlatNode& n) { return sphere_overlaps(n, cx, cy, cz, r); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) visit(k);
+      },
+      count);
 }
 
-/// Stackless walk: visit(k) for every primitive k (BVH order) in a leaf the sphere touches.
-/// Allocation-free.
-template <class Visit>
-void query_sphere_stackless(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit) {
-  const FlatNode* nodes = bvh.nodes.data();
-  if (bvh.nodes.size() == 0) return;
-  std::uint32_t i = 0;
-  while (i != kFlatBvhEnd) {
-    const FlatNode& n = nodes[i];
-    if (sphere_overlaps_node(n, cx, cy, cz, r)) {
-      if (n.leaf != 0) {
-        const std::uint32_t first = leaf_first(n), count = leaf_count(n);
-        for (std::uint32_t k = first; k < first + count; ++k) visit(k);
-        i = n.skip;  // == i + 1 for a leaf, and END after the last one
-      } else {
-        i = i + 1;
-      }
-    } else {
-      i = n.skip;
-    }
-  }
+/// query_sphere under its earlier name.
+template <class Visit, class Count = NoNodeCount>
+void query_sphere_stackless(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit,
+                            Count&& count = {}) {
+  query_sphere(bvh, cx, cy, cz, r, visit, count);
 }
 
-/// The seed's alternative: the same query with a small fixed stack (left child i + 1, right
-/// child = the left child's skip). For tests and the benchmark.
+/// query_sphere with the fixed-stack walk: the same candidates, in the same order.
+template <class Visit, class Count = NoNodeCount>
+void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit,
+                        Count&& count = {}) {
+  walk_stack(
+      bvh.nodes, [&](const FlatNode& n) { return sphere_overlaps(n, cx, cy, cz, r); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) visit(k);
+      },
+      count);
+}
+
+/// Stackless box query: visit(k) for every primitive k (BVH order) of every leaf whose box
+/// touches `box` (closed boxes: touching faces count).
+template <class Visit, class Count = NoNodeCount>
+void query_aabb(const FlatBvh& bvh, const Aabb& box, Visit&& visit, Count&& count = {}) {
+  walk_stackless(
+      bvh.nodes, [&](const FlatNode& n) { return overlaps(n, box); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) visit(k);
+      },
+      count);
+}
+
+/// query_aabb with the fixed-stack walk.
+template <class Visit, class Count = NoNodeCount>
+void query_aabb_stack(const FlatBvh& bvh, const Aabb& box, Visit&& visit, Count&& count = {}) {
+  walk_stack(
+      bvh.nodes, [&](const FlatNode& n) { return overlaps(n, box); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) visit(k);
+      },
+      count);
+}
+
+/// kNoPrimitive in RayHit::primitive: the ray hit nothing.
+inline constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
+
+/// Nearest hit of a ray query: t and primitive (BVH order), or {t_max, kNoPrimitive}.
+struct RayHit {
+  float t;
+  std::uint32_t primitive;
+};
+
+/// Nearest-hit ray query over o + t d, t in [0, t_max): intersect(k) returns the hit distance
+/// of primitive k (BVH order), or anything negative, NaN or >= the best so far for a miss (a
+/// tie keeps the first hit found). Stackless; nodes whose entry distance exceeds the best hit
+/// so far are skipped. `dir` need not be unit; t is in units of |dir|.
+template <class Intersect, class Count = NoNodeCount>
+[[nodiscard]] RayHit query_ray(const FlatBvh& bvh, const float origin[3], const float dir[3], float t_max,
+                               Intersect&& intersect, Count&& count = {}) {
+  const float inv_dir[3] = {1.0f / dir[0], 1.0f / dir[1], 1.0f / dir[2]};  // +-inf for 0: see ray_overlaps
+  RayHit best{t_max, kNoPrimitive};
+  walk_stackless(
+      bvh.nodes, [&](const FlatNode& n) { return ray_overlaps(n, origin, inv_dir, best.t); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) {
+          const float t = intersect(k);
+          if (t >= 0.0f && t < best.t) best = RayHit{t, k};
+        }
+      },
+      count);
+  return best;
+}
+
+/// Brute force beside the BVH (tests, benchmark): visit(i) for every box bounds[i] the sphere
+/// touches, in index order. Exact per primitive, where the BVH gives leaf candidates.
 template <class Visit>
-void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit) {
-  if (bvh.nodes.size() == 0) return;
-  std::uint32_t stack[64];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const std::uint32_t i = stack[--top];
-    const FlatNode& n = bvh.nodes[i];
-    if (!sphere_overlaps_node(n, cx, cy, cz, r)) continue;
-    if (n.leaf != 0) {
-      for (std::uint32_t k = leaf_first(n); k < leaf_first(n) + leaf_count(n); ++k) visit(k);
-      continue;
-    }
-    stack[top++] = bvh.nodes[i + 1].skip;  // right child
-    stack[top++] = i + 1;                  // left child first
+void brute_force_sphere(std::span<const Aabb> bounds, float cx, float cy, float cz, float r, Visit&& visit) {
+  for (std::uint32_t i = 0; i < bounds.size(); ++i)
+    if (sphere_overlaps(bounds[i], cx, cy, cz, r)) visit(i);
+}
+
+/// Brute force: visit(i) for every box bounds[i] that touches `box`.
+template <class Visit>
+void brute_force_aabb(std::span<const Aabb> bounds, const Aabb& box, Visit&& visit) {
+  for (std::uint32_t i = 0; i < bounds.size(); ++i)
+    if (overlaps(bounds[i], box)) visit(i);
+}
+
+/// Brute force nearest hit over primitives 0..count-1, with query_ray's rules for intersect.
+template <class Intersect>
+[[nodiscard]] RayHit brute_force_ray(std::uint32_t count, float t_max, Intersect&& intersect) {
+  RayHit best{t_max, kNoPrimitive};
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const float t = intersect(k);
+    if (t >= 0.0f && t < best.t) best = RayHit{t, k};
   }
+  return best;
+}
+
+/// sphere_overlaps on a node, under its earlier name.
+[[nodiscard]] constexpr bool sphere_overlaps_node(const FlatNode& n, float cx, float cy, float cz, float r) {
+  return sphere_overlaps(n, cx, cy, cz, r);
 }
 
 }  // namespace hail

@@ -1,6 +1,7 @@
 #pragma once
 // Static terrain: a heightmap's triangles with their per-triangle data computed once at load
-// (vertices, unit normal, plane offset, internal-edge mask), stored SoA in BVH order so that a
+// (kernel/terrain_triangles.h: vertices, edges, unit normal, plane offset, internal-edge
+// mask), stored SoA in BVH order so that a
 // leaf's triangles are contiguous, and the flat BVH over them.
 
 #include <cstdint>
@@ -9,22 +10,11 @@
 #include "kernel/contact.h"
 #include "kernel/flat_bvh.h"
 #include "kernel/heightmap.h"
+#include "kernel/terrain_triangles.h"
 #include "soa/aligned_array.h"
 #include "soa/sphere_soa.h"
 
 namespace hail {
-
-/// Per-triangle data in structure-of-arrays form (index = BVH order).
-struct TerrainTriangles {
-  AlignedArray<float> ax, ay, az, bx, by, bz, cx, cy, cz;  ///< vertices, m
-  AlignedArray<float> nx, ny, nz;                          ///< unit normal, pointing up out of the ground
-  AlignedArray<float> d;                                   ///< plane offset n . a
-  AlignedArray<std::uint8_t> internal_edges;               ///< kEdge{0,1,2}Internal bits
-  [[nodiscard]] std::size_t size() const { return d.size(); }
-};
-
-/// Edges whose two triangles' normals differ by less than this angle are internal (smooth).
-inline constexpr float kInternalEdgeCosine = 0.9961947f;  // cos 5 degrees, as Jolt's active edges
 
 class Terrain {
  public:

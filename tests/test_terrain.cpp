@@ -28,9 +28,9 @@ std::string write_file(const std::string& name, const std::string& bytes) {
 bool triangle_box_hit(const Terrain& t, std::uint32_t k, float x, float y, float z, float r) {
     FlatNode box{};
     const TerrainTriangles& s = t.triangles();
-    box.min[0] = std::min({s.ax[k], s.bx[k], s.cx[k]}); box.max[0] = std::max({s.ax[k], s.bx[k], s.cx[k]});
-    box.min[1] = std::min({s.ay[k], s.by[k], s.cy[k]}); box.max[1] = std::max({s.ay[k], s.by[k], s.cy[k]});
-    box.min[2] = std::min({s.az[k], s.bz[k], s.cz[k]}); box.max[2] = std::max({s.az[k], s.bz[k], s.cz[k]});
+    box.min[0] = std::min({s.v0x[k], s.v1x[k], s.v2x[k]}); box.max[0] = std::max({s.v0x[k], s.v1x[k], s.v2x[k]});
+    box.min[1] = std::min({s.v0y[k], s.v1y[k], s.v2y[k]}); box.max[1] = std::max({s.v0y[k], s.v1y[k], s.v2y[k]});
+    box.min[2] = std::min({s.v0z[k], s.v1z[k], s.v2z[k]}); box.max[2] = std::max({s.v0z[k], s.v1z[k], s.v2z[k]});
     return sphere_overlaps_node(box, x, y, z, r);
 }
 
