@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "kernel/errors.h"
+#include "query_command.h"
 #include "run_command.h"
 #include "scenes.h"
 
@@ -20,6 +21,10 @@ void print_help() {
       "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--json FILE] [--quiet]\n"
       "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
       "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash)\n"
+      "  query [--queries N] [--leaf L] [--repeats R]\n"
+      "      terrain query microbenchmark: stackless BVH walk, fixed-stack walk, grid-cell lookup, brute force\n"
+      "  bvh-build [--max-side 4096]\n"
+      "      BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps\n"
       "\n"
       "scenes (shared/scenes/README.md):");
   for (const auto& s : hail::bench::scene_registry()) std::printf("  %-14s %s\n", s.name, s.summary);
@@ -36,6 +41,8 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
+    if (args[0] == "query") return hail::bench::query_command(rest);
+    if (args[0] == "bvh-build") return hail::bench::bvh_build_command(rest);
     std::fprintf(stderr, "hail-bench: unknown command '%s' (try --help)\n", args[0].c_str());
     return 2;
   } catch (const hail::InvalidArgument& e) {
