@@ -8,8 +8,10 @@
 #include <stdexcept>
 
 #include "kernel/bvh_build.h"
+#include "kernel/bvh_packet_walk.h"
 #include "kernel/flat_bvh.h"
 #include "kernel/heightmap.h"
+#include "kernel/morton.h"
 #include "kernel/terrain_triangles.h"
 #include "machine_info.h"
 
@@ -46,6 +48,33 @@ std::pair<double, std::uint64_t> time_queries(const std::vector<Sphere>& spheres
   return {ns[ns.size() / 2], hits};
 }
 
+/// time_queries for the packet walk: `query` takes a span of up to kSpherePacketWidth spheres.
+template <class Query>
+std::pair<double, std::uint64_t> time_packets(const std::vector<Sphere>& spheres, int repeats, Query&& query) {
+  std::vector<double> ns;
+  std::uint64_t hits = 0;
+  for (int r = 0; r < repeats; ++r) {
+    hits = 0;
+    const auto t0 = clock_type::now();
+    for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth)
+      hits += query(std::span<const Sphere>(spheres).subspan(first, std::min<std::size_t>(kSpherePacketWidth, spheres.size() - first)));
+    ns.push_back(std::chrono::duration<double, std::nano>(clock_type::now() - t0).count() / double(spheres.size()));
+  }
+  std::sort(ns.begin(), ns.end());
+  return {ns[ns.size() / 2], hits};
+}
+
+/// The spheres sorted by the Morton code of their centres over the terrain's bounds.
+std::vector<Sphere> morton_sorted(std::vector<Sphere> spheres, const Aabb& bounds) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(spheres.size());
+  for (std::uint32_t k = 0; k < spheres.size(); ++k)
+    keyed[k] = {morton_code_3d(bounds, spheres[k].x, spheres[k].y, spheres[k].z), k};
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<Sphere> sorted(spheres.size());
+  for (std::size_t k = 0; k < keyed.size(); ++k) sorted[k] = spheres[keyed[k].second];
+  return sorted;
+}
+
 int parse_int(const std::vector<std::string>& args, const char* flag, int fallback) {
   for (std::size_t k = 0; k + 1 < args.size(); ++k)
     if (args[k] == flag) return std::stoi(args[k + 1]);
@@ -79,27 +108,46 @@ int query_command(const std::vector<std::string>& args) {
     s.y = map.surface_height(s.x, s.z) + s.r + lift(rng);
   }
 
+  Aabb terrain_box = empty_aabb();
+  for (const Aabb& b : bounds) grow(terrain_box, b);
+  const std::vector<Sphere> in_morton_order = morton_sorted(spheres, terrain_box);
+
   std::printf("hail-bench query: %zu spheres (r 0.5) against terrain-rain's %zu triangles, leaf size %d, median of %d\n",
               spheres.size(), bounds.size(), leaf, repeats);
-  std::printf("  machine %s, SIMD %s; %zu BVH nodes\n", cpu_model().c_str(), simd_path().c_str(), bvh.nodes.size());
-  std::printf("  %-22s %12s %14s %12s %10s\n", "method", "ns/query", "queries/s", "hits", "nodes/query");
+  std::printf("  machine %s, SIMD %s; %zu BVH nodes; packet width %u (lanes per node test)\n", cpu_model().c_str(), simd_path().c_str(),
+              bvh.nodes.size(), kSpherePacketWidth);
+  std::printf("  %-28s %-8s %12s %14s %12s %12s\n", "method", "order", "ns/query", "queries/s", "hits", "nodes/query");
 
   auto box_hit = [](const Aabb& b, const Sphere& s) { return sphere_overlaps(b, s.x, s.y, s.z, s.r); };
-  NodeVisitCount visits;
-  for (const Sphere& s : spheres) query_sphere(bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
-  const double nodes_per_query = double(visits.visited) / double(spheres.size());
-  const auto stackless = time_queries(spheres, repeats, [&](const Sphere& s) {
+  auto stackless = [&](const Sphere& s) {
     std::uint32_t hits = 0;
     query_sphere(bvh, s.x, s.y, s.z, s.r, [&](std::uint32_t k) { hits += box_hit(bvh_bounds[k], s); });
     return hits;
-  });
-  const auto stack = time_queries(spheres, repeats, [&](const Sphere& s) {
+  };
+  auto stack = [&](const Sphere& s) {
     std::uint32_t hits = 0;
     query_sphere_stack(bvh, s.x, s.y, s.z, s.r, [&](std::uint32_t k) { hits += box_hit(bvh_bounds[k], s); });
     return hits;
-  });
+  };
+  SpherePacket packet;
+  auto packet_walk = [&](std::span<const Sphere> group) {
+    packet.clear();
+    for (const Sphere& s : group) packet.add(s.x, s.y, s.z, s.r);
+    std::uint32_t hits = 0;
+    query_sphere_packet(bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { hits += box_hit(bvh_bounds[k], group[lane]); });
+    return hits;
+  };
+  // The leaf's triangle boxes tested by the walk itself, all lanes per instruction: what it
+  // visits already passed the box test.
+  auto packet_exact = [&](std::span<const Sphere> group) {
+    packet.clear();
+    for (const Sphere& s : group) packet.add(s.x, s.y, s.z, s.r);
+    std::uint32_t hits = 0;
+    query_sphere_packet_exact(bvh, bvh_bounds, packet, [&](std::uint32_t, std::uint32_t) { ++hits; });
+    return hits;
+  };
   // The lookup a heightmap allows: the cells under the sphere's x/z footprint, two triangles each.
-  const auto grid = time_queries(spheres, repeats, [&](const Sphere& s) {
+  auto grid = [&](const Sphere& s) {
     const int cells = int(map.cols()) - 1;
     const int i0 = std::max(0, int(std::floor(s.x - s.r))), i1 = std::min(cells - 1, int(std::floor(s.x + s.r)));
     const int j0 = std::max(0, int(std::floor(s.z - s.r))), j1 = std::min(cells - 1, int(std::floor(s.z + s.r)));
@@ -110,25 +158,66 @@ int query_command(const std::vector<std::string>& args) {
         hits += box_hit(bounds[t], s) + box_hit(bounds[t + 1], s);
       }
     return hits;
-  });
+  };
+  auto nodes_per_query = [&](const std::vector<Sphere>& order, bool packets) {
+    NodeVisitCount visits;
+    if (packets) {
+      for (std::size_t first = 0; first < order.size(); first += kSpherePacketWidth) {
+        packet.clear();
+        for (std::size_t k = first; k < std::min(order.size(), first + kSpherePacketWidth); ++k)
+          packet.add(order[k].x, order[k].y, order[k].z, order[k].r);
+        query_sphere_packet(bvh, packet, [](std::uint32_t, std::uint32_t) {}, visits);
+      }
+    } else {
+      for (const Sphere& s : order) query_sphere(bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
+    }
+    return double(visits.visited) / double(order.size());
+  };
+
+  struct Row {
+    const char* method;
+    const char* order;
+    std::pair<double, std::uint64_t> result;
+    double nodes;  // < 0: not a BVH walk
+  };
+  std::vector<Row> rows;
+  const std::pair<const char*, const std::vector<Sphere>*> orders[] = {{"random", &spheres}, {"morton", &in_morton_order}};
+  for (const auto& [order_name, order] : orders) {
+    rows.push_back({"bvh stackless", order_name, time_queries(*order, repeats, stackless), nodes_per_query(*order, false)});
+    rows.push_back({"bvh fixed stack", order_name, time_queries(*order, repeats, stack), rows.back().nodes});
+    rows.push_back({"bvh packet", order_name, time_packets(*order, repeats, packet_walk), nodes_per_query(*order, true)});
+    rows.push_back({"bvh packet, SIMD leaf boxes", order_name, time_packets(*order, repeats, packet_exact), rows.back().nodes});
+    rows.push_back({"grid-cell lookup", order_name, time_queries(*order, repeats, grid), -1.0});
+  }
   const std::vector<Sphere> few(spheres.begin(), spheres.begin() + std::min<std::size_t>(spheres.size(), 200));
   const auto brute = time_queries(few, 1, [&](const Sphere& s) {
     std::uint32_t hits = 0;
     for (const Aabb& b : bounds) hits += box_hit(b, s);
     return hits;
   });
-  auto row = [&](const char* name, std::pair<double, std::uint64_t> r, const char* nodes) {
-    std::printf("  %-22s %12.1f %14.3g %12llu %10s\n", name, r.first, 1e9 / r.first, static_cast<unsigned long long>(r.second), nodes);
-  };
-  char nodes_text[32];
-  std::snprintf(nodes_text, sizeof nodes_text, "%.1f", nodes_per_query);
-  row("bvh stackless", stackless, nodes_text);
-  row("bvh fixed stack", stack, nodes_text);
-  row("grid-cell lookup", grid, "-");
-  row("brute force (200 q)", brute, "-");
-  std::printf("  stackless / grid time ratio: %.2f; hits agree: %s\n", stackless.first / grid.first,
-              stackless.second == stack.second && stack.second == grid.second ? "yes" : "NO");
-  return stackless.second == stack.second && stack.second == grid.second ? 0 : 1;
+
+  bool agree = true;
+  for (const Row& r : rows) {
+    char nodes_text[32] = "-";
+    if (r.nodes >= 0) std::snprintf(nodes_text, sizeof nodes_text, "%.1f", r.nodes);
+    std::printf("  %-28s %-8s %12.1f %14.3g %12llu %12s\n", r.method, r.order, r.result.first, 1e9 / r.result.first,
+                static_cast<unsigned long long>(r.result.second), nodes_text);
+    agree = agree && r.result.second == rows.front().result.second;
+  }
+  std::printf("  %-28s %-8s %12.1f %14.3g %12llu %12s\n", "brute force (200 q)", "random", brute.first,
+              1e9 / brute.first, static_cast<unsigned long long>(brute.second), "-");
+  // Ratios against the grid lookup in the same order (nodes/query counts a packet's node tests
+  // once for all its lanes, divided by the lanes).
+  constexpr std::size_t kRowsPerOrder = 5;
+  for (std::size_t o = 0; o < 2; ++o) {
+    const Row* first = &rows[kRowsPerOrder * o];
+    const double grid_ns = first[4].result.first;
+    std::printf("  %s order, time / grid: stackless %.2f, fixed stack %.2f, packet %.2f, packet with SIMD leaf boxes %.2f\n",
+                first->order, first[0].result.first / grid_ns, first[1].result.first / grid_ns,
+                first[2].result.first / grid_ns, first[3].result.first / grid_ns);
+  }
+  std::printf("  hits agree across methods and orders: %s\n", agree ? "yes" : "NO");
+  return agree ? 0 : 1;
 }
 
 int bvh_build_command(const std::vector<std::string>& args) {

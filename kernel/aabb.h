@@ -56,7 +56,10 @@ template <BoxBounds A, BoxBounds B>
 /// Exact for boxes of any size (no centre-box inflation, whose corners would over-accept).
 template <BoxBounds Box>
 [[nodiscard]] constexpr bool sphere_overlaps(const Box& b, float cx, float cy, float cz, float r) {
-  auto excess = [](float c, float lo, float hi) { return c < lo ? lo - c : (c > hi ? c - hi : 0.0f); };
+  // max(lo - c, c - hi, 0) is the distance outside [lo, hi] (the larger term is the only
+  // positive one), written with max so that it compiles to max instructions, not branches the
+  // predictor cannot learn; the SIMD packet test (kernel/bvh_packet_walk.h) computes the same.
+  auto excess = [](float c, float lo, float hi) { return std::max(std::max(lo - c, c - hi), 0.0f); };
   const float dx = excess(cx, b.min[0], b.max[0]);
   const float dy = excess(cy, b.min[1], b.max[1]);
   const float dz = excess(cz, b.min[2], b.max[2]);

@@ -14,8 +14,10 @@
 #include <vector>
 
 #include "catch.h"
+#include "kernel/bvh_packet_walk.h"
 #include "kernel/errors.h"
 #include "kernel/flat_bvh.h"
+#include "kernel/morton.h"
 #include "kernel/ray_triangle.h"
 
 using namespace hail;
@@ -446,4 +448,70 @@ TEST_CASE("Möller-Trumbore: hits inside and on edges, misses outside, parallel 
   CHECK(ray_triangle(in_plane, along, a, b, c) == kRayMiss);  // parallel
   const float scaled[3] = {0, -4, 0};
   CHECK(ray_triangle(above, scaled, a, b, c) == 0.5f);  // t in units of |d|
+}
+
+TEST_CASE("Packet walks give each lane exactly its single-sphere walk, in order", "[bvh]") {
+  for (const PrimitiveSet& set : primitive_sets()) {
+    // 1001 spheres: the last packet is partial, so inert lanes are exercised too.
+    const std::vector<Sphere> spheres = random_spheres(set, 1001, 99);
+    for (int leaf_size : {1, 4, 8}) {
+      INFO(set.name << ", leaf size " << leaf_size);
+      FlatBvh bvh;
+      bvh.build(set.bounds, {.leaf_size = leaf_size});
+      std::vector<Aabb> bvh_bounds(set.bounds.size());
+      for (std::size_t k = 0; k < bvh_bounds.size(); ++k) bvh_bounds[k] = set.bounds[bvh.primitive_order[k]];
+      std::vector<std::uint32_t> stamp(bvh.nodes.size(), 0xFFFFFFFFu);
+      std::uint64_t visits = 0;
+      bool twice = false;
+      std::size_t candidate_mismatches = 0, exact_mismatches = 0, lanes_checked = 0;
+      SpherePacket packet;
+      std::vector<std::uint32_t> per_lane[kSpherePacketWidth], per_lane_exact[kSpherePacketWidth];
+      std::uint32_t packet_index = 0;
+      for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth, ++packet_index) {
+        packet.clear();
+        const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
+        for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+        for (auto& v : per_lane) v.clear();
+        for (auto& v : per_lane_exact) v.clear();
+        query_sphere_packet(bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { per_lane[lane].push_back(k); },
+                            OnceCheck{&stamp, packet_index, &visits, &twice});
+        query_sphere_packet_exact(bvh, bvh_bounds, packet,
+                                  [&](std::uint32_t lane, std::uint32_t k) { per_lane_exact[lane].push_back(k); });
+        for (std::size_t q = first; q < kSpherePacketWidth + first; ++q) {
+          const std::uint32_t lane = static_cast<std::uint32_t>(q - first);
+          std::vector<std::uint32_t> single, single_exact;
+          if (q < last) {
+            const Sphere& s = spheres[q];
+            query_sphere(bvh, s.c[0], s.c[1], s.c[2], s.r, [&](std::uint32_t k) {
+              single.push_back(k);
+              if (sphere_overlaps(bvh_bounds[k], s.c[0], s.c[1], s.c[2], s.r)) single_exact.push_back(k);
+            });
+          }
+          // Inert lanes (q >= last) must see nothing.
+          candidate_mismatches += per_lane[lane] != single;
+          exact_mismatches += per_lane_exact[lane] != single_exact;
+          ++lanes_checked;
+        }
+      }
+      CHECK(lanes_checked >= spheres.size());
+      CHECK(candidate_mismatches == 0);
+      CHECK(exact_mismatches == 0);
+      CHECK_FALSE(twice);  // each node tested at most once per packet
+    }
+  }
+}
+
+TEST_CASE("Morton codes interleave x, y, z on cubic cells and clamp what lies outside", "[bvh]") {
+  CHECK(spread_bits_3d(0b1011) == 0b001000001001u);
+  CHECK(spread_bits_3d(0x3FF) == 0x09249249u);
+  const Aabb box{{0, 0, 0}, {1023, 10, 1023}};  // flat: y shares x's and z's 1-unit cells
+  CHECK(morton_code_3d(box, 1, 0, 0) == 0b100u);
+  CHECK(morton_code_3d(box, 0, 1, 0) == 0b010u);
+  CHECK(morton_code_3d(box, 0, 0, 1) == 0b001u);
+  CHECK(morton_code_3d(box, 1023, 10, 1023) == ((spread_bits_3d(1023) << 2) | (spread_bits_3d(10) << 1) | spread_bits_3d(1023)));
+  CHECK(morton_code_3d(box, -5, -5, -5) == 0u);
+  CHECK(morton_code_3d(box, std::nanf(""), 0, 0) == 0u);
+  CHECK(morton_code_3d(box, 1e30f, 0, 0) == morton_code_3d(box, 1023, 0, 0));
+  // The first split of Z-order is the top x bit: every point of the low half sorts first.
+  CHECK(morton_code_3d(box, 511, 10, 1023) < morton_code_3d(box, 512, 0, 0));
 }
