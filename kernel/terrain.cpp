@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernel/bvh_packet_walk.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/sphere_triangle.h"
 
@@ -10,6 +11,35 @@ namespace hail {
 namespace {
 
 constexpr int kMaxContactsPerSphere = 8;
+
+/// One sphere's terrain contacts while its candidates come in, reduced to one contact per
+/// distinct normal (a flat area split into triangles, or the two triangles sharing an internal
+/// edge, would otherwise push twice); when full, the deepest are kept.
+struct ContactReduction {
+  Contact found[kMaxContactsPerSphere];
+  int count = 0;
+
+  void add(const Contact& contact) {
+    for (int m = 0; m < count; ++m) {
+      const float same = found[m].nx * contact.nx + found[m].ny * contact.ny + found[m].nz * contact.nz;
+      if (same > 0.99999f) {
+        if (contact.gap < found[m].gap) {
+          found[m].gap = contact.gap;
+          found[m].surface_d = contact.surface_d;
+        }
+        return;
+      }
+    }
+    if (count < kMaxContactsPerSphere) {
+      found[count++] = contact;
+      return;
+    }
+    int worst = 0;
+    for (int m = 1; m < count; ++m)
+      if (found[m].gap > found[worst].gap) worst = m;
+    if (contact.gap < found[worst].gap) found[worst] = contact;
+  }
+};
 
 }  // namespace
 
@@ -20,34 +50,36 @@ Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std:
   bvh_ = build_flat_bvh(bounds, leaf_size);
   // Permuted into BVH order so that a leaf's triangles are contiguous.
   triangles_ = reorder_terrain_triangles(in_grid_order, bvh_.primitive_order);
+  triangle_bounds_.resize(bounds.size());
+  for (std::size_t k = 0; k < bounds.size(); ++k) triangle_bounds_[k] = bounds[bvh_.primitive_order[k]];
 }
 
 void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t last, float dt, float restitution,
                             float friction, std::vector<Contact>& out) const {
   const TerrainTriangles& t = triangles_;
-  for (std::size_t i = first; i < last; ++i) {
-    const float centre[3] = {s.px[i], s.py[i], s.pz[i]}, r = s.radius[i];
-    const float speed = std::sqrt(s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
-    const float margin = speed * dt;
-    Contact found[kMaxContactsPerSphere];
-    int count = 0;
-    query_sphere_stackless(bvh_, centre[0], centre[1], centre[2], r + margin, [&](std::uint32_t k) {
+  // Spheres go through the BVH a packet at a time (kernel/bvh_packet_walk.h): neighbours in the
+  // SoA share most of their walk. Each lane gets the triangles whose box its sphere touches in
+  // the order a single walk gives, and the lanes are emitted in sphere order, so the contacts
+  // do not depend on the packet width.
+  SpherePacket packet;
+  ContactReduction lanes[kSpherePacketWidth];
+  float margin[kSpherePacketWidth];
+  for (std::size_t p0 = first; p0 < last; p0 += kSpherePacketWidth) {
+    const std::size_t p1 = std::min(last, p0 + kSpherePacketWidth);
+    packet.clear();
+    for (std::size_t i = p0; i < p1; ++i) {
+      const float speed = std::sqrt(s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
+      const std::uint32_t lane = packet.add(s.px[i], s.py[i], s.pz[i], s.radius[i] + speed * dt);
+      margin[lane] = speed * dt;
+      lanes[lane].count = 0;
+    }
+    query_sphere_packet_exact(bvh_, triangle_bounds_, packet, [&](std::uint32_t lane, std::uint32_t k) {
+      const std::size_t i = p0 + lane;
+      const float centre[3] = {s.px[i], s.py[i], s.pz[i]};
       const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
       const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
       SphereTriangleContact st;
-      if (!sphere_triangle_contact(centre, r, a, b, c, n, t.d[k], t.internal_edges[k], margin, st)) return;
-      // Reduction: one contact per distinct normal (a flat area split into triangles, or the
-      // two triangles sharing an internal edge, would otherwise push twice).
-      for (int m = 0; m < count; ++m) {
-        const float same = found[m].nx * st.n[0] + found[m].ny * st.n[1] + found[m].nz * st.n[2];
-        if (same > 0.99999f) {
-          if (st.gap < found[m].gap) {
-            found[m].gap = st.gap;
-            found[m].surface_d = st.surface_d;
-          }
-          return;
-        }
-      }
+      if (!sphere_triangle_contact(centre, s.radius[i], a, b, c, n, t.d[k], t.internal_edges[k], margin[lane], st)) return;
       Contact contact;
       contact.a = static_cast<std::uint32_t>(i);
       contact.b = kStaticBody;
@@ -58,16 +90,10 @@ void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t l
       contact.surface_d = st.surface_d;
       contact.restitution = combine_restitution(s.restitution[i], restitution);
       contact.friction = combine_friction(s.friction[i], friction);
-      if (count < kMaxContactsPerSphere) {
-        found[count++] = contact;
-      } else {  // full: keep the deepest
-        int worst = 0;
-        for (int m = 1; m < count; ++m)
-          if (found[m].gap > found[worst].gap) worst = m;
-        if (contact.gap < found[worst].gap) found[worst] = contact;
-      }
+      lanes[lane].add(contact);
     });
-    for (int m = 0; m < count; ++m) out.push_back(found[m]);
+    for (std::uint32_t lane = 0; lane < packet.count; ++lane)
+      out.insert(out.end(), lanes[lane].found, lanes[lane].found + lanes[lane].count);
   }
 }
 

@@ -25,9 +25,11 @@ class Terrain {
   [[nodiscard]] const TerrainTriangles& triangles() const { return triangles_; }
   [[nodiscard]] const FlatBvh& bvh() const { return bvh_; }
 
-  /// Appends the contacts of spheres [first, last) with the terrain: every triangle whose gap
-  /// is below the sphere's travel this step (|v| dt, speculative), reduced so that triangles
-  /// giving the same normal (a flat area split into many triangles) yield one contact.
+  /// Appends the contacts of spheres [first, last) with the terrain, in sphere order: every
+  /// triangle whose gap is below the sphere's travel this step (|v| dt, speculative), reduced
+  /// so that triangles giving the same normal (a flat area split into many triangles) yield one
+  /// contact. Spheres walk the BVH in packets (kernel/bvh_packet_walk.h). No allocation beyond
+  /// `out`'s growth.
   /// `restitution` and `friction` are the terrain's material, combined with each sphere's.
   void find_contacts(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt, float restitution,
                      float friction, std::vector<Contact>& out) const;
@@ -39,6 +41,7 @@ class Terrain {
   Heightmap heightmap_;
   TerrainTriangles triangles_;
   FlatBvh bvh_;
+  std::vector<Aabb> triangle_bounds_;  ///< per triangle, BVH order: the packet walk's leaf filter
 };
 
 }  // namespace hail
