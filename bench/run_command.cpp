@@ -109,6 +109,7 @@ int run_command(const std::vector<std::string>& args) {
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(steps));
   PhaseTimes phase_sum;
+  double static_contacts = 0, sphere_contacts = 0, colours = 0, collision_passes = 0;  // sums over timed steps
   const int warmup = steps > 120 ? 60 : 0;  // the scene's definition: report steps 60..599
   auto last_progress = clock::now();
   const auto run_start = clock::now();
@@ -124,6 +125,11 @@ int run_command(const std::vector<std::string>& args) {
       phase_sum.solve += t.solve;
       phase_sum.integrate += t.integrate;
       phase_sum.depenetrate += t.depenetrate;
+      const StepStats& stats = world.last_step_stats();
+      static_contacts += double(stats.static_contacts);
+      sphere_contacts += double(stats.sphere_contacts);
+      colours += double(stats.colours);
+      collision_passes += stats.collision_passes;
     }
     if (!o.quiet && clock::now() - last_progress > std::chrono::seconds(2)) {
       std::fprintf(stderr, "  step %d/%d, %.2f ms/step so far\n", k + 1, steps,
@@ -149,6 +155,8 @@ int run_command(const std::vector<std::string>& args) {
   std::printf("  phases    predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  integrate %.3f  depenetrate %.3f ms\n",
               phase_sum.predict * per_step, phase_sum.detect_terrain * per_step, phase_sum.detect_pairs * per_step,
               phase_sum.solve * per_step, phase_sum.integrate * per_step, phase_sum.depenetrate * per_step);
+  std::printf("  solver    per step: %.0f static + %.0f sphere contacts, %.1f colours, %.2f collision passes that applied an impulse\n",
+              static_contacts * per_step, sphere_contacts * per_step, colours * per_step, collision_passes * per_step);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               errors.max_sphere_penetration, errors.max_terrain_penetration, errors.tunnelled, errors.fell_off,
               errors.nan_count);
@@ -184,6 +192,10 @@ int run_command(const std::vector<std::string>& args) {
                        {"solve", phase_sum.solve * per_step},
                        {"integrate", phase_sum.integrate * per_step},
                        {"depenetrate", phase_sum.depenetrate * per_step}}},
+        {"solver_per_step", {{"static_contacts", static_contacts * per_step},
+                             {"sphere_contacts", sphere_contacts * per_step},
+                             {"colours", colours * per_step},
+                             {"collision_passes", collision_passes * per_step}}},
         {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}},
     };
     std::ofstream out(o.json_path);

@@ -20,6 +20,7 @@
 #include "kernel/errors.h"
 #include "kernel/integrate.h"
 #include "kernel/plane.h"
+#include "kernel/solver_body.h"
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/terrain.h"
@@ -158,7 +159,8 @@ class World {
 
   [[nodiscard]] const PhaseTimes& last_phase_times() const { return times_; }
   [[nodiscard]] const StepStats& last_step_stats() const { return stats_; }
-  /// Contacts of the last step (after solving: normal_impulse holds the resting impulse).
+  /// Contacts of the last step, grouped by solver colour (after solving: normal_impulse holds
+  /// the resting impulse).
   [[nodiscard]] std::span<const Contact> last_contacts() const { return contacts_; }
 
  private:
@@ -181,6 +183,8 @@ class World {
   std::vector<std::vector<Contact>> contact_blocks_;
   std::vector<Contact> contacts_;
   ContactColouring colouring_;
+  std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
+  std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch, reused across steps
   std::vector<float> block_max_speed_;
   PhaseTimes times_;
   StepStats stats_;
