@@ -20,6 +20,7 @@
 #include "jobs/parallel_blocks.h"
 #include "jobs/phase_timer.h"
 #include "kernel/contact_impulse.h"
+#include "kernel/contact_solve_simd.h"
 #include "kernel/solver_body.h"
 #include "kernel/world.h"
 
@@ -110,6 +111,25 @@ struct StepPipeline {
     }
   }
 
+  /// Runs f(run, independent) over the contacts, colour after colour, in runs of at most
+  /// kContactChunk contacts (runs of one colour in parallel). `independent` says the run's
+  /// contacts share no sphere (false only for the serial overflow colour), which the SIMD
+  /// passes need. Runs start at fixed offsets, so they do not depend on the thread count.
+  template <class F>
+  void for_each_run_by_colour(F&& f) {
+    const ContactColouring& col = w.colouring_;
+    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
+      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
+      const std::span<Contact> contacts(w.contacts_.data() + begin, end - begin);
+      if (col.is_serial(colour))
+        f(contacts, false);
+      else
+        for_each_block(end - begin, kContactChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+          f(contacts.subspan(first, last - first), true);
+        });
+    }
+  }
+
   void solve() {
     SphereSoA& s = w.spheres_;
     colour_contacts(w.contacts_, s.size(), w.colouring_);
@@ -128,22 +148,21 @@ struct StepPipeline {
     const float threshold = params.restitution_threshold;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
-      for_each_contact_by_colour([&](Contact& c) {
-        ContactBodies k = gather_bodies(bodies, c);
-        if (solve_collision(c, k, params.dt, threshold)) {
-          scatter_bodies(bodies, c, k);
-          any.store(true, std::memory_order_relaxed);
-        }
+      for_each_run_by_colour([&](std::span<Contact> run, bool independent) {
+        const bool applied = independent ? solve_collision_run(run, bodies, params.dt, threshold)
+                                         : solve_collision_run_scalar(run, bodies, params.dt, threshold);
+        if (applied) any.store(true, std::memory_order_relaxed);
       });
       if (!any.load()) break;
       ++w.stats_.collision_passes;
     }
     const float inv_dt = 1.0f / params.dt;
     for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
-      for_each_contact_by_colour([&](Contact& c) {
-        ContactBodies k = gather_bodies(bodies, c);
-        solve_resting(c, k, inv_dt);
-        scatter_bodies(bodies, c, k);
+      for_each_run_by_colour([&](std::span<Contact> run, bool independent) {
+        if (independent)
+          solve_resting_run(run, bodies, inv_dt);
+        else
+          solve_resting_run_scalar(run, bodies, inv_dt);
       });
     }
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
