@@ -19,8 +19,8 @@
 // index it with k directly.
 //
 // SIMD: a stackless walk tests one node per step and branches on the result, so there is
-// nothing to vectorise per node (3 lanes of 8). The win is in the leaf (8 triangles = one AVX2
-// batch, hence kMaxLeafSize) or in packets of spheres per node; neither is done here yet.
+// nothing to vectorise per node (3 lanes of 8). The win is in packets of spheres per node and
+// in testing a leaf's primitives for all of them at once: kernel/bvh_packet_walk.h.
 
 #include <cstdint>
 #include <span>
