@@ -32,36 +32,35 @@ std::vector<Aabb> triangle_bounds(const TerrainTriangles& t) {
 
 struct Sphere { float x, y, z, r; };
 
-/// Runs `query` over every sphere `repeats` times; returns ns per query (median of repeats)
-/// and the total of what the query returned (hits after the box test), to check agreement.
+/// Runs `query` over the spheres in groups of `group` (the last may be short), `repeats`
+/// times; returns ns per sphere (median of repeats) and the total of what the query returned
+/// (hits after the box test), to check agreement.
 template <class Query>
-std::pair<double, std::uint64_t> time_queries(const std::vector<Sphere>& spheres, int repeats, Query&& query) {
+std::pair<double, std::uint64_t> time_groups(const std::vector<Sphere>& spheres, std::size_t group, int repeats,
+                                             Query&& query) {
   std::vector<double> ns;
   std::uint64_t hits = 0;
   for (int r = 0; r < repeats; ++r) {
     hits = 0;
     const auto t0 = clock_type::now();
-    for (const Sphere& s : spheres) hits += query(s);
+    for (std::size_t first = 0; first < spheres.size(); first += group)
+      hits += query(std::span<const Sphere>(spheres).subspan(first, std::min(group, spheres.size() - first)));
     ns.push_back(std::chrono::duration<double, std::nano>(clock_type::now() - t0).count() / double(spheres.size()));
   }
   std::sort(ns.begin(), ns.end());
   return {ns[ns.size() / 2], hits};
 }
 
-/// time_queries for the packet walk: `query` takes a span of up to kSpherePacketWidth spheres.
+/// time_groups one sphere at a time.
+template <class Query>
+std::pair<double, std::uint64_t> time_queries(const std::vector<Sphere>& spheres, int repeats, Query&& query) {
+  return time_groups(spheres, 1, repeats, [&](std::span<const Sphere> one) { return query(one[0]); });
+}
+
+/// time_groups a packet at a time.
 template <class Query>
 std::pair<double, std::uint64_t> time_packets(const std::vector<Sphere>& spheres, int repeats, Query&& query) {
-  std::vector<double> ns;
-  std::uint64_t hits = 0;
-  for (int r = 0; r < repeats; ++r) {
-    hits = 0;
-    const auto t0 = clock_type::now();
-    for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth)
-      hits += query(std::span<const Sphere>(spheres).subspan(first, std::min<std::size_t>(kSpherePacketWidth, spheres.size() - first)));
-    ns.push_back(std::chrono::duration<double, std::nano>(clock_type::now() - t0).count() / double(spheres.size()));
-  }
-  std::sort(ns.begin(), ns.end());
-  return {ns[ns.size() / 2], hits};
+  return time_groups(spheres, kSpherePacketWidth, repeats, query);
 }
 
 /// The spheres sorted by the Morton code of their centres over the terrain's bounds.
