@@ -10,6 +10,7 @@
 // walks then share most nodes, and the tree's top is tested once per packet instead of once per
 // sphere. `hail-bench query` measures it against the single walks and the grid lookup.
 
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <type_traits>
@@ -66,7 +67,7 @@ template <class Arch>
 }
 
 /// Lowest set bit's index; bits != 0.
-[[nodiscard]] inline std::uint32_t lowest_lane(std::uint32_t bits) { return static_cast<std::uint32_t>(__builtin_ctz(bits)); }
+[[nodiscard]] inline std::uint32_t lowest_lane(std::uint32_t bits) { return static_cast<std::uint32_t>(std::countr_zero(bits)); }
 
 /// The packet's spheres against one box, all lanes at once. Per axis the excess
 /// max(lo - c, c - hi, 0) and the sum's order are those of sphere_overlaps (kernel/aabb.h), so
