@@ -4,7 +4,8 @@
 //   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
 //                time; per-block buffers merged in block order
 //   solve        contacts coloured so that a colour has no shared sphere; colours solved one
-//                after another, each in parallel: collision passes, then resting passes
+//                after another, each in parallel and 8 contacts per SIMD instruction:
+//                collision passes, then resting passes
 //   integrate    positions, with exact time-of-impact bounces on planes
 //   depenetrate  push overlapping spheres apart, colour by colour
 //
@@ -94,23 +95,6 @@ struct StepPipeline {
     w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
   }
 
-  /// Runs f(contact) over every contact, colour after colour; contacts of one colour in parallel.
-  /// solve() has put the contacts in colour order, so each colour is a contiguous run.
-  template <class F>
-  void for_each_contact_by_colour(F&& f) {
-    const ContactColouring& col = w.colouring_;
-    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
-      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
-      auto run = [&](std::size_t, std::size_t first, std::size_t last) {
-        for (std::size_t k = begin + first; k < begin + last; ++k) f(w.contacts_[k]);
-      };
-      if (col.is_serial(colour))
-        run(0, 0, end - begin);
-      else
-        for_each_block(end - begin, kContactChunk, run);
-    }
-  }
-
   /// Runs f(run, independent) over the contacts, colour after colour, in runs of at most
   /// kContactChunk contacts (runs of one colour in parallel). `independent` says the run's
   /// contacts share no sphere (false only for the serial overflow colour), which the SIMD
@@ -130,11 +114,20 @@ struct StepPipeline {
     }
   }
 
+  /// Runs f(contact) over every contact, colour after colour; contacts of one colour in parallel.
+  template <class F>
+  void for_each_contact_by_colour(F&& f) {
+    for_each_run_by_colour([&](std::span<Contact> run, bool) {
+      for (Contact& contact : run) f(contact);
+    });
+  }
+
   void solve() {
     SphereSoA& s = w.spheres_;
     colour_contacts(w.contacts_, s.size(), w.colouring_);
-    // Contacts moved into colour order: every pass then streams through memory instead of
-    // jumping through the colouring's index (measured: the passes were bound by those misses).
+    // Contacts moved into colour order, so that each colour is a contiguous run that the passes
+    // stream through (and the SIMD passes can take as a span) instead of jumping through the
+    // colouring's index.
     w.coloured_contacts_.resize(w.contacts_.size());
     for (std::size_t k = 0; k < w.contacts_.size(); ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
     std::swap(w.contacts_, w.coloured_contacts_);
