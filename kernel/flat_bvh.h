@@ -66,13 +66,6 @@ void query_sphere(const FlatBvh& bvh, float cx, float cy, float cz, float r, Vis
       count);
 }
 
-/// query_sphere under its earlier name.
-template <class Visit, class Count = NoNodeCount>
-void query_sphere_stackless(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit,
-                            Count&& count = {}) {
-  query_sphere(bvh, cx, cy, cz, r, visit, count);
-}
-
 /// query_sphere with the fixed-stack walk: the same candidates, in the same order.
 template <class Visit, class Count = NoNodeCount>
 void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit,
@@ -162,11 +155,6 @@ template <class Intersect>
     if (t >= 0.0f && t < best.t) best = RayHit{t, k};
   }
   return best;
-}
-
-/// sphere_overlaps on a node, under its earlier name.
-[[nodiscard]] constexpr bool sphere_overlaps_node(const FlatNode& n, float cx, float cy, float cz, float r) {
-  return sphere_overlaps(n, cx, cy, cz, r);
 }
 
 }  // namespace hail

@@ -101,7 +101,7 @@ float Terrain::penetration(float x, float y, float z, float r) const {
   const TerrainTriangles& t = triangles_;
   const float centre[3] = {x, y, z};
   float deepest = 0.0f;
-  query_sphere_stackless(bvh_, x, y, z, r, [&](std::uint32_t k) {
+  query_sphere(bvh_, x, y, z, r, [&](std::uint32_t k) {
     const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
     const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
     SphereTriangleContact st;

@@ -31,7 +31,7 @@ bool triangle_box_hit(const Terrain& t, std::uint32_t k, float x, float y, float
     box.min[0] = std::min({s.v0x[k], s.v1x[k], s.v2x[k]}); box.max[0] = std::max({s.v0x[k], s.v1x[k], s.v2x[k]});
     box.min[1] = std::min({s.v0y[k], s.v1y[k], s.v2y[k]}); box.max[1] = std::max({s.v0y[k], s.v1y[k], s.v2y[k]});
     box.min[2] = std::min({s.v0z[k], s.v1z[k], s.v2z[k]}); box.max[2] = std::max({s.v0z[k], s.v1z[k], s.v2z[k]});
-    return sphere_overlaps_node(box, x, y, z, r);
+    return sphere_overlaps(box, x, y, z, r);
 }
 
 std::set<std::uint32_t> brute_force(const Terrain& t, float x, float y, float z, float r) {
@@ -114,7 +114,7 @@ TEST_CASE("Stackless and stack walks return exactly the brute-force triangle set
         std::set<std::uint32_t> stackless, stack;
         std::size_t visits = 0, distinct = 0;
         std::set<std::uint32_t> all_visited;
-        query_sphere_stackless(t.bvh(), x, y, z, r, [&](std::uint32_t k) {
+        query_sphere(t.bvh(), x, y, z, r, [&](std::uint32_t k) {
           ++visits;
           all_visited.insert(k);
           if (triangle_box_hit(t, k, x, y, z, r)) stackless.insert(k);
@@ -158,7 +158,7 @@ TEST_CASE("The flat BVH layout: 32-byte nodes, skip = end of subtree, every tria
   CHECK(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
   // A stackless walk with a huge sphere visits every node exactly once and ends.
   std::size_t leaves_visited = 0;
-  query_sphere_stackless(t.bvh(), 20, 0, 15, 1e6f, [&](std::uint32_t) { ++leaves_visited; });
+  query_sphere(t.bvh(), 20, 0, 15, 1e6f, [&](std::uint32_t) { ++leaves_visited; });
   CHECK(leaves_visited == t.triangles().size());
   CHECK_THROWS_AS(Terrain(Heightmap::from_function(3, 3, {}, [](float, float) { return 0.0f; }), 9), InvalidArgument);
 }
