@@ -18,7 +18,7 @@ void print_help() {
       "usage: hail-bench <command> [options]\n"
       "\n"
       "commands:\n"
-      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--json FILE] [--quiet]\n"
+      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--json FILE] [--quiet]\n"
       "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
       "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash)\n"
       "  query [--queries N] [--leaf L] [--repeats R]\n"

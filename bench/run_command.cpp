@@ -61,6 +61,9 @@ RunOptions parse(const std::vector<std::string>& args) {
     } else if (flag == "--dt") {
       o.params.dt = parse_number<float>(flag, value());
       if (!(o.params.dt > 0 && o.params.dt < 10)) usage_error("--dt must be in (0, 10) s");
+    } else if (flag == "--reorder") {
+      o.params.reorder_interval = parse_number<int>(flag, value());
+      if (o.params.reorder_interval < 0) usage_error("--reorder must be >= 0 (steps between Morton re-sorts; 0 = never)");
     } else if (flag == "--json") {
       o.json_path = value();
     } else if (flag == "--quiet") {
@@ -119,6 +122,7 @@ int run_command(const std::vector<std::string>& args) {
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
     if (k >= warmup) {
       const PhaseTimes& t = world.last_phase_times();
+      phase_sum.reorder += t.reorder;
       phase_sum.predict += t.predict;
       phase_sum.detect_terrain += t.detect_terrain;
       phase_sum.detect_pairs += t.detect_pairs;
@@ -149,11 +153,12 @@ int run_command(const std::vector<std::string>& args) {
 
   std::printf("hail-bench run %s  (%s)\n", o.scene.c_str(), scene.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s\n", cpu_model().c_str(), world.thread_count(), simd_path().c_str());
-  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s\n", world.sphere_count(), steps, o.params.dt);
+  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps\n", world.sphere_count(), steps,
+              o.params.dt, o.params.reorder_interval);
   std::printf("  time      %.3f ms/step mean, %.3f median (steps %d..%d), total %.3f s, set-up %.3f s\n", mean, med,
               warmup, steps - 1, total_s, setup_s);
-  std::printf("  phases    predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  integrate %.3f  depenetrate %.3f ms\n",
-              phase_sum.predict * per_step, phase_sum.detect_terrain * per_step, phase_sum.detect_pairs * per_step,
+  std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  integrate %.3f  depenetrate %.3f ms\n",
+              phase_sum.reorder * per_step, phase_sum.predict * per_step, phase_sum.detect_terrain * per_step, phase_sum.detect_pairs * per_step,
               phase_sum.solve * per_step, phase_sum.integrate * per_step, phase_sum.depenetrate * per_step);
   std::printf("  solver    per step: %.0f static + %.0f sphere contacts, %.1f colours, %.2f collision passes that applied an impulse\n",
               static_contacts * per_step, sphere_contacts * per_step, colours * per_step, collision_passes * per_step);
@@ -171,6 +176,7 @@ int run_command(const std::vector<std::string>& args) {
         {"threads", world.thread_count()},
         {"steps", steps},
         {"dt", o.params.dt},
+        {"reorder_interval", o.params.reorder_interval},
         {"ms_per_step_mean", mean},
         {"ms_per_step_median", med},
         {"total_s", total_s},
@@ -186,7 +192,8 @@ int run_command(const std::vector<std::string>& args) {
         {"energy_drift", energy_drift},
         {"nan_count", errors.nan_count},
         {"state_hash", hash},
-        {"phases_ms", {{"predict", phase_sum.predict * per_step},
+        {"phases_ms", {{"reorder", phase_sum.reorder * per_step},
+                       {"predict", phase_sum.predict * per_step},
                        {"detect_terrain", phase_sum.detect_terrain * per_step},
                        {"detect_pairs", phase_sum.detect_pairs * per_step},
                        {"solve", phase_sum.solve * per_step},

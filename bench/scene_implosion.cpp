@@ -10,6 +10,7 @@ Scene build_implosion(const SceneParams& p) {
   WorldSettings settings;
   settings.gravity = Vec3::Zero();
   settings.threads = p.threads;
+  settings.reorder_interval = p.reorder_interval;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;

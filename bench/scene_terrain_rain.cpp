@@ -16,6 +16,7 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
                    float spacing, float centre_x, float centre_z, const char* description) {
   WorldSettings settings;
   settings.threads = p.threads;
+  settings.reorder_interval = p.reorder_interval;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;

@@ -15,6 +15,7 @@ struct SceneParams {
   std::size_t spheres = 4000;
   int threads = 0;
   float dt = 1.0f / 60.0f;
+  int reorder_interval = WorldSettings{}.reorder_interval;  ///< --reorder K (0: never re-sort)
 };
 
 /// What a scene builds and how its results are judged.

@@ -23,6 +23,7 @@
 #include "kernel/contact_impulse.h"
 #include "kernel/contact_solve_simd.h"
 #include "kernel/solver_body.h"
+#include "kernel/spatial_order.h"
 #include "kernel/world.h"
 
 namespace hail {
@@ -198,6 +199,12 @@ void World::step(float dt) {
   const float scaled = dt * settings_.time_scale;
   times_ = {};
   if (scaled <= 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
+  if (settings_.reorder_interval > 0 && steps_taken_ % std::uint64_t(settings_.reorder_interval) == 0) {
+    ScopedPhaseTimer timer(times_.reorder);
+    morton_slot_order(spheres_, reorder_keys_, reorder_slots_);
+    spheres_.permute(reorder_slots_);
+  }
+  ++steps_taken_;
   StepPipeline pipeline{*this, {}};
   pipeline.params.integrator = settings_.integrator;
   pipeline.params.gravity[0] = settings_.gravity.x();

@@ -153,8 +153,10 @@ bool solve_collision_run(std::span<Contact> contacts, std::span<SolverBody> bodi
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
     const batch gap = batch::load_aligned(s.gap);
     const batch kn = L.ima + L.imb;
-    const lane_mask active = !(closing <= batch(restitution_threshold)) &
-                             !((gap > zero) & (closing * batch(dt) <= gap)) & !(kn <= zero);
+    const lane_mask closing_fast = !(closing <= batch(restitution_threshold));
+    const lane_mask gap_stays_open = (gap > zero) & (closing * batch(dt) <= gap);
+    const lane_mask movable = !(kn <= zero);
+    const lane_mask active = closing_fast & !gap_stays_open & movable;
     if (!xsimd::any(active)) continue;  // nothing changes: no scatter needed
     any = true;
     const batch j = (one + batch::load_aligned(s.restitution)) * closing / kn;

@@ -42,6 +42,8 @@ void World::validate(const WorldSettings& s) {
           describe("WorldSettings::depenetration.slop_fraction must be >= 0, got", s.depenetration.slop_fraction));
   require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f,
           describe("WorldSettings::restitution_threshold must be >= 0, got", s.restitution_threshold));
+  require(s.reorder_interval >= 0, "WorldSettings::reorder_interval must be >= 0 (0 = never), got " +
+                                       std::to_string(s.reorder_interval));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
 }

@@ -95,16 +95,21 @@ bool SphereSoA::remove(SphereId id) {
 }
 
 void SphereSoA::permute(std::span<const std::uint32_t> order) {
-  std::vector<SphereRecord> records(size_);
-  std::vector<std::uint32_t> ids(size_);
-  for (std::size_t k = 0; k < size_; ++k) {
-    records[k] = read_slot(order[k]);
-    ids[k] = slot_to_id_[order[k]];
+  // Array by array through one scratch array, so a re-sort every few steps allocates only the
+  // first time (or when the world grows).
+  float_scratch_.resize(size_);
+  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia,
+                  &restitution, &friction}) {
+    for (std::size_t k = 0; k < size_; ++k) float_scratch_[k] = (*a)[order[k]];
+    std::copy_n(float_scratch_.data(), size_, a->data());
   }
+  id_scratch_.resize(size_);
+  for (std::size_t k = 0; k < size_; ++k) id_scratch_[k] = flags[order[k]];
+  std::copy_n(id_scratch_.data(), size_, flags.data());
+  for (std::size_t k = 0; k < size_; ++k) id_scratch_[k] = slot_to_id_[order[k]];
   for (std::size_t k = 0; k < size_; ++k) {
-    write_slot(k, records[k]);
-    slot_to_id_[k] = ids[k];
-    id_to_slot_[ids[k]] = static_cast<std::uint32_t>(k);
+    slot_to_id_[k] = id_scratch_[k];
+    id_to_slot_[id_scratch_[k]] = static_cast<std::uint32_t>(k);
   }
 }
 

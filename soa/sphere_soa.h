@@ -92,6 +92,8 @@ class SphereSoA {
   std::vector<std::uint32_t> id_to_slot_;  // id index -> dense slot (0xFFFFFFFF when free)
   std::vector<std::uint32_t> generation_;  // id index -> current generation
   std::vector<std::uint32_t> free_ids_;
+  AlignedArray<float> float_scratch_;        // permute(): one array's new order
+  AlignedArray<std::uint32_t> id_scratch_;   // permute(): flags and ids in their new order
 };
 
 }  // namespace hail
