@@ -21,6 +21,7 @@ struct RunOptions {
   SceneParams params;
   int steps = -1;  // -1: the scene's default
   std::string json_path;
+  std::string trace_path;
   bool quiet = false;
 };
 
@@ -64,6 +65,8 @@ RunOptions parse(const std::vector<std::string>& args) {
     } else if (flag == "--reorder") {
       o.params.reorder_interval = parse_number<int>(flag, value());
       if (o.params.reorder_interval < 0) usage_error("--reorder must be >= 0 (steps between Morton re-sorts; 0 = never)");
+    } else if (flag == "--trace") {
+      o.trace_path = value();
     } else if (flag == "--json") {
       o.json_path = value();
     } else if (flag == "--quiet") {
@@ -88,6 +91,21 @@ std::string hex(std::uint64_t h) {
   return buffer;
 }
 
+/// Chrome trace-event JSON (opens in Perfetto and chrome://tracing): one complete ("X") event
+/// per phase per step per thread, threads named "arena slot k".
+void write_trace(const std::string& path, const PhaseTrace& trace, int threads) {
+  nlohmann::json events = nlohmann::json::array();
+  for (int t = 0; t < threads; ++t)
+    events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", t},
+                      {"args", {{"name", "arena slot " + std::to_string(t)}}}});
+  for (const TraceSlice& s : trace.slices())
+    events.push_back({{"name", phase_name(s.phase)}, {"cat", "step"}, {"ph", "X"}, {"pid", 1}, {"tid", s.thread},
+                      {"ts", s.start_us}, {"dur", s.end_us - s.start_us}, {"args", {{"step", s.step}}}});
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
+}
+
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
@@ -107,6 +125,7 @@ int run_command(const std::vector<std::string>& args) {
   World& world = *scene.world;
   const int steps = o.steps > 0 ? o.steps : scene.default_steps;
 
+  if (!o.trace_path.empty()) world.enable_trace(true);
   const double energy_start = world.kinetic_energy();
   const Eigen::Vector3d momentum_start = world.linear_momentum();
   std::vector<double> step_ms;
@@ -169,6 +188,11 @@ int run_command(const std::vector<std::string>& args) {
               errors.kinetic_energy, energy_start, energy_drift, momentum_drift);
   std::printf("  state     hash %s\n", hash.c_str());
 
+  if (!o.trace_path.empty()) {
+    write_trace(o.trace_path, world.trace(), world.thread_count());
+    std::printf("  trace     %zu slices written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n",
+                world.trace().slices().size(), o.trace_path.c_str());
+  }
   if (!o.json_path.empty()) {
     nlohmann::json j = {
         {"scene", o.scene},

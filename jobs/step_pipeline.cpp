@@ -20,6 +20,7 @@
 
 #include "jobs/parallel_blocks.h"
 #include "jobs/phase_timer.h"
+#include "jobs/phase_trace.h"
 #include "kernel/contact_impulse.h"
 #include "kernel/contact_solve_simd.h"
 #include "kernel/solver_body.h"
@@ -43,6 +44,7 @@ struct StepPipeline {
     const std::size_t n = s.size();
     w.block_max_speed_.assign(block_count(n, kSphereBlock), 0.0f);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Predict);
       w.block_max_speed_[b] = predict_velocities(s, first, last, params);
     });
     float max_speed = 0.0f, max_radius = 0.0f;
@@ -57,6 +59,7 @@ struct StepPipeline {
     const std::size_t blocks = block_count(n, kSphereBlock);
     if (w.contact_blocks_.size() < blocks) w.contact_blocks_.resize(blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
       w.contact_blocks_[b].clear();
       find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
       if (w.terrain_)
@@ -77,6 +80,7 @@ struct StepPipeline {
     const bool grid = search == PairSearch::Grid || (search == PairSearch::Automatic && n >= kGridPairSearchMinSpheres);
     if (grid) w.grid_.build(s, margin);
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::DetectPairs);
       if (grid)
         w.grid_.find_pairs(s, first, last, margin, w.pair_blocks_[b], w.pair_row_scratch_[b]);
       else
@@ -101,24 +105,27 @@ struct StepPipeline {
   /// contacts share no sphere (false only for the serial overflow colour), which the SIMD
   /// passes need. Runs start at fixed offsets, so they do not depend on the thread count.
   template <class F>
-  void for_each_run_by_colour(F&& f) {
+  void for_each_run_by_colour(Phase phase, F&& f) {
     const ContactColouring& col = w.colouring_;
     for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
       const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
       const std::span<Contact> contacts(w.contacts_.data() + begin, end - begin);
-      if (col.is_serial(colour))
+      if (col.is_serial(colour)) {
+        ScopedTraceRecord record(w.trace_, phase);
         f(contacts, false);
-      else
+      } else {
         for_each_block(end - begin, kContactChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+          ScopedTraceRecord record(w.trace_, phase);
           f(contacts.subspan(first, last - first), true);
         });
+      }
     }
   }
 
   /// Runs f(contact) over every contact, colour after colour; contacts of one colour in parallel.
   template <class F>
-  void for_each_contact_by_colour(F&& f) {
-    for_each_run_by_colour([&](std::span<Contact> run, bool) {
+  void for_each_contact_by_colour(Phase phase, F&& f) {
+    for_each_run_by_colour(phase, [&](std::span<Contact> run, bool) {
       for (Contact& contact : run) f(contact);
     });
   }
@@ -135,6 +142,7 @@ struct StepPipeline {
     if (w.solver_bodies_.size() < s.size()) w.solver_bodies_.resize(s.size());
     const std::span<SolverBody> bodies(w.solver_bodies_.data(), s.size());
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
       load_solver_bodies(s, first, last, bodies);
     });
     w.stats_.colours = w.colouring_.colour_count();
@@ -142,7 +150,7 @@ struct StepPipeline {
     const float threshold = params.restitution_threshold;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
-      for_each_run_by_colour([&](std::span<Contact> run, bool independent) {
+      for_each_run_by_colour(Phase::Solve, [&](std::span<Contact> run, bool independent) {
         const bool applied = independent ? solve_collision_run(run, bodies, params.dt, threshold)
                                          : solve_collision_run_scalar(run, bodies, params.dt, threshold);
         if (applied) any.store(true, std::memory_order_relaxed);
@@ -152,7 +160,7 @@ struct StepPipeline {
     }
     const float inv_dt = 1.0f / params.dt;
     for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
-      for_each_run_by_colour([&](std::span<Contact> run, bool independent) {
+      for_each_run_by_colour(Phase::Solve, [&](std::span<Contact> run, bool independent) {
         if (independent)
           solve_resting_run(run, bodies, inv_dt);
         else
@@ -160,6 +168,7 @@ struct StepPipeline {
       });
     }
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
       store_solver_velocities(bodies, first, last, s);
     });
   }
@@ -167,6 +176,7 @@ struct StepPipeline {
   void integrate() {
     SphereSoA& s = w.spheres_;
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Integrate);
       integrate_positions(s, first, last, w.planes_, params);
     });
   }
@@ -174,22 +184,30 @@ struct StepPipeline {
   void depenetrate() {
     SphereSoA& s = w.spheres_;
     for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass)
-      for_each_contact_by_colour([&](Contact& c) { push_apart(s, c, w.settings_.depenetration); });
+      for_each_contact_by_colour(Phase::Depenetrate, [&](Contact& c) { push_apart(s, c, w.settings_.depenetration); });
+  }
+
+  /// Every reorder_interval steps: dense slots re-sorted by Morton code (kernel/spatial_order.h).
+  void reorder() {
+    const int interval = w.settings_.reorder_interval;
+    if (interval <= 0 || w.steps_taken_ % static_cast<std::uint64_t>(interval) != 0) return;
+    morton_slot_order(w.spheres_, w.reorder_keys_, w.reorder_slots_);
+    w.spheres_.permute(w.reorder_slots_);
   }
 
   void run() {
     PhaseTimes& t = w.times_;
+    { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace_, Phase::Reorder); reorder(); }
     float margin = 0.0f;
-    { ScopedPhaseTimer timer(t.predict); predict(margin); }
-    {
-      double both = 0.0;
-      ScopedPhaseTimer timer(both);
-      tbb::parallel_invoke([&] { ScopedPhaseTimer inner(t.detect_terrain); detect_static(); },
-                           [&] { ScopedPhaseTimer inner(t.detect_pairs); detect_pairs(margin); });
-    }
-    { ScopedPhaseTimer timer(t.solve); merge_contacts(); solve(); }
-    { ScopedPhaseTimer timer(t.integrate); integrate(); }
-    { ScopedPhaseTimer timer(t.depenetrate); depenetrate(); }
+    // Each phase is also recorded on the thread that runs its serial parts (the trace's
+    // per-block records cover the parallel parts).
+    { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace_, Phase::Predict); predict(margin); }
+    tbb::parallel_invoke(
+        [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); },
+        [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); });
+    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); solve(); }
+    { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace_, Phase::Integrate); integrate(); }
+    { ScopedPhaseTimer timer(t.depenetrate); ScopedTraceRecord record(w.trace_, Phase::Depenetrate); depenetrate(); }
   }
 };
 
@@ -199,12 +217,6 @@ void World::step(float dt) {
   const float scaled = dt * settings_.time_scale;
   times_ = {};
   if (scaled <= 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
-  if (settings_.reorder_interval > 0 && steps_taken_ % std::uint64_t(settings_.reorder_interval) == 0) {
-    ScopedPhaseTimer timer(times_.reorder);
-    morton_slot_order(spheres_, reorder_keys_, reorder_slots_);
-    spheres_.permute(reorder_slots_);
-  }
-  ++steps_taken_;
   StepPipeline pipeline{*this, {}};
   pipeline.params.integrator = settings_.integrator;
   pipeline.params.gravity[0] = settings_.gravity.x();
@@ -214,6 +226,8 @@ void World::step(float dt) {
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
   arena_->execute([&] { pipeline.run(); });
+  if (trace_.enabled()) trace_.finish_step(steps_taken_);
+  ++steps_taken_;
 }
 
 }  // namespace hail

@@ -14,6 +14,8 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+// PhaseTrace is jobs/' recorder; World owns one so that a trace outlives the steps it records.
+#include "jobs/phase_trace.h"
 #include "kernel/contact.h"
 #include "kernel/contact_colouring.h"
 #include "kernel/depenetrate.h"
@@ -165,6 +167,11 @@ class World {
   [[nodiscard]] std::uint64_t state_hash() const;
 
   [[nodiscard]] const PhaseTimes& last_phase_times() const { return times_; }
+  /// Starts (or stops) recording a per-thread phase trace of every step from now on; clears
+  /// what was recorded. Costs two clock reads per block of work while on.
+  void enable_trace(bool on) { trace_.enable(on, thread_count()); }
+  /// The trace recorded since enable_trace(true): one slice per phase per step per thread.
+  [[nodiscard]] const PhaseTrace& trace() const { return trace_; }
   [[nodiscard]] const StepStats& last_step_stats() const { return stats_; }
   /// Contacts of the last step, grouped by solver colour (after solving: normal_impulse holds
   /// the resting impulse).
@@ -197,6 +204,7 @@ class World {
   std::vector<std::uint32_t> reorder_slots_;  ///< Morton re-sort: new slot k <- old slot
   std::uint64_t steps_taken_ = 0;
   PhaseTimes times_;
+  PhaseTrace trace_;
   StepStats stats_;
 };
 
