@@ -9,6 +9,7 @@
 #include "kernel/errors.h"
 #include "query_command.h"
 #include "run_command.h"
+#include "scale_command.h"
 #include "scenes.h"
 
 namespace {
@@ -22,6 +23,9 @@ void print_help() {
       "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
       "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash);\n"
       "      --trace writes a Chrome trace-event JSON (Perfetto): one slice per phase per step per thread\n"
+      "  scale [scene] [--min N] [--max N] [--threads T] [--steps S] [--out DIR] [--no-plot]\n"
+      "      the scene at doubling sphere counts (default 1000..256000) on 1..T threads (default: all):\n"
+      "      table, DIR/scale.csv, DIR/scale.json, and gnuplot SVGs of ns per sphere-step and speed-up\n"
       "  query [--queries N] [--leaf L] [--repeats R]\n"
       "      terrain query microbenchmark, random and Morton order: stackless and fixed-stack BVH walks,\n"
       "      packet walk (8 spheres per node test, with and without SIMD leaf boxes), grid-cell lookup, brute force\n"
@@ -43,6 +47,7 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
+    if (args[0] == "scale") return hail::bench::scale_command(rest);
     if (args[0] == "query") return hail::bench::query_command(rest);
     if (args[0] == "bvh-build") return hail::bench::bvh_build_command(rest);
     std::fprintf(stderr, "hail-bench: unknown command '%s' (try --help)\n", args[0].c_str());

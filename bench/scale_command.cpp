@@ -1,0 +1,189 @@
+#include "scale_command.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+#include "machine_info.h"
+#include "scene_run.h"
+
+namespace hail::bench {
+namespace {
+
+/// Largest sphere count accepted: about 1 KB of state and scratch per sphere, so 8M spheres
+/// need about 8 GB.
+constexpr double kMaxSpheres = 8.0 * 1024 * 1024;
+
+struct ScaleOptions {
+  std::string scene = "terrain-rain";
+  std::size_t min_spheres = 1000, max_spheres = 256000;
+  int max_threads = 0;  // 0: hardware threads
+  int steps = 300;
+  std::string out_dir = "hail-scale";
+  bool plot = true;
+};
+
+double parse_double(const std::string& flag, const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw std::invalid_argument(flag + " expects a number, got '" + text + "'");
+}
+
+ScaleOptions parse(const std::vector<std::string>& args) {
+  ScaleOptions o;
+  std::size_t k = 0;
+  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++];
+  for (; k < args.size(); ++k) {
+    const std::string& flag = args[k];
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw std::invalid_argument(flag + " needs a value");
+      return args[++k];
+    };
+    if (flag == "--min" || flag == "--max") {
+      const double n = parse_double(flag, value());
+      if (!(n >= 1 && n <= kMaxSpheres))
+        throw std::invalid_argument(flag + " must be in [1, 8388608] spheres (about 1 KB each)");
+      (flag == "--min" ? o.min_spheres : o.max_spheres) = static_cast<std::size_t>(n);
+    } else if (flag == "--threads") {
+      o.max_threads = static_cast<int>(parse_double(flag, value()));
+      if (o.max_threads < 0) throw std::invalid_argument("--threads must be >= 0 (0 = hardware threads)");
+    } else if (flag == "--steps") {
+      o.steps = static_cast<int>(parse_double(flag, value()));
+      if (o.steps < 1) throw std::invalid_argument("--steps must be >= 1");
+    } else if (flag == "--out") {
+      o.out_dir = value();
+    } else if (flag == "--no-plot") {
+      o.plot = false;
+    } else {
+      throw std::invalid_argument("unknown option '" + flag + "' (see hail-bench --help)");
+    }
+  }
+  if (o.min_spheres > o.max_spheres) throw std::invalid_argument("--min must not exceed --max");
+  if (o.max_threads == 0) o.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return o;
+}
+
+// Reads the two matrices written beside scale.csv (gnuplot joins points only within one column).
+const char* kGnuplotScript = R"(# hail-bench scale: ns per sphere-step against spheres, and speed-up against threads.
+set terminal svg size 900,420 dynamic font 'sans,11'
+set key top left
+set grid
+set output 'ns_per_sphere_step.svg'
+set logscale x 2
+set xlabel 'spheres'
+set ylabel 'ns per sphere-step (mean over timed steps)'
+set title TITLE
+plot for [t=1:THREADS] 'ns_per_sphere_step.dat' using 1:(column(t + 1)) with linespoints title sprintf('%d thread%s', t, t > 1 ? 's' : '')
+set output 'speedup.svg'
+unset logscale x
+set xlabel 'threads'
+set ylabel 'speed-up over 1 thread'
+set xtics 1
+plot for [k=1:COUNTS] 'speedup.dat' using 1:(column(k + 1)) with linespoints title columnheader(k + 1), x with lines dashtype 2 title 'ideal'
+)";
+
+}  // namespace
+
+int scale_command(const std::vector<std::string>& args) {
+  const ScaleOptions o = parse(args);
+  const SceneEntry& entry = find_scene(o.scene);
+  std::filesystem::create_directories(o.out_dir);
+  std::vector<std::size_t> counts;
+  for (std::size_t n = o.min_spheres; n <= o.max_spheres; n *= 2) counts.push_back(n);
+
+  std::printf("hail-bench scale %s: %zu..%zu spheres (doubling), 1..%d threads, %d steps each (timed from step %d)\n",
+              o.scene.c_str(), o.min_spheres, o.max_spheres, o.max_threads, o.steps, o.steps > 120 ? 60 : 0);
+  std::printf("  machine %s, SIMD %s; output in %s/\n", cpu_model().c_str(), simd_path().c_str(), o.out_dir.c_str());
+  std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr", "ms/step",
+              "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "integr", "depen", "pen.sph",
+              "pen.grnd", "tunnel", "felloff", "NaN", "hash");
+
+  std::ofstream csv(o.out_dir + "/scale.csv");
+  if (!csv) throw std::runtime_error("cannot write " + o.out_dir + "/scale.csv");
+  csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
+         "detect_terrain_ms,detect_pairs_ms,solve_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
+         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash\n";
+  nlohmann::json runs = nlohmann::json::array();
+  std::vector<std::vector<double>> ns_table(counts.size()), speedup_table(counts.size());  // [count][thread - 1]
+  bool deterministic = true, finite = true;
+  for (const std::size_t& n : counts) {
+    double one_thread_ms = 0.0;
+    std::string one_thread_hash;
+    for (int t = 1; t <= o.max_threads; ++t) {
+      SceneParams params;
+      params.spheres = n;
+      params.threads = t;
+      RunOptions run_options;
+      run_options.steps = o.steps;
+      run_options.progress_label = std::to_string(n) + " spheres, " + std::to_string(t) + " threads: ";
+      const RunResult r = run_scene(entry, params, run_options);
+      if (t == 1) one_thread_ms = r.mean_ms, one_thread_hash = r.state_hash;
+      deterministic = deterministic && r.state_hash == one_thread_hash;
+      finite = finite && r.errors.nan_count == 0;
+      const double ns = 1e6 * r.mean_ms / double(r.spheres);
+      const double speedup = one_thread_ms / r.mean_ms;
+      const PhaseTimes& p = r.phase_ms;
+      const ErrorFigures& e = r.errors;
+      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s\n",
+                  r.spheres, t, r.mean_ms, ns, r.median_ms, speedup, p.reorder, p.detect_terrain, p.detect_pairs, p.solve,
+                  p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off,
+                  e.nan_count, r.state_hash.c_str());
+      std::fflush(stdout);
+      csv << r.spheres << ',' << t << ',' << r.mean_ms << ',' << r.median_ms << ',' << ns << ',' << speedup << ','
+          << p.reorder << ',' << p.predict << ',' << p.detect_terrain << ',' << p.detect_pairs << ',' << p.solve << ','
+          << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
+          << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
+          << r.state_hash << '\n';
+      csv.flush();
+      const std::size_t row = static_cast<std::size_t>(&n - counts.data());
+      ns_table[row].push_back(ns);
+      speedup_table[row].push_back(speedup);
+      nlohmann::json j = to_json(r);
+      j["speedup"] = speedup;
+      runs.push_back(j);
+    }
+  }
+  std::ofstream(o.out_dir + "/scale.json") << nlohmann::json{{"scene", o.scene}, {"runs", runs}}.dump(2) << "\n";
+  std::printf("  same state hash on every thread count: %s; NaN-free: %s\n", deterministic ? "yes" : "NO", finite ? "yes" : "NO");
+
+  if (o.plot) {
+    {  // closed (flushed) before gnuplot reads them
+      std::ofstream(o.out_dir + "/scale.gp") << kGnuplotScript;
+      std::ofstream ns_dat(o.out_dir + "/ns_per_sphere_step.dat"), speedup_dat(o.out_dir + "/speedup.dat");
+      ns_dat << "# spheres, then ns per sphere-step for 1.." << o.max_threads << " threads\n";
+      for (std::size_t c = 0; c < counts.size(); ++c) {
+        ns_dat << counts[c];
+        for (double v : ns_table[c]) ns_dat << ' ' << v;
+        ns_dat << '\n';
+      }
+      speedup_dat << "threads";
+      for (std::size_t n : counts) speedup_dat << " \"" << n << " spheres\"";
+      speedup_dat << '\n';
+      for (int t = 1; t <= o.max_threads; ++t) {
+        speedup_dat << t;
+        for (std::size_t c = 0; c < counts.size(); ++c) speedup_dat << ' ' << speedup_table[c][static_cast<std::size_t>(t - 1)];
+        speedup_dat << '\n';
+      }
+    }
+    const std::string title = o.scene + " on " + cpu_model() + " (" + simd_path() + ")";
+    const std::string command = "cd '" + o.out_dir + "' && gnuplot -e \"TITLE='" + title + "'; THREADS=" +
+                                std::to_string(o.max_threads) + "; COUNTS=" + std::to_string(counts.size()) + "\" scale.gp";
+    if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+      std::printf("  plots: gnuplot not found (sudo apt-get install gnuplot-nox), data and scale.gp are in %s/\n",
+                  o.out_dir.c_str());
+    else if (std::system(command.c_str()) != 0)
+      std::printf("  plots: gnuplot failed; run it by hand: %s\n", command.c_str());
+    else
+      std::printf("  plots: %s/ns_per_sphere_step.svg, %s/speedup.svg\n", o.out_dir.c_str(), o.out_dir.c_str());
+  }
+  return deterministic && finite ? 0 : 3;
+}
+
+}  // namespace hail::bench

@@ -1,0 +1,157 @@
+#include "scene_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include "machine_info.h"
+
+namespace hail::bench {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+/// Chrome trace-event JSON (opens in Perfetto and chrome://tracing): one complete ("X") event
+/// per phase per step per thread, threads named "arena slot k".
+void write_trace(const std::string& path, const PhaseTrace& trace, int threads) {
+  nlohmann::json events = nlohmann::json::array();
+  for (int t = 0; t < threads; ++t)
+    events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", t},
+                      {"args", {{"name", "arena slot " + std::to_string(t)}}}});
+  for (const TraceSlice& s : trace.slices())
+    events.push_back({{"name", phase_name(s.phase)}, {"cat", "step"}, {"ph", "X"}, {"pid", 1}, {"tid", s.thread},
+                      {"ts", s.start_us}, {"dur", s.end_us - s.start_us}, {"args", {{"step", s.step}}}});
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
+}
+
+void add(PhaseTimes& sum, const PhaseTimes& t, double weight) {
+  sum.reorder += weight * t.reorder;
+  sum.predict += weight * t.predict;
+  sum.detect_terrain += weight * t.detect_terrain;
+  sum.detect_pairs += weight * t.detect_pairs;
+  sum.solve += weight * t.solve;
+  sum.integrate += weight * t.integrate;
+  sum.depenetrate += weight * t.depenetrate;
+}
+
+}  // namespace
+
+std::string hex_hash(std::uint64_t h) {
+  char buffer[17];
+  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(h));
+  return buffer;
+}
+
+const SceneEntry& find_scene(const std::string& name) {
+  const auto& registry = scene_registry();
+  const auto entry = std::find_if(registry.begin(), registry.end(), [&](const SceneEntry& e) { return name == e.name; });
+  if (entry == registry.end()) {
+    std::string names;
+    for (const auto& e : registry) names += std::string(names.empty() ? "" : ", ") + e.name;
+    throw std::invalid_argument("unknown scene '" + name + "' (known: " + names + ")");
+  }
+  return *entry;
+}
+
+RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options) {
+  using clock = std::chrono::steady_clock;
+  RunResult r;
+  const auto setup_start = clock::now();
+  Scene scene = entry.build(params);
+  r.setup_s = std::chrono::duration<double>(clock::now() - setup_start).count();
+  World& world = *scene.world;
+  r.scene = entry.name;
+  r.description = scene.description;
+  r.spheres = world.sphere_count();
+  r.threads = world.thread_count();
+  r.steps = options.steps > 0 ? options.steps : scene.default_steps;
+  r.warmup = r.steps > 120 ? 60 : 0;  // the scenes' definition: report steps 60..599
+  r.dt = params.dt;
+  r.reorder_interval = params.reorder_interval;
+
+  if (!options.trace_path.empty()) world.enable_trace(true);
+  r.energy_start = world.kinetic_energy();
+  const Eigen::Vector3d momentum_start = world.linear_momentum();
+  std::vector<double> step_ms;
+  step_ms.reserve(static_cast<std::size_t>(r.steps));
+  const double weight = 1.0 / static_cast<double>(r.steps - r.warmup);
+  auto last_progress = clock::now();
+  const auto run_start = clock::now();
+  for (int k = 0; k < r.steps; ++k) {
+    const auto t0 = clock::now();
+    world.step(params.dt);
+    step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+    if (k >= r.warmup) {
+      add(r.phase_ms, world.last_phase_times(), weight);
+      const StepStats& stats = world.last_step_stats();
+      r.static_contacts += weight * double(stats.static_contacts);
+      r.sphere_contacts += weight * double(stats.sphere_contacts);
+      r.colours += weight * double(stats.colours);
+      r.collision_passes += weight * stats.collision_passes;
+    }
+    if (options.progress && clock::now() - last_progress > std::chrono::seconds(2)) {
+      std::fprintf(stderr, "  %sstep %d/%d, %.2f ms/step so far\n", options.progress_label.c_str(), k + 1, r.steps,
+                   std::accumulate(step_ms.begin(), step_ms.end(), 0.0) / static_cast<double>(step_ms.size()));
+      last_progress = clock::now();
+    }
+  }
+  r.total_s = std::chrono::duration<double>(clock::now() - run_start).count();
+  const std::vector<double> timed(step_ms.begin() + r.warmup, step_ms.end());
+  r.mean_ms = std::accumulate(timed.begin(), timed.end(), 0.0) / static_cast<double>(timed.size());
+  r.median_ms = median(timed);
+  r.errors = measure_errors(scene);
+  r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
+  r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
+  r.state_hash = hex_hash(world.state_hash());
+  if (!options.trace_path.empty()) write_trace(options.trace_path, world.trace(), world.thread_count());
+  return r;
+}
+
+nlohmann::json to_json(const RunResult& r) {
+  const ErrorFigures& e = r.errors;
+  const PhaseTimes& p = r.phase_ms;
+  return {
+      {"scene", r.scene},
+      {"spheres", r.spheres},
+      {"threads", r.threads},
+      {"steps", r.steps},
+      {"timed_steps_from", r.warmup},
+      {"dt", r.dt},
+      {"reorder_interval", r.reorder_interval},
+      {"ms_per_step_mean", r.mean_ms},
+      {"ms_per_step_median", r.median_ms},
+      {"ns_per_sphere_step", 1e6 * r.mean_ms / double(std::max<std::size_t>(r.spheres, 1))},
+      {"total_s", r.total_s},
+      {"setup_s", r.setup_s},
+      {"max_penetration", std::max(e.max_sphere_penetration, e.max_terrain_penetration)},
+      {"max_sphere_penetration", e.max_sphere_penetration},
+      {"max_terrain_penetration", e.max_terrain_penetration},
+      {"tunnelled", e.tunnelled},
+      {"fell_off", e.fell_off},
+      {"kinetic_energy", e.kinetic_energy},
+      {"kinetic_energy_start", r.energy_start},
+      {"momentum_drift", r.momentum_drift},
+      {"energy_drift", r.energy_drift},
+      {"nan_count", e.nan_count},
+      {"state_hash", r.state_hash},
+      {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
+                     {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"integrate", p.integrate},
+                     {"depenetrate", p.depenetrate}}},
+      {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
+                           {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
+      {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}},
+  };
+}
+
+}  // namespace hail::bench

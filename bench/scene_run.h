@@ -1,0 +1,46 @@
+#pragma once
+// One measured run of a scene: build it, step it, time every step, then measure its error
+// figures. `hail-bench run` prints one; `hail-bench scale` collects many.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "metrics.h"
+#include "scenes.h"
+
+namespace hail::bench {
+
+struct RunResult {
+  std::string scene, description;
+  std::size_t spheres = 0;
+  int threads = 0, steps = 0, warmup = 0, reorder_interval = 0;
+  float dt = 0;
+  double mean_ms = 0, median_ms = 0, total_s = 0, setup_s = 0;
+  PhaseTimes phase_ms;  ///< mean per timed step
+  double static_contacts = 0, sphere_contacts = 0, colours = 0, collision_passes = 0;  ///< mean per timed step
+  ErrorFigures errors;
+  double energy_start = 0, energy_drift = 0, momentum_drift = 0;
+  std::string state_hash;
+};
+
+struct RunOptions {
+  int steps = -1;              ///< -1: the scene's default
+  std::string trace_path;      ///< non-empty: write a Chrome trace there
+  bool progress = true;        ///< a line on stderr every 2 s
+  std::string progress_label;  ///< prefix of the progress lines
+};
+
+/// The registered scene of that name; InvalidArgument-style std::invalid_argument listing the known ones.
+const SceneEntry& find_scene(const std::string& name);
+
+/// Builds and runs the scene; times steps warmup..steps-1 (warmup = 60 when steps > 120, the
+/// scenes' definition, else 0).
+RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options);
+
+/// Every figure of the run, as `hail-bench run --json` writes it.
+nlohmann::json to_json(const RunResult& r);
+
+/// 16 hex digits.
+std::string hex_hash(std::uint64_t h);
+
+}  // namespace hail::bench
