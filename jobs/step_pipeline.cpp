@@ -33,6 +33,7 @@ namespace {
 constexpr std::size_t kSphereBlock = 256;    // spheres per block in per-sphere phases
 constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
 constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
+constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task within one colour
 }  // namespace
 
 struct StepPipeline {
@@ -130,44 +131,74 @@ struct StepPipeline {
     });
   }
 
+  /// Runs f(first_batch, last_batch, scalar_contacts) over the staged contact batches, colour
+  /// after colour, chunks of one colour in parallel; each colour's scalar tail goes with its
+  /// last chunk, and the serial overflow colour is all scalar. Chunks are fixed by the batch
+  /// count, not the thread count.
+  template <class F>
+  void for_each_batch_chunk(F&& f) {
+    const ContactColouring& col = w.colouring_;
+    const ContactBatches& batches = w.contact_batches_;
+    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
+      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
+      if (col.is_serial(colour)) {
+        ScopedTraceRecord record(w.trace_, Phase::Solve);
+        f(std::size_t{0}, std::size_t{0}, std::span<Contact>(w.contacts_.data() + begin, end - begin));
+        continue;
+      }
+      const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+      const std::span<Contact> tail(w.contacts_.data() + batches.tail_begin(colour), end - batches.tail_begin(colour));
+      const std::size_t chunks = std::max<std::size_t>(block_count(count, kBatchChunk), 1);
+      for_each_block(chunks, 1, [&](std::size_t k, std::size_t, std::size_t) {
+        ScopedTraceRecord record(w.trace_, Phase::Solve);
+        f(first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk),
+          k + 1 == chunks ? tail : std::span<Contact>());
+      });
+    }
+  }
+
   void solve() {
     SphereSoA& s = w.spheres_;
-    colour_contacts(w.contacts_, s.size(), w.colouring_);
-    // Contacts moved into colour order, so that each colour is a contiguous run that the passes
-    // stream through (and the SIMD passes can take as a span) instead of jumping through the
-    // colouring's index.
+    const std::size_t n = s.size();
+    colour_contacts(w.contacts_, n, w.colouring_);
+    // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
+    // batches are staged from and the scalar parts stream through.
     w.coloured_contacts_.resize(w.contacts_.size());
     for (std::size_t k = 0; k < w.contacts_.size(); ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
     std::swap(w.contacts_, w.coloured_contacts_);
-    if (w.solver_bodies_.size() < s.size()) w.solver_bodies_.resize(s.size());
-    const std::span<SolverBody> bodies(w.solver_bodies_.data(), s.size());
-    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+    // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
+    if (w.solver_bodies_.size() < n + 1) w.solver_bodies_.resize(n + 1);
+    const std::span<SolverBody> bodies(w.solver_bodies_.data(), n + 1);
+    bodies[n] = SolverBody{};
+    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       load_solver_bodies(s, first, last, bodies);
     });
-    w.stats_.colours = w.colouring_.colour_count();
+    const ContactColouring& col = w.colouring_;
+    ContactBatches& batches = w.contact_batches_;
+    batches.stage(w.contacts_, col.colour_begin, std::min<std::size_t>(col.colour_count(), kMaxParallelColours), bodies);
+    w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
-      for_each_run_by_colour(Phase::Solve, [&](std::span<Contact> run, bool independent) {
-        const bool applied = independent ? solve_collision_run(run, bodies, params.dt, threshold)
-                                         : solve_collision_run_scalar(run, bodies, params.dt, threshold);
-        if (applied) any.store(true, std::memory_order_relaxed);
+      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold);
+        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold);
+        if (simd || rest) any.store(true, std::memory_order_relaxed);
       });
       if (!any.load()) break;
       ++w.stats_.collision_passes;
     }
     const float inv_dt = 1.0f / params.dt;
     for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
-      for_each_run_by_colour(Phase::Solve, [&](std::span<Contact> run, bool independent) {
-        if (independent)
-          solve_resting_run(run, bodies, inv_dt);
-        else
-          solve_resting_run_scalar(run, bodies, inv_dt);
+      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        batches.solve_resting(first, last, bodies, inv_dt);
+        solve_resting_run_scalar(scalar, bodies, inv_dt);
       });
     }
-    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+    batches.store_impulses(w.contacts_);
+    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       store_solver_velocities(bodies, first, last, s);
     });

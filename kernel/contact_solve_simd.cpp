@@ -1,5 +1,6 @@
 #include "kernel/contact_solve_simd.h"
 
+#include <cstddef>
 #include <xsimd/xsimd.hpp>
 
 #include "kernel/contact_impulse.h"
@@ -8,69 +9,48 @@ namespace hail {
 namespace {
 
 using batch = xsimd::batch<float>;
+using index_batch = xsimd::batch<std::int32_t>;
 using lane_mask = xsimd::batch_bool<float>;
 constexpr std::size_t W = batch::size;
+static_assert(index_batch::size == W);
 
-/// A batch of contacts with their bodies, staged through aligned arrays (gather/scatter are
-/// scalar: bodies sit at random places).
-struct Staged {
-  alignas(64) float ima[W], iia[W], ra[W], imb[W], iib[W], rb[W];
-  alignas(64) float va[3][W], wa[3][W], vb[3][W], wb[3][W];
-  alignas(64) float n[3][W], gap[W], restitution[W], friction[W], normal_impulse[W], t[3][W];
-
-  void gather(const Contact* c, std::span<const SolverBody> bodies) {
-    for (std::size_t l = 0; l < W; ++l) {
-      const SolverBody& a = bodies[c[l].a];
-      ima[l] = a.inv_mass, iia[l] = a.inv_inertia, ra[l] = a.radius;
-      const bool has_b = c[l].b != kStaticBody;
-      const SolverBody* b = has_b ? &bodies[c[l].b] : nullptr;
-      imb[l] = has_b ? b->inv_mass : 0.0f, iib[l] = has_b ? b->inv_inertia : 0.0f, rb[l] = has_b ? b->radius : 0.0f;
-      for (int d = 0; d < 3; ++d) {
-        va[d][l] = a.v[d], wa[d][l] = a.w[d];
-        vb[d][l] = has_b ? b->v[d] : 0.0f, wb[d][l] = has_b ? b->w[d] : 0.0f;
-      }
-      n[0][l] = c[l].nx, n[1][l] = c[l].ny, n[2][l] = c[l].nz;
-      gap[l] = c[l].gap, restitution[l] = c[l].restitution, friction[l] = c[l].friction;
-      normal_impulse[l] = c[l].normal_impulse, t[0][l] = c[l].tx, t[1][l] = c[l].ty, t[2][l] = c[l].tz;
-    }
-  }
-
-  void scatter_bodies(const Contact* c, std::span<SolverBody> bodies) const {
-    for (std::size_t l = 0; l < W; ++l) {
-      SolverBody& a = bodies[c[l].a];
-      for (int d = 0; d < 3; ++d) a.v[d] = va[d][l], a.w[d] = wa[d][l];
-      if (c[l].b == kStaticBody) continue;
-      SolverBody& b = bodies[c[l].b];
-      for (int d = 0; d < 3; ++d) b.v[d] = vb[d][l], b.w[d] = wb[d][l];
-    }
-  }
-
-  void scatter_impulses(Contact* c) const {
-    for (std::size_t l = 0; l < W; ++l) {
-      c[l].normal_impulse = normal_impulse[l];
-      c[l].tx = t[0][l], c[l].ty = t[1][l], c[l].tz = t[2][l];
-    }
-  }
-};
+// SolverBody as floats, for gathers.
+constexpr std::int32_t kBodyFloats = sizeof(SolverBody) / sizeof(float);
+constexpr std::int32_t kVelocity = offsetof(SolverBody, v) / sizeof(float);
+constexpr std::int32_t kAngular = offsetof(SolverBody, w) / sizeof(float);
 
 /// ContactBodies and the contact's normal, one lane per contact.
 struct Lanes {
   batch ima, iia, ra, imb, iib, rb;
   batch va[3], wa[3], vb[3], wb[3], n[3];
 
-  explicit Lanes(const Staged& s)
-      : ima(batch::load_aligned(s.ima)), iia(batch::load_aligned(s.iia)), ra(batch::load_aligned(s.ra)),
-        imb(batch::load_aligned(s.imb)), iib(batch::load_aligned(s.iib)), rb(batch::load_aligned(s.rb)) {
+  /// Lanes of batch `offset` (a multiple of W): staged data, velocities gathered from bodies.
+  Lanes(const float* ima_, const float* iia_, const float* ra_, const float* imb_, const float* iib_, const float* rb_,
+        const float* const n_[3], const std::int32_t* a, const std::int32_t* b, const float* bodies)
+      : ima(batch::load_aligned(ima_)), iia(batch::load_aligned(iia_)), ra(batch::load_aligned(ra_)),
+        imb(batch::load_aligned(imb_)), iib(batch::load_aligned(iib_)), rb(batch::load_aligned(rb_)) {
+    const index_batch stride(kBodyFloats);
+    const index_batch ia = index_batch::load_aligned(a) * stride, ib = index_batch::load_aligned(b) * stride;
     for (int d = 0; d < 3; ++d) {
-      va[d] = batch::load_aligned(s.va[d]), wa[d] = batch::load_aligned(s.wa[d]);
-      vb[d] = batch::load_aligned(s.vb[d]), wb[d] = batch::load_aligned(s.wb[d]);
-      n[d] = batch::load_aligned(s.n[d]);
+      va[d] = batch::gather(bodies + kVelocity + d, ia), wa[d] = batch::gather(bodies + kAngular + d, ia);
+      vb[d] = batch::gather(bodies + kVelocity + d, ib), wb[d] = batch::gather(bodies + kAngular + d, ib);
+      n[d] = batch::load_aligned(n_[d]);
     }
   }
-  void store(Staged& s) const {
+
+  /// Writes the velocities back: every a, and b where it is not the static body.
+  void scatter(const std::int32_t* a, const std::int32_t* b, std::int32_t static_slot, SolverBody* bodies) const {
+    alignas(64) float out[12][W];
     for (int d = 0; d < 3; ++d) {
-      va[d].store_aligned(s.va[d]), wa[d].store_aligned(s.wa[d]);
-      vb[d].store_aligned(s.vb[d]), wb[d].store_aligned(s.wb[d]);
+      va[d].store_aligned(out[d]), wa[d].store_aligned(out[3 + d]);
+      vb[d].store_aligned(out[6 + d]), wb[d].store_aligned(out[9 + d]);
+    }
+    for (std::size_t l = 0; l < W; ++l) {
+      SolverBody& body_a = bodies[a[l]];
+      for (int d = 0; d < 3; ++d) body_a.v[d] = out[d][l], body_a.w[d] = out[3 + d][l];
+      if (b[l] == static_slot) continue;
+      SolverBody& body_b = bodies[b[l]];
+      for (int d = 0; d < 3; ++d) body_b.v[d] = out[6 + d][l], body_b.w[d] = out[9 + d][l];
     }
   }
 
@@ -139,19 +119,60 @@ void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody>
   }
 }
 
-bool solve_collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                         float restitution_threshold) {
-  const std::size_t full = contacts.size() / W * W;
-  bool any = false;
-  Staged s;
+std::size_t contact_batch_width() { return W; }
+
+void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
+                           std::size_t batched_colours, std::span<const SolverBody> bodies) {
+  width_ = W;
+  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
+  colour_batches_.assign(1, 0);
+  tail_begin_.clear();
+  first_contact_.clear();
+  for (std::size_t c = 0; c < batched_colours; ++c) {
+    const std::size_t begin = colour_begin[c], end = colour_begin[c + 1];
+    const std::size_t full = (end - begin) / W;
+    for (std::size_t k = 0; k < full; ++k) first_contact_.push_back(static_cast<std::uint32_t>(begin + k * W));
+    colour_batches_.push_back(colour_batches_.back() + full);
+    tail_begin_.push_back(begin + full * W);
+  }
+  const std::size_t lanes = first_contact_.size() * W;
+  for (auto* v : {&a_, &b_}) v->resize(lanes);
+  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ima_, &iia_, &ra_, &imb_, &iib_, &rb_,
+                  &normal_impulse_, &tx_, &ty_, &tz_})
+    v->resize(lanes);
+  for (std::size_t k = 0; k < first_contact_.size(); ++k)
+    for (std::size_t l = 0; l < W; ++l) {
+      const Contact& c = contacts[first_contact_[k] + l];
+      const std::size_t i = k * W + l;
+      const SolverBody& a = bodies[c.a];
+      const bool has_b = c.b != kStaticBody;
+      a_[i] = static_cast<std::int32_t>(c.a);
+      b_[i] = has_b ? static_cast<std::int32_t>(c.b) : static_slot;
+      ima_[i] = a.inv_mass, iia_[i] = a.inv_inertia, ra_[i] = a.radius;
+      // A static side has zero mass properties, as gather_bodies gives it (not the static body's).
+      imb_[i] = has_b ? bodies[c.b].inv_mass : 0.0f;
+      iib_[i] = has_b ? bodies[c.b].inv_inertia : 0.0f;
+      rb_[i] = has_b ? bodies[c.b].radius : 0.0f;
+      nx_[i] = c.nx, ny_[i] = c.ny, nz_[i] = c.nz;
+      gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;
+      normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
+    }
+}
+
+bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
+                                     float restitution_threshold) {
+  const float* base = reinterpret_cast<const float*>(bodies.data());
+  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const batch zero(0.0f), one(1.0f);
-  for (std::size_t k = 0; k < full; k += W) {
-    s.gather(&contacts[k], bodies);
-    Lanes L(s);
+  bool any = false;
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
+    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
     batch v[3];
     L.relative_velocity(v);
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
-    const batch gap = batch::load_aligned(s.gap);
+    const batch gap = batch::load_aligned(&gap_[o]);
     const batch kn = L.ima + L.imb;
     const lane_mask closing_fast = !(closing <= batch(restitution_threshold));
     const lane_mask gap_stays_open = (gap > zero) & (closing * batch(dt) <= gap);
@@ -159,48 +180,53 @@ bool solve_collision_run(std::span<Contact> contacts, std::span<SolverBody> bodi
     const lane_mask active = closing_fast & !gap_stays_open & movable;
     if (!xsimd::any(active)) continue;  // nothing changes: no scatter needed
     any = true;
-    const batch j = (one + batch::load_aligned(s.restitution)) * closing / kn;
+    const batch j = (one + batch::load_aligned(&restitution_[o])) * closing / kn;
     const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
     L.apply_impulse(p, active);
     batch fresh[3] = {zero, zero, zero};
-    L.apply_friction(batch::load_aligned(s.friction) * j, fresh, active);
-    L.store(s);
-    s.scatter_bodies(&contacts[k], bodies);
+    L.apply_friction(batch::load_aligned(&friction_[o]) * j, fresh, active);
+    L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
   }
-  const bool tail_any = solve_collision_run_scalar(contacts.subspan(full), bodies, dt, restitution_threshold);
-  return any || tail_any;
+  return any;
 }
 
-void solve_resting_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
-  const std::size_t full = contacts.size() / W * W;
-  Staged s;
+void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt) {
+  const float* base = reinterpret_cast<const float*>(bodies.data());
+  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const batch zero(0.0f);
-  for (std::size_t k = 0; k < full; k += W) {
-    s.gather(&contacts[k], bodies);
-    Lanes L(s);
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
+    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
     batch v[3];
     L.relative_velocity(v);
     const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
-    const batch gap = batch::load_aligned(s.gap);
+    const batch gap = batch::load_aligned(&gap_[o]);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
     const lane_mask active = !(kn <= zero);
-    const batch impulse = batch::load_aligned(s.normal_impulse);
+    const batch impulse = batch::load_aligned(&normal_impulse_[o]);
     const batch lambda = impulse - (vn + allowed_closing) / kn;
     const batch clamped = xsimd::select(lambda > zero, lambda, zero);
     const batch dj = clamped - impulse;
     const batch new_impulse = xsimd::select(active, clamped, impulse);
     const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
     L.apply_impulse(p, active);
-    batch accumulated[3] = {batch::load_aligned(s.t[0]), batch::load_aligned(s.t[1]), batch::load_aligned(s.t[2])};
-    L.apply_friction(batch::load_aligned(s.friction) * new_impulse, accumulated, active);
-    L.store(s);
-    new_impulse.store_aligned(s.normal_impulse);
-    for (int d = 0; d < 3; ++d) accumulated[d].store_aligned(s.t[d]);
-    s.scatter_bodies(&contacts[k], bodies);
-    s.scatter_impulses(&contacts[k]);
+    batch accumulated[3] = {batch::load_aligned(&tx_[o]), batch::load_aligned(&ty_[o]), batch::load_aligned(&tz_[o])};
+    L.apply_friction(batch::load_aligned(&friction_[o]) * new_impulse, accumulated, active);
+    new_impulse.store_aligned(&normal_impulse_[o]);
+    accumulated[0].store_aligned(&tx_[o]), accumulated[1].store_aligned(&ty_[o]), accumulated[2].store_aligned(&tz_[o]);
+    L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
   }
-  solve_resting_run_scalar(contacts.subspan(full), bodies, inv_dt);
+}
+
+void ContactBatches::store_impulses(std::span<Contact> contacts) const {
+  for (std::size_t k = 0; k < first_contact_.size(); ++k)
+    for (std::size_t l = 0; l < W; ++l) {
+      Contact& c = contacts[first_contact_[k] + l];
+      const std::size_t i = k * W + l;
+      c.normal_impulse = normal_impulse_[i], c.tx = tx_[i], c.ty = ty_[i], c.tz = tz_[i];
+    }
 }
 
 }  // namespace hail

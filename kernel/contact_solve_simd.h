@@ -1,32 +1,68 @@
 #pragma once
-// The collision and resting passes of kernel/contact_impulse.h over a run of contacts that share
-// no sphere (one colour, or part of one), a batch of contacts per instruction (8 under AVX2).
-// Each lane performs the scalar rule's float operations in the scalar rule's order, and a
-// skipped lane (an early return in the scalar code) keeps its values through a select, so the
-// result is bitwise the scalar result: the scalar functions stay the reference, and
-// tests/test_contact_solve_simd.cpp compares the two on random contacts. A run's tail that does
-// not fill a batch goes through the scalar rules.
+// The collision and resting passes of kernel/contact_impulse.h, a batch of contacts per
+// instruction (8 under AVX2), over contacts that share no sphere (one colour).
 //
-// Lanes gather their bodies from SolverBody lines (kernel/solver_body.h) and scatter them back;
-// within a run no two contacts share a sphere, so the scatters cannot collide.
+// Once per step ContactBatches::stage copies each colour's contacts into SoA batches: normal,
+// gap, material, the bodies' slots and mass properties, and the accumulated impulses. A pass
+// then only gathers the bodies' velocities (AVX2 gathers from the 64-byte SolverBody lines),
+// runs the rule on all lanes and scatters the velocities back; what never changes within a step
+// is not re-read from the contacts on every pass. A colour's last size % W contacts (its tail)
+// stay with the scalar rules.
+//
+// Each lane performs the scalar rule's float operations in the scalar rule's order, and a lane
+// the scalar code would skip (an early return) keeps its values through a select, so the result
+// is bitwise the scalar result: the scalar functions stay the reference, and
+// tests/test_contact_solve_simd.cpp compares the two on random contacts.
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "kernel/contact.h"
 #include "kernel/solver_body.h"
+#include "soa/aligned_array.h"
 
 namespace hail {
 
-/// Collision pass (solve_collision) over contacts[first, last), which must share no sphere.
-/// Returns true when any contact applied an impulse.
-bool solve_collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                         float restitution_threshold);
+/// Contacts per SIMD batch: one xsimd float batch of the build's instruction set.
+std::size_t contact_batch_width();
 
-/// Resting pass (solve_resting) over contacts, which must share no sphere.
-void solve_resting_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt);
+class ContactBatches {
+ public:
+  /// Stages contacts[colour_begin[c] .. colour_begin[c+1]) for the colours c < batched_colours
+  /// (each must share no sphere) in full batches; later colours and every colour's tail are
+  /// left to the scalar rules. `bodies` must end with one static body (zero velocity and
+  /// inverse mass), whose slot static contacts gather from. Allocates only on growth.
+  void stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin, std::size_t batched_colours,
+             std::span<const SolverBody> bodies);
 
-/// The scalar reference of both: the per-contact rules in a loop.
+  /// Batches of colour c: [batch_begin(c), batch_end(c)). Its scalar tail is contacts
+  /// [tail_begin(c), colour_begin[c + 1]).
+  [[nodiscard]] std::size_t batch_begin(std::size_t c) const { return colour_batches_[c]; }
+  [[nodiscard]] std::size_t batch_end(std::size_t c) const { return colour_batches_[c + 1]; }
+  [[nodiscard]] std::size_t tail_begin(std::size_t c) const { return tail_begin_[c]; }
+
+  /// Collision pass (solve_collision) over batches [first, last); true when any lane applied
+  /// an impulse. Batches of one colour may run in parallel.
+  bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
+                       float restitution_threshold);
+  /// Resting pass (solve_resting) over batches [first, last).
+  void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt);
+  /// Writes the batches' accumulated impulses back to the contacts they were staged from.
+  void store_impulses(std::span<Contact> contacts) const;
+
+ private:
+  std::size_t width_ = 1;
+  std::vector<std::size_t> colour_batches_, tail_begin_;
+  std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact
+  AlignedArray<std::int32_t> a_, b_;          // body slots (b: the static body for static contacts)
+  AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
+  AlignedArray<float> ima_, iia_, ra_, imb_, iib_, rb_;
+  AlignedArray<float> normal_impulse_, tx_, ty_, tz_;
+};
+
+/// The scalar rules over a run of contacts: the reference, and the path for tails and for the
+/// serial colour (whose contacts may share spheres).
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
                                 float restitution_threshold);
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt);

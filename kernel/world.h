@@ -18,6 +18,7 @@
 #include "jobs/phase_trace.h"
 #include "kernel/contact.h"
 #include "kernel/contact_colouring.h"
+#include "kernel/contact_solve_simd.h"
 #include "kernel/depenetrate.h"
 #include "kernel/errors.h"
 #include "kernel/integrate.h"
@@ -198,7 +199,8 @@ class World {
   std::vector<Contact> contacts_;
   ContactColouring colouring_;
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
-  std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch, reused across steps
+  std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch: n bodies and a static one
+  ContactBatches contact_batches_;         ///< solve phase scratch: contacts staged for SIMD
   std::vector<float> block_max_speed_;
   std::vector<std::uint64_t> reorder_keys_;   ///< Morton re-sort scratch
   std::vector<std::uint32_t> reorder_slots_;  ///< Morton re-sort: new slot k <- old slot

@@ -1,11 +1,12 @@
-// The SIMD collision and resting passes give bitwise the state of their scalar reference (the
-// per-contact rules of kernel/contact_impulse.h in a loop), on random runs of contacts that
-// share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
+// The staged SIMD collision and resting passes (ContactBatches) give bitwise the state of their
+// scalar reference (the per-contact rules of kernel/contact_impulse.h in a loop), on random runs
+// of contacts that share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
 // mass (lanes the rules skip), accumulated impulses carried over, and runs whose tail does not
 // fill a batch.
 
 #include <cstring>
 #include <numeric>
+#include <span>
 #include <random>
 #include <vector>
 
@@ -21,13 +22,14 @@ struct Problem {
   std::vector<Contact> contacts;
 };
 
-/// `count` contacts over 2 * count bodies, each body in at most one contact (a colour's run).
+/// `count` contacts over 2 * count bodies, each body in at most one contact (one colour), and
+/// the static body the staged batches gather static contacts from.
 Problem random_run(std::size_t count, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
   Problem p;
-  p.bodies.resize(2 * count);
-  for (SolverBody& b : p.bodies) {
+  p.bodies.resize(2 * count + 1);
+  for (SolverBody& b : std::span(p.bodies).first(2 * count)) {
     for (int d = 0; d < 3; ++d) b.v[d] = 5.0f * u(rng), b.w[d] = 3.0f * u(rng);
     b.radius = 0.1f + unit(rng);
     const bool fixed = unit(rng) < 0.1f;  // static spheres: the rules skip a pair of two
@@ -67,20 +69,34 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   INFO(count << " contacts, restitution threshold " << threshold);
   Problem simd = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
   Problem scalar = simd;
+  // One colour holding every contact: full batches, then the tail through the scalar rules.
+  const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
+  ContactBatches batches;
+  batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
+  REQUIRE(batches.batch_end(0) == count / contact_batch_width());
+  REQUIRE(batches.tail_begin(0) == batches.batch_end(0) * contact_batch_width());
+  const std::span<Contact> tail = std::span(simd.contacts).subspan(batches.tail_begin(0));
   const float dt = 1.0f / 60.0f;
   bool simd_any = false, scalar_any = false;
   for (int pass = 0; pass < 4; ++pass) {
-    simd_any |= solve_collision_run(simd.contacts, simd.bodies, dt, threshold);
+    simd_any |= batches.solve_collision(0, batches.batch_end(0), simd.bodies, dt, threshold);
+    simd_any |= solve_collision_run_scalar(tail, simd.bodies, dt, threshold);
     scalar_any |= solve_collision_run_scalar(scalar.contacts, scalar.bodies, dt, threshold);
   }
   CHECK(simd_any == scalar_any);
+  batches.store_impulses(simd.contacts);
   CHECK(same_bits(simd, scalar));
   for (int pass = 0; pass < 4; ++pass) {
-    solve_resting_run(simd.contacts, simd.bodies, 60.0f);
+    batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f);
+    solve_resting_run_scalar(tail, simd.bodies, 60.0f);
     solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f);
   }
+  batches.store_impulses(simd.contacts);
   CHECK(same_bits(simd, scalar));
   // The passes did something: velocities moved away from where they started.
   const Problem start = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
   CHECK_FALSE(same_bits(simd, start));
+  // The static body was never written.
+  const SolverBody& fixed = simd.bodies.back();
+  CHECK((fixed.v[0] == 0.0f && fixed.v[1] == 0.0f && fixed.v[2] == 0.0f && fixed.w[0] == 0.0f && fixed.inv_mass == 0.0f));
 }
