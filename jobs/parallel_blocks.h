@@ -31,6 +31,26 @@ void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
       tbb::simple_partitioner());
 }
 
+/// for_each_block with the blocks split evenly over the threads in the same way on every call
+/// (tbb::static_partitioner): block k lands on the same thread each time, so a loop repeated
+/// many times over the same data (the solver's passes, colour after colour) finds it in that
+/// thread's cache. Which thread runs a block never changes a result.
+template <class F>
+void for_each_block_pinned(std::size_t count, std::size_t block_size, F&& f) {
+  const std::size_t blocks = (count + block_size - 1) / block_size;
+  if (blocks == 0) return;
+  if (blocks == 1) {
+    f(std::size_t{0}, std::size_t{0}, count);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, blocks, 1),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) f(b, b * block_size, std::min(count, (b + 1) * block_size));
+      },
+      tbb::static_partitioner());
+}
+
 /// Number of fixed blocks of block_size covering count items.
 constexpr std::size_t block_count(std::size_t count, std::size_t block_size) {
   return (count + block_size - 1) / block_size;

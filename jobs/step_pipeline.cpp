@@ -89,15 +89,29 @@ struct StepPipeline {
     });
   }
 
+  /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
+  /// offsets are summed first, so the blocks are copied (and pairs made into contacts) in
+  /// parallel into fixed places.
   void merge_contacts() {
     const SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
-    w.contacts_.clear();
-    for (std::size_t b = 0; b < block_count(n, kSphereBlock); ++b)
-      w.contacts_.insert(w.contacts_.end(), w.contact_blocks_[b].begin(), w.contact_blocks_[b].end());
-    w.stats_.static_contacts = w.contacts_.size();
-    for (std::size_t b = 0; b < block_count(n, kPairRowBlock); ++b)
-      for (const SpherePair& pair : w.pair_blocks_[b]) w.contacts_.push_back(make_sphere_contact(s, pair));
+    const std::size_t static_blocks = block_count(n, kSphereBlock), pair_blocks = block_count(n, kPairRowBlock);
+    std::vector<std::size_t>& offset = w.merge_offsets_;
+    offset.assign(static_blocks + pair_blocks + 1, 0);
+    for (std::size_t b = 0; b < static_blocks; ++b) offset[b + 1] = offset[b] + w.contact_blocks_[b].size();
+    for (std::size_t b = 0; b < pair_blocks; ++b)
+      offset[static_blocks + b + 1] = offset[static_blocks + b] + w.pair_blocks_[b].size();
+    w.contacts_.resize(offset.back());
+    for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      Contact* out = w.contacts_.data() + offset[b];
+      if (b < static_blocks) {
+        std::copy(w.contact_blocks_[b].begin(), w.contact_blocks_[b].end(), out);
+      } else {
+        for (const SpherePair& pair : w.pair_blocks_[b - static_blocks]) *out++ = make_sphere_contact(s, pair);
+      }
+    });
+    w.stats_.static_contacts = offset[static_blocks];
     w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
   }
 
@@ -149,7 +163,7 @@ struct StepPipeline {
       const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
       const std::span<Contact> tail(w.contacts_.data() + batches.tail_begin(colour), end - batches.tail_begin(colour));
       const std::size_t chunks = std::max<std::size_t>(block_count(count, kBatchChunk), 1);
-      for_each_block(chunks, 1, [&](std::size_t k, std::size_t, std::size_t) {
+      for_each_block_pinned(chunks, 1, [&](std::size_t k, std::size_t, std::size_t) {
         ScopedTraceRecord record(w.trace_, Phase::Solve);
         f(first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk),
           k + 1 == chunks ? tail : std::span<Contact>());
@@ -164,7 +178,10 @@ struct StepPipeline {
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.
     w.coloured_contacts_.resize(w.contacts_.size());
-    for (std::size_t k = 0; k < w.contacts_.size(); ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
+    for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
+    });
     std::swap(w.contacts_, w.coloured_contacts_);
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
     if (w.solver_bodies_.size() < n + 1) w.solver_bodies_.resize(n + 1);
@@ -176,7 +193,11 @@ struct StepPipeline {
     });
     const ContactColouring& col = w.colouring_;
     ContactBatches& batches = w.contact_batches_;
-    batches.stage(w.contacts_, col.colour_begin, std::min<std::size_t>(col.colour_count(), kMaxParallelColours), bodies);
+    batches.plan(col.colour_begin, std::min<std::size_t>(col.colour_count(), kMaxParallelColours));
+    for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      batches.fill(first, last, w.contacts_, bodies);
+    });
     w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;

@@ -121,10 +121,8 @@ void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody>
 
 std::size_t contact_batch_width() { return W; }
 
-void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
-                           std::size_t batched_colours, std::span<const SolverBody> bodies) {
+void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours) {
   width_ = W;
-  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   colour_batches_.assign(1, 0);
   tail_begin_.clear();
   first_contact_.clear();
@@ -140,7 +138,12 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
   for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ima_, &iia_, &ra_, &imb_, &iib_, &rb_,
                   &normal_impulse_, &tx_, &ty_, &tz_})
     v->resize(lanes);
-  for (std::size_t k = 0; k < first_contact_.size(); ++k)
+}
+
+void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const Contact> contacts,
+                          std::span<const SolverBody> bodies) {
+  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
+  for (std::size_t k = first; k < last; ++k)
     for (std::size_t l = 0; l < W; ++l) {
       const Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
@@ -157,6 +160,12 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
       gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
     }
+}
+
+void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
+                           std::size_t batched_colours, std::span<const SolverBody> bodies) {
+  plan(colour_begin, batched_colours);
+  fill(0, batch_count(), contacts, bodies);
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,

@@ -35,6 +35,11 @@ class ContactBatches {
   /// inverse mass), whose slot static contacts gather from. Allocates only on growth.
   void stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin, std::size_t batched_colours,
              std::span<const SolverBody> bodies);
+  /// stage() in two parts, so that the copying can run in parallel: plan() lays out the
+  /// batches (serial, cheap), fill() copies batches [first, last) (disjoint ranges in parallel).
+  void plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours);
+  void fill(std::size_t first, std::size_t last, std::span<const Contact> contacts, std::span<const SolverBody> bodies);
+  [[nodiscard]] std::size_t batch_count() const { return first_contact_.size(); }
 
   /// Batches of colour c: [batch_begin(c), batch_end(c)). Its scalar tail is contacts
   /// [tail_begin(c), colour_begin[c + 1]).

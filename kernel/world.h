@@ -197,6 +197,7 @@ class World {
   SphereGrid grid_;
   std::vector<std::vector<Contact>> contact_blocks_;
   std::vector<Contact> contacts_;
+  std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_
   ContactColouring colouring_;
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
   std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch: n bodies and a static one
