@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "kernel/errors.h"
+#include "pairs_command.h"
 #include "query_command.h"
 #include "run_command.h"
 #include "scale_command.h"
@@ -19,7 +20,7 @@ void print_help() {
       "usage: hail-bench <command> [options]\n"
       "\n"
       "commands:\n"
-      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--json FILE] [--trace FILE] [--quiet]\n"
+      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--pairs auto|brute|grid|sweep|bvh] [--json FILE] [--trace FILE] [--quiet]\n"
       "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
       "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash);\n"
       "      --trace writes a Chrome trace-event JSON (Perfetto): one slice per phase per step per thread\n"
@@ -29,6 +30,8 @@ void print_help() {
       "  query [--queries N] [--leaf L] [--repeats R]\n"
       "      terrain query microbenchmark, random and Morton order: stackless and fixed-stack BVH walks,\n"
       "      packet walk (8 spheres per node test, with and without SIMD leaf boxes), grid-cell lookup, brute force\n"
+      "  pairs [--max N] [--repeats R]\n"
+      "      sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix\n"
       "  bvh-build [--max-side 4096]\n"
       "      BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps\n"
       "\n"
@@ -48,6 +51,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
     if (args[0] == "scale") return hail::bench::scale_command(rest);
+    if (args[0] == "pairs") return hail::bench::pairs_command(rest);
     if (args[0] == "query") return hail::bench::query_command(rest);
     if (args[0] == "bvh-build") return hail::bench::bvh_build_command(rest);
     std::fprintf(stderr, "hail-bench: unknown command '%s' (try --help)\n", args[0].c_str());

@@ -11,6 +11,7 @@ Scene build_implosion(const SceneParams& p) {
   settings.gravity = Vec3::Zero();
   settings.threads = p.threads;
   settings.reorder_interval = p.reorder_interval;
+  settings.pair_search = p.pair_search;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;

@@ -114,6 +114,8 @@ RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const Ru
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
   r.state_hash = hex_hash(world.state_hash());
+  constexpr const char* kPairSearchNames[] = {"auto", "brute force", "grid", "sweep and prune", "sphere BVH"};
+  r.pair_search = kPairSearchNames[static_cast<int>(world.last_step_stats().pair_search)];
   if (!options.trace_path.empty()) write_trace(options.trace_path, world.trace(), world.thread_count());
   return r;
 }
@@ -145,6 +147,7 @@ nlohmann::json to_json(const RunResult& r) {
       {"energy_drift", r.energy_drift},
       {"nan_count", e.nan_count},
       {"state_hash", r.state_hash},
+      {"pair_search", r.pair_search},
       {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
                      {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"integrate", p.integrate},
                      {"depenetrate", p.depenetrate}}},

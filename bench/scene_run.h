@@ -21,6 +21,7 @@ struct RunResult {
   ErrorFigures errors;
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;
   std::string state_hash;
+  std::string pair_search;  ///< the search the last step used
 };
 
 struct RunOptions {

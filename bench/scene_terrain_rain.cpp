@@ -17,6 +17,7 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
   WorldSettings settings;
   settings.threads = p.threads;
   settings.reorder_interval = p.reorder_interval;
+  settings.pair_search = p.pair_search;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;

@@ -16,6 +16,7 @@ struct SceneParams {
   int threads = 0;
   float dt = 1.0f / 60.0f;
   int reorder_interval = WorldSettings{}.reorder_interval;  ///< --reorder K (0: never re-sort)
+  PairSearch pair_search = PairSearch::Automatic;            ///< --pairs NAME
 };
 
 /// What a scene builds and how its results are judged.

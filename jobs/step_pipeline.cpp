@@ -39,6 +39,7 @@ constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task wi
 struct StepPipeline {
   World& w;
   IntegrationParams params;
+  float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres_;
@@ -48,9 +49,14 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace_, Phase::Predict);
       w.block_max_speed_[b] = predict_velocities(s, first, last, params);
     });
-    float max_speed = 0.0f, max_radius = 0.0f;
+    float max_speed = 0.0f;
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
-    for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, s.radius[i]);
+    max_radius = 0.0f;
+    min_radius = n > 0 ? s.radius[0] : 0.0f;
+    for (std::size_t i = 0; i < n; ++i) {
+      max_radius = std::max(max_radius, s.radius[i]);
+      min_radius = std::min(min_radius, s.radius[i]);
+    }
     margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
   }
 
@@ -77,15 +83,22 @@ struct StepPipeline {
     if (w.pair_row_scratch_.size() < blocks) w.pair_row_scratch_.resize(blocks);
     for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
     if (!w.settings_.sphere_collisions) return;
-    const PairSearch search = w.settings_.pair_search;
-    const bool grid = search == PairSearch::Grid || (search == PairSearch::Automatic && n >= kGridPairSearchMinSpheres);
-    if (grid) w.grid_.build(s, margin);
+    PairSearch search = w.settings_.pair_search;
+    if (search == PairSearch::Automatic) search = automatic_pair_search(n, min_radius, max_radius);
+    w.stats_.pair_search = search;
+    if (search == PairSearch::Grid) w.grid_.build(s, margin);
+    if (search == PairSearch::SweepAndPrune) w.sweep_.build(s, margin);
+    if (search == PairSearch::Bvh) w.sphere_bvh_.build(s, margin);
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::DetectPairs);
-      if (grid)
-        w.grid_.find_pairs(s, first, last, margin, w.pair_blocks_[b], w.pair_row_scratch_[b]);
-      else
-        find_sphere_pairs_simd(s, first, last, margin, w.pair_blocks_[b]);
+      std::vector<SpherePair>& out = w.pair_blocks_[b];
+      std::vector<std::uint32_t>& row = w.pair_row_scratch_[b];
+      switch (search) {
+        case PairSearch::Grid: w.grid_.find_pairs(s, first, last, margin, out, row); break;
+        case PairSearch::SweepAndPrune: w.sweep_.find_pairs(s, first, last, margin, out, row); break;
+        case PairSearch::Bvh: w.sphere_bvh_.find_pairs(s, first, last, margin, out, row); break;
+        default: find_sphere_pairs_simd(s, first, last, margin, out); break;
+      }
     });
   }
 

@@ -24,7 +24,9 @@
 #include "kernel/integrate.h"
 #include "kernel/plane.h"
 #include "kernel/solver_body.h"
+#include "kernel/sphere_bvh_pairs.h"
 #include "kernel/sphere_grid.h"
+#include "kernel/sphere_sweep.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/terrain.h"
 #include "kernel/vec3.h"
@@ -32,15 +34,31 @@
 
 namespace hail {
 
-/// How sphere-sphere pairs are found. All give exactly the same pairs in the same order.
+/// How sphere-sphere pairs are found. All give exactly the same pairs in the same order, so the
+/// choice changes speed only, never the simulation (tests/test_broadphase.cpp).
 enum class PairSearch {
-  Automatic,   ///< brute force below kGridPairSearchMinSpheres spheres, grid above
-  BruteForce,  ///< SIMD all-pairs: O(n^2), fastest for small n
-  Grid,        ///< hashed uniform grid of the largest diameter: O(n) for similar radii
+  Automatic,      ///< by sphere count and radius spread, from measured crossovers (README)
+  BruteForce,     ///< SIMD all-pairs: O(n^2), fastest for small n
+  Grid,           ///< hashed uniform grid of the largest diameter: O(n) for similar radii
+  SweepAndPrune,  ///< sort along the axis of greatest spread, per radius class
+  Bvh,            ///< per-step BVH over the spheres (the terrain's builder and flat walk)
 };
 
-/// Sphere count from which PairSearch::Automatic uses the grid (measured: see README).
-inline constexpr std::size_t kGridPairSearchMinSpheres = 1024;
+/// PairSearch::Automatic: below this many spheres brute force wins (measured crossover with the
+/// grid at equal radii, `hail-bench pairs`: between 1,000 and 4,000).
+inline constexpr std::size_t kPairSearchMinSpheres = 4000;
+/// PairSearch::Automatic with mixed radii (largest / smallest above kMixedRadiusSpread): brute
+/// force wins up to 16,000 spheres, then the sphere BVH, whose boxes fit each sphere where the
+/// grid's cells must fit the largest.
+inline constexpr std::size_t kMixedPairSearchMinSpheres = 16000;
+inline constexpr float kMixedRadiusSpread = 4.0f;
+
+/// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
+[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius) {
+  const bool mixed = max_radius > kMixedRadiusSpread * min_radius;
+  if (mixed) return n < kMixedPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Bvh;
+  return n < kPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Grid;
+}
 
 /// How a World steps. Every field is checked by the World constructor (InvalidArgument).
 struct WorldSettings {
@@ -110,6 +128,7 @@ struct StepStats {
   std::size_t sphere_contacts = 0;
   std::size_t colours = 0;
   int collision_passes = 0;  ///< collision passes that applied an impulse
+  PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
 };
 
 /// Read-only views of the dense sphere state (slot order; use World::slot_of for a handle).
@@ -195,6 +214,8 @@ class World {
   std::vector<std::vector<SpherePair>> pair_blocks_;
   std::vector<std::vector<std::uint32_t>> pair_row_scratch_;
   SphereGrid grid_;
+  SphereSweep sweep_;
+  SphereBvhPairs sphere_bvh_;
   std::vector<std::vector<Contact>> contact_blocks_;
   std::vector<Contact> contacts_;
   std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_

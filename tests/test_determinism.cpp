@@ -8,9 +8,11 @@
 namespace {
 
 /// A 2,000-sphere cloud over a floor: mixed radii, random velocities, falling into a pile.
-std::uint64_t run_cloud(int threads, int steps) {
+std::uint64_t run_cloud(int threads, int steps, hail::PairSearch search = hail::PairSearch::Automatic,
+                        float radius_spread = 0.1f) {
   hail::WorldSettings settings;
   settings.threads = threads;
+  settings.pair_search = search;
   hail::World world(settings);
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.3f, .friction = 0.6f});
   world.add_plane({.normal = {1, 0, 0}, .offset = -12, .restitution = 0.3f, .friction = 0.6f});
@@ -20,7 +22,7 @@ std::uint64_t run_cloud(int threads, int steps) {
   for (int k = 0; k < 2000; ++k) {
     world.add_sphere({.position = {10.0f * u(rng), 8.0f + 6.0f * u(rng), 10.0f * u(rng)},
                       .velocity = {2.0f * u(rng), 2.0f * u(rng), 2.0f * u(rng)},
-                      .radius = 0.25f + 0.1f * u(rng),
+                      .radius = 0.25f + radius_spread * (u(rng) + 1.0f) - 0.1f,
                       .mass = 1.0f + 0.5f * u(rng),
                       .restitution = 0.4f,
                       .friction = 0.5f});
@@ -43,4 +45,24 @@ TEST_CASE("A 2,000-sphere cloud is bitwise identical for 1 and 2 threads and acr
 TEST_CASE("More threads than cores still give the same state", "[determinism]") {
   CHECK(run_cloud(1, 120) == run_cloud(3, 120));
   CHECK(run_cloud(1, 120) == run_cloud(8, 120));
+}
+
+TEST_CASE("Every pair search gives bitwise the same simulation", "[determinism][pairs]") {
+  // Equal-ish radii and a 1:8 mix (0.15 .. 1.25 m), 2 threads.
+  for (float spread : {0.1f, 0.55f}) {
+    INFO("radius spread " << spread);
+    const std::uint64_t brute = run_cloud(2, 90, hail::PairSearch::BruteForce, spread);
+    CHECK(run_cloud(2, 90, hail::PairSearch::Grid, spread) == brute);
+    CHECK(run_cloud(2, 90, hail::PairSearch::SweepAndPrune, spread) == brute);
+    CHECK(run_cloud(2, 90, hail::PairSearch::Bvh, spread) == brute);
+    CHECK(run_cloud(2, 90, hail::PairSearch::Automatic, spread) == brute);
+  }
+}
+
+TEST_CASE("Automatic pair search follows the measured crossovers", "[pairs]") {
+  using hail::PairSearch;
+  CHECK(hail::automatic_pair_search(1000, 0.5f, 0.5f) == PairSearch::BruteForce);
+  CHECK(hail::automatic_pair_search(4000, 0.5f, 0.5f) == PairSearch::Grid);
+  CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f) == PairSearch::BruteForce);
+  CHECK(hail::automatic_pair_search(16000, 0.25f, 5.0f) == PairSearch::Bvh);
 }
