@@ -217,8 +217,9 @@ struct StepPipeline {
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold);
-        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold);
+        const auto number = static_cast<std::uint32_t>(pass);
+        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number);
+        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number);
         if (simd || rest) any.store(true, std::memory_order_relaxed);
       });
       if (!any.load()) break;

@@ -18,6 +18,16 @@ static_assert(index_batch::size == W);
 constexpr std::int32_t kBodyFloats = sizeof(SolverBody) / sizeof(float);
 constexpr std::int32_t kVelocity = offsetof(SolverBody, v) / sizeof(float);
 constexpr std::int32_t kAngular = offsetof(SolverBody, w) / sizeof(float);
+constexpr std::int32_t kChangedInPass = offsetof(SolverBody, changed_in_pass) / sizeof(float);
+
+/// Bit l set for each true lane.
+std::uint32_t detail_lane_bits(const lane_mask& m) {
+  alignas(64) bool lanes[W];
+  m.store_aligned(lanes);
+  std::uint32_t bits = 0;
+  for (std::size_t l = 0; l < W; ++l) bits |= std::uint32_t(lanes[l]) << l;
+  return bits;
+}
 
 /// ContactBodies and the contact's normal, one lane per contact.
 struct Lanes {
@@ -99,12 +109,14 @@ struct Lanes {
 }  // namespace
 
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold) {
+                                float restitution_threshold, std::uint32_t pass) {
   bool any = false;
   for (Contact& c : contacts) {
     ContactBodies k = gather_bodies(bodies, c);
     if (solve_collision(c, k, dt, restitution_threshold)) {
       scatter_bodies(bodies, c, k);
+      bodies[c.a].changed_in_pass = pass + 1;
+      if (c.b != kStaticBody) bodies[c.b].changed_in_pass = pass + 1;
       any = true;
     }
   }
@@ -169,13 +181,21 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                                     float restitution_threshold) {
+                                     float restitution_threshold, std::uint32_t pass) {
   const float* base = reinterpret_cast<const float*>(bodies.data());
+  const auto* stamps = reinterpret_cast<const std::int32_t*>(bodies.data()) + kChangedInPass;
   const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const batch zero(0.0f), one(1.0f);
+  const index_batch stride(kBodyFloats), changed_since(static_cast<std::int32_t>(pass));
   bool any = false;
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
+    if (pass > 0) {
+      // Skip when no body of the batch changed in the previous pass or since (stamp >= pass).
+      const index_batch sa = index_batch::gather(stamps, index_batch::load_aligned(&a_[o]) * stride);
+      const index_batch sb = index_batch::gather(stamps, index_batch::load_aligned(&b_[o]) * stride);
+      if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
+    }
     const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
     Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
     batch v[3];
@@ -195,6 +215,12 @@ bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::s
     batch fresh[3] = {zero, zero, zero};
     L.apply_friction(batch::load_aligned(&friction_[o]) * j, fresh, active);
     L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
+    const std::uint32_t lanes = detail_lane_bits(active);
+    for (std::size_t l = 0; l < W; ++l)
+      if (lanes >> l & 1u) {
+        bodies[a_[o + l]].changed_in_pass = pass + 1;
+        if (b_[o + l] != static_slot) bodies[b_[o + l]].changed_in_pass = pass + 1;
+      }
   }
   return any;
 }

@@ -47,10 +47,13 @@ class ContactBatches {
   [[nodiscard]] std::size_t batch_end(std::size_t c) const { return colour_batches_[c + 1]; }
   [[nodiscard]] std::size_t tail_begin(std::size_t c) const { return tail_begin_[c]; }
 
-  /// Collision pass (solve_collision) over batches [first, last); true when any lane applied
-  /// an impulse. Batches of one colour may run in parallel.
+  /// Collision pass number `pass` (0, 1, ...) (solve_collision) over batches [first, last);
+  /// true when any lane applied an impulse. Batches of one colour may run in parallel. From
+  /// pass 1 on, a batch none of whose bodies changed since the previous pass began is skipped:
+  /// none of its contacts applied then, so none can now (SolverBody::changed_in_pass); the
+  /// result is the same as evaluating it.
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                       float restitution_threshold);
+                       float restitution_threshold, std::uint32_t pass);
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt);
   /// Writes the batches' accumulated impulses back to the contacts they were staged from.
@@ -68,8 +71,10 @@ class ContactBatches {
 
 /// The scalar rules over a run of contacts: the reference, and the path for tails and for the
 /// serial colour (whose contacts may share spheres).
+/// `pass` marks the bodies it changes (SolverBody::changed_in_pass = pass + 1); it evaluates
+/// every contact.
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold);
+                                float restitution_threshold, std::uint32_t pass = 0);
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt);
 
 }  // namespace hail

@@ -21,7 +21,11 @@ struct alignas(64) SolverBody {
   float w[3];
   float inv_inertia;
   float radius;
-  float unused[7];
+  /// 1 + the last collision pass that changed this body's velocity (0: none this step). A
+  /// contact neither of whose bodies changed since it last applied nothing cannot apply now, so
+  /// collision passes skip it (kernel/contact_solve_simd.h): the same result, less work.
+  std::uint32_t changed_in_pass;
+  float unused[6];
 };
 static_assert(sizeof(SolverBody) == 64, "one solver body per cache line");
 
@@ -34,6 +38,7 @@ inline void load_solver_bodies(const SphereSoA& s, std::size_t first, std::size_
     b.inv_mass = s.inv_mass[i];
     b.inv_inertia = s.inv_inertia[i];
     b.radius = s.radius[i];
+    b.changed_in_pass = 0;
   }
 }
 
