@@ -63,6 +63,15 @@ CommandOptions parse(const std::vector<std::string>& args) {
       if (o.params.reorder_interval < 0) usage_error("--reorder must be >= 0 (steps between Morton re-sorts; 0 = never)");
     } else if (flag == "--trace") {
       o.trace_path = value();
+    } else if (flag == "--warm-start") {
+      const std::string& v = value();
+      if (v == "on" || v == "off") {
+        o.params.warm_start = v == "on";
+      } else {
+        o.params.warm_start_factor = parse_number<float>(flag, v);
+        if (!(o.params.warm_start_factor >= 0 && o.params.warm_start_factor <= 1))
+          usage_error("--warm-start must be on, off or a factor in [0, 1], got '" + v + "'");
+      }
     } else if (flag == "--pairs") {
       const std::string& name = value();
       const std::pair<const char*, PairSearch> names[] = {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
@@ -98,8 +107,8 @@ int run_command(const std::vector<std::string>& args) {
               r.median_ms, r.warmup, r.steps - 1, r.total_s, r.setup_s);
   std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  integrate %.3f  depenetrate %.3f ms\n",
               p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.integrate, p.depenetrate);
-  std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts, %.1f colours, %.2f collision passes that applied an impulse\n",
-              r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.colours, r.collision_passes);
+  std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
+              r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
   std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,

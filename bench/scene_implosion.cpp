@@ -12,6 +12,8 @@ Scene build_implosion(const SceneParams& p) {
   settings.threads = p.threads;
   settings.reorder_interval = p.reorder_interval;
   settings.pair_search = p.pair_search;
+  settings.warm_start = p.warm_start;
+  settings.warm_start_factor = p.warm_start_factor;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;

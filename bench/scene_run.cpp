@@ -79,6 +79,7 @@ RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const Ru
   r.warmup = r.steps > 120 ? 60 : 0;  // the scenes' definition: report steps 60..599
   r.dt = params.dt;
   r.reorder_interval = params.reorder_interval;
+  r.warm_start = params.warm_start;
 
   if (!options.trace_path.empty()) world.enable_trace(true);
   r.energy_start = world.kinetic_energy();
@@ -97,6 +98,7 @@ RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const Ru
       const StepStats& stats = world.last_step_stats();
       r.static_contacts += weight * double(stats.static_contacts);
       r.sphere_contacts += weight * double(stats.sphere_contacts);
+      r.warm_started += weight * double(stats.warm_started);
       r.colours += weight * double(stats.colours);
       r.collision_passes += weight * stats.collision_passes;
     }
@@ -151,7 +153,9 @@ nlohmann::json to_json(const RunResult& r) {
       {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
                      {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"integrate", p.integrate},
                      {"depenetrate", p.depenetrate}}},
+      {"warm_start", r.warm_start},
       {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
+                           {"warm_started", r.warm_started},
                            {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
       {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}},
   };

@@ -14,10 +14,11 @@ struct RunResult {
   std::string scene, description;
   std::size_t spheres = 0;
   int threads = 0, steps = 0, warmup = 0, reorder_interval = 0;
+  bool warm_start = true;
   float dt = 0;
   double mean_ms = 0, median_ms = 0, total_s = 0, setup_s = 0;
   PhaseTimes phase_ms;  ///< mean per timed step
-  double static_contacts = 0, sphere_contacts = 0, colours = 0, collision_passes = 0;  ///< mean per timed step
+  double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0, collision_passes = 0;  ///< mean per timed step
   ErrorFigures errors;
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;
   std::string state_hash;

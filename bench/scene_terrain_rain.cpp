@@ -18,6 +18,8 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
   settings.threads = p.threads;
   settings.reorder_interval = p.reorder_interval;
   settings.pair_search = p.pair_search;
+  settings.warm_start = p.warm_start;
+  settings.warm_start_factor = p.warm_start_factor;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;

@@ -17,6 +17,8 @@ struct SceneParams {
   float dt = 1.0f / 60.0f;
   int reorder_interval = WorldSettings{}.reorder_interval;  ///< --reorder K (0: never re-sort)
   PairSearch pair_search = PairSearch::Automatic;            ///< --pairs NAME
+  bool warm_start = WorldSettings{}.warm_start;              ///< --warm-start on|off|FACTOR
+  float warm_start_factor = WorldSettings{}.warm_start_factor;
 };
 
 /// What a scene builds and how its results are judged.

@@ -126,6 +126,31 @@ struct StepPipeline {
     });
     w.stats_.static_contacts = offset[static_blocks];
     w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
+    w.stats_.warm_started = 0;
+    if (!w.settings_.warm_start) return;
+    std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
+    for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      matched += w.contact_cache_.load(w.contacts_, w.stats_.static_contacts, first, last, s, w.settings_.warm_start_factor);
+    });
+    w.stats_.warm_started = matched.load();
+  }
+
+  /// Keeps this step's impulses for the next step's warm start: back into detection order
+  /// (coloured_contacts_ holds it since solve() swapped), then into the cache.
+  void remember_impulses() {
+    if (!w.settings_.warm_start) return;
+    std::vector<Contact>& detect_order = w.coloured_contacts_;
+    const std::vector<std::uint32_t>& order = w.colouring_.order;
+    for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) {
+        const Contact& solved = w.contacts_[k];
+        Contact& c = detect_order[order[k]];
+        c.normal_impulse = solved.normal_impulse, c.tx = solved.tx, c.ty = solved.ty, c.tz = solved.tz;
+      }
+    });
+    w.contact_cache_.store(detect_order, w.stats_.static_contacts, w.spheres_);
   }
 
   /// Runs f(run, independent) over the contacts, colour after colour, in runs of at most
@@ -213,6 +238,11 @@ struct StepPipeline {
     });
     w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
+    if (w.settings_.warm_start && w.stats_.warm_started > 0)
+      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        batches.warm_start(first, last, bodies);
+        warm_start_run_scalar(scalar, bodies);
+      });
     const float threshold = params.restitution_threshold;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -233,6 +263,7 @@ struct StepPipeline {
       });
     }
     batches.store_impulses(w.contacts_);
+    remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       store_solver_velocities(bodies, first, last, s);

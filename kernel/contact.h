@@ -21,6 +21,12 @@ struct Contact {
   /// For static contacts the surface is linearised as the plane {x : n.x = surface_d}, so the
   /// gap after the sphere moves is surface_d - n.x - r (depenetration recomputes it this way).
   float surface_d = 0;
+  /// What b is for a static contact, so that the contact can be found again next step (warm
+  /// starting): the terrain triangle (BVH order) or kPlaneFeature | plane index. 0 for spheres.
+  std::uint32_t feature = 0;
 };
+
+/// Contact::feature of a plane contact: this bit, or'd with the plane's index.
+inline constexpr std::uint32_t kPlaneFeature = 0x80000000u;
 
 }  // namespace hail

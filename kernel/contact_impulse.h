@@ -124,6 +124,14 @@ inline void solve_impact(const Contact& c, ContactBodies& k, float restitution_t
   apply_friction(c, k, c.friction * j, fresh);
 }
 
+/// Warm start of one contact: applies the impulse it starts the step with (normal_impulse along
+/// n plus the friction impulse), which the resting passes then treat as already applied.
+inline void apply_warm_start(const Contact& c, ContactBodies& k) {
+  if (normal_mass_denominator(k) <= 0.0f) return;
+  const float p[3] = {c.normal_impulse * c.nx + c.tx, c.normal_impulse * c.ny + c.ty, c.normal_impulse * c.nz + c.tz};
+  apply_impulse(c, k, p);
+}
+
 /// Collision pass on one contact. Returns true when it applied an impulse.
 /// A speculative contact (gap > 0) collides only if it closes the gap within dt.
 inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float restitution_threshold) {

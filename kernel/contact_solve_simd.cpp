@@ -131,6 +131,14 @@ void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody>
   }
 }
 
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies) {
+  for (const Contact& c : contacts) {
+    ContactBodies k = gather_bodies(bodies, c);
+    apply_warm_start(c, k);
+    scatter_bodies(bodies, c, k);
+  }
+}
+
 std::size_t contact_batch_width() { return W; }
 
 void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours) {
@@ -251,6 +259,23 @@ void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::spa
     L.apply_friction(batch::load_aligned(&friction_[o]) * new_impulse, accumulated, active);
     new_impulse.store_aligned(&normal_impulse_[o]);
     accumulated[0].store_aligned(&tx_[o]), accumulated[1].store_aligned(&ty_[o]), accumulated[2].store_aligned(&tz_[o]);
+    L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
+  }
+}
+
+void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies) {
+  const float* base = reinterpret_cast<const float*>(bodies.data());
+  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
+  const batch zero(0.0f);
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
+    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
+    const lane_mask active = !((L.ima + L.imb) <= zero);
+    const batch impulse = batch::load_aligned(&normal_impulse_[o]);
+    const batch p[3] = {impulse * L.n[0] + batch::load_aligned(&tx_[o]), impulse * L.n[1] + batch::load_aligned(&ty_[o]),
+                        impulse * L.n[2] + batch::load_aligned(&tz_[o])};
+    L.apply_impulse(p, active);
     L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
   }
 }

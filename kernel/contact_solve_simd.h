@@ -54,6 +54,8 @@ class ContactBatches {
   /// result is the same as evaluating it.
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
                        float restitution_threshold, std::uint32_t pass);
+  /// Warm start (apply_warm_start) of batches [first, last): their staged impulses applied.
+  void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies);
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt);
   /// Writes the batches' accumulated impulses back to the contacts they were staged from.
@@ -76,5 +78,6 @@ class ContactBatches {
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
                                 float restitution_threshold, std::uint32_t pass = 0);
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt);
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies);
 
 }  // namespace hail

@@ -21,6 +21,7 @@ void find_plane_contacts(const SphereSoA& s, std::span<const Plane> planes, std:
       c.surface_d = -p.offset;
       c.restitution = combine_restitution(s.restitution[i], p.restitution);
       c.friction = combine_friction(s.friction[i], p.friction);
+      c.feature = kPlaneFeature | k;
       out.push_back(c);
     }
   }

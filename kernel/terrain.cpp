@@ -90,6 +90,7 @@ void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t l
       contact.surface_d = st.surface_d;
       contact.restitution = combine_restitution(s.restitution[i], restitution);
       contact.friction = combine_friction(s.friction[i], friction);
+      contact.feature = k;  // the first triangle of a merged normal names it
       lanes[lane].add(contact);
     });
     for (std::uint32_t lane = 0; lane < packet.count; ++lane)

@@ -42,6 +42,8 @@ void World::validate(const WorldSettings& s) {
           describe("WorldSettings::depenetration.slop_fraction must be >= 0, got", s.depenetration.slop_fraction));
   require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f,
           describe("WorldSettings::restitution_threshold must be >= 0, got", s.restitution_threshold));
+  require(std::isfinite(s.warm_start_factor) && s.warm_start_factor >= 0.0f && s.warm_start_factor <= 1.0f,
+          describe("WorldSettings::warm_start_factor must be in [0, 1], got", s.warm_start_factor));
   require(s.reorder_interval >= 0, "WorldSettings::reorder_interval must be >= 0 (0 = never), got " +
                                        std::to_string(s.reorder_interval));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
@@ -84,7 +86,11 @@ SphereId World::add_sphere(const SphereDesc& d) {
                        d.radius, inv_mass, inv_inertia, d.restitution, d.friction, kSphereFlagNone});
 }
 
-bool World::remove_sphere(SphereId id) { return spheres_.remove(id); }
+bool World::remove_sphere(SphereId id) {
+  // Its id index may be reused by the next sphere added: warm-start data must not carry over.
+  contact_cache_.clear();
+  return spheres_.remove(id);
+}
 
 std::size_t World::add_plane(const PlaneDesc& d) {
   require_finite(d.normal, "plane normal");
@@ -100,6 +106,7 @@ std::size_t World::add_plane(const PlaneDesc& d) {
 void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
   require_material(restitution, friction, "terrain");
   terrain_ = std::move(terrain);
+  contact_cache_.clear();  // triangle features name another terrain's triangles now
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
 }

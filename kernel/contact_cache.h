@@ -1,0 +1,52 @@
+#pragma once
+// Warm starting: each step's contacts begin with the impulses the same contact ended the last
+// step with, so a pile starts its resting passes already holding its weight instead of
+// rebuilding it from zero every step (Catto, "Iterative Dynamics with Temporal Coherence",
+// 2005). A contact is "the same" when it joins the same two spheres (stable SphereId indices,
+// so the Morton re-sort does not lose it) or the same sphere and static feature (terrain
+// triangle or plane, Contact::feature).
+//
+// The cache keeps, per sphere id, the range of its last-step contacts (static ones and pairs
+// it was first in); a lookup scans that short range. Contacts are stored in detection order,
+// which groups them by sphere, so nothing is sorted.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernel/contact.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+class ContactImpulseCache {
+ public:
+  /// Remembers the impulses of `contacts`, in detection order: the first `static_count` are
+  /// static contacts grouped by sphere, the rest sphere pairs grouped by their first sphere.
+  /// Allocates only on growth.
+  void store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& spheres);
+  /// Sets normal_impulse and the friction impulse of contacts[first, last) (detection order, as
+  /// for store) from the matching remembered contact, the friction impulse projected onto the
+  /// new contact's tangent plane; zero where nothing matches. Disjoint ranges may run in
+  /// parallel. `factor` scales what is carried over (WorldSettings::warm_start_factor). Returns
+  /// how many matched.
+  std::size_t load(std::span<Contact> contacts, std::size_t static_count, std::size_t first, std::size_t last,
+                   const SphereSoA& spheres, float factor = 1.0f) const;
+  /// Forgets everything (spheres were added or removed: ids may be reused).
+  void clear();
+
+ private:
+  struct Entry {
+    std::uint32_t partner;  // the other sphere's id index, or the static feature
+    float normal_impulse, tx, ty, tz;
+  };
+  struct Range {
+    std::uint32_t begin = 0, end = 0;
+  };
+  [[nodiscard]] const Entry* find(const std::vector<Range>& ranges, std::uint32_t owner, std::uint32_t partner) const;
+
+  std::vector<Entry> entries_;
+  std::vector<Range> static_range_, pair_range_;  // per sphere id index
+};
+
+}  // namespace hail
