@@ -84,7 +84,8 @@ struct StepPipeline {
     for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
     if (!w.settings_.sphere_collisions) return;
     PairSearch search = w.settings_.pair_search;
-    if (search == PairSearch::Automatic) search = automatic_pair_search(n, min_radius, max_radius);
+    if (search == PairSearch::Automatic)
+      search = automatic_pair_search(n, min_radius, max_radius, w.settings_.reorder_interval > 0);
     w.stats_.pair_search = search;
     if (search == PairSearch::Grid) w.grid_.build(s, margin);
     if (search == PairSearch::SweepAndPrune) w.sweep_.build(s, margin);

@@ -46,18 +46,22 @@ enum class PairSearch {
 };
 
 /// PairSearch::Automatic: below this many spheres brute force wins (measured crossover with the
-/// grid at equal radii, `hail-bench pairs`: between 1,000 and 4,000).
+/// grid, `hail-bench pairs`: between 1,000 and 4,000, for equal and for mixed radii in Morton
+/// order).
 inline constexpr std::size_t kPairSearchMinSpheres = 4000;
-/// PairSearch::Automatic with mixed radii (largest / smallest above kMixedRadiusSpread): brute
-/// force wins up to 16,000 spheres, then the sphere BVH, whose boxes fit each sphere where the
-/// grid's cells must fit the largest.
+/// PairSearch::Automatic with mixed radii (largest / smallest above kMixedRadiusSpread) in an
+/// incoherent slot order (reorder_interval 0): brute force wins up to 16,000 spheres, then the
+/// sphere BVH, whose boxes fit each sphere where the grid's cells must fit the largest. In
+/// Morton order the grid is ahead again (README, "Pair searches").
 inline constexpr std::size_t kMixedPairSearchMinSpheres = 16000;
 inline constexpr float kMixedRadiusSpread = 4.0f;
 
-/// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
-[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius) {
+/// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius],
+/// `morton_ordered` when the world keeps its slots in Morton order (reorder_interval > 0).
+[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius,
+                                                         bool morton_ordered = true) {
   const bool mixed = max_radius > kMixedRadiusSpread * min_radius;
-  if (mixed) return n < kMixedPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Bvh;
+  if (mixed && !morton_ordered) return n < kMixedPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Bvh;
   return n < kPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Grid;
 }
 

@@ -63,6 +63,7 @@ TEST_CASE("Automatic pair search follows the measured crossovers", "[pairs]") {
   using hail::PairSearch;
   CHECK(hail::automatic_pair_search(1000, 0.5f, 0.5f) == PairSearch::BruteForce);
   CHECK(hail::automatic_pair_search(4000, 0.5f, 0.5f) == PairSearch::Grid);
-  CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f) == PairSearch::BruteForce);
-  CHECK(hail::automatic_pair_search(16000, 0.25f, 5.0f) == PairSearch::Bvh);
+  CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f) == PairSearch::Grid);  // Morton order: the grid
+  CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f, false) == PairSearch::BruteForce);
+  CHECK(hail::automatic_pair_search(16000, 0.25f, 5.0f, false) == PairSearch::Bvh);
 }
