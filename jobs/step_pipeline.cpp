@@ -151,7 +151,11 @@ struct StepPipeline {
         c.normal_impulse = solved.normal_impulse, c.tx = solved.tx, c.ty = solved.ty, c.tz = solved.tz;
       }
     });
-    w.contact_cache_.store(detect_order, w.stats_.static_contacts, w.spheres_);
+    w.contact_cache_.prepare(detect_order.size(), w.spheres_);
+    for_each_block(detect_order.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      w.contact_cache_.store_range(detect_order, w.stats_.static_contacts, first, last, w.spheres_);
+    });
   }
 
   /// Runs f(run, independent) over the contacts, colour after colour, in runs of at most

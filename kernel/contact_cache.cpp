@@ -10,25 +10,32 @@ void ContactImpulseCache::clear() {
   pair_range_.clear();
 }
 
-void ContactImpulseCache::store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& s) {
+void ContactImpulseCache::prepare(std::size_t contact_count, const SphereSoA& s) {
   std::uint32_t ids = 0;
   for (std::size_t slot = 0; slot < s.size(); ++slot) ids = std::max(ids, s.id_at(slot).index + 1);
   static_range_.assign(ids, Range{});
   pair_range_.assign(ids, Range{});
-  entries_.resize(contacts.size());
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
+  entries_.resize(contact_count);
+}
+
+void ContactImpulseCache::store_range(std::span<const Contact> contacts, std::size_t static_count, std::size_t first,
+                                      std::size_t last, const SphereSoA& s) {
+  for (std::size_t k = first; k < last; ++k) {
     const Contact& c = contacts[k];
     const bool is_static = k < static_count;
     entries_[k] = {is_static ? c.feature : s.id_at(c.b).index, c.normal_impulse, c.tx, c.ty, c.tz};
-    // Runs of one first sphere are contiguous within a section: mark where each starts and ends.
-    const std::size_t section_begin = is_static ? 0 : static_count;
-    if (k == section_begin || contacts[k - 1].a != c.a) {
-      Range& r = (is_static ? static_range_ : pair_range_)[s.id_at(c.a).index];
-      r.begin = static_cast<std::uint32_t>(k);
-      r.end = static_cast<std::uint32_t>(k);
-    }
-    (is_static ? static_range_ : pair_range_)[s.id_at(c.a).index].end = static_cast<std::uint32_t>(k + 1);
+    // Runs of one first sphere are contiguous within a section: its first contact writes the
+    // range's begin, its last the end, so no two contacts write the same field.
+    const std::size_t section_begin = is_static ? 0 : static_count, section_end = is_static ? static_count : contacts.size();
+    Range& r = (is_static ? static_range_ : pair_range_)[s.id_at(c.a).index];
+    if (k == section_begin || contacts[k - 1].a != c.a) r.begin = static_cast<std::uint32_t>(k);
+    if (k + 1 == section_end || contacts[k + 1].a != c.a) r.end = static_cast<std::uint32_t>(k + 1);
   }
+}
+
+void ContactImpulseCache::store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& s) {
+  prepare(contacts.size(), s);
+  store_range(contacts, static_count, 0, contacts.size(), s);
 }
 
 const ContactImpulseCache::Entry* ContactImpulseCache::find(const std::vector<Range>& ranges, std::uint32_t owner,

@@ -25,6 +25,12 @@ class ContactImpulseCache {
   /// static contacts grouped by sphere, the rest sphere pairs grouped by their first sphere.
   /// Allocates only on growth.
   void store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& spheres);
+  /// store() in two parts, so that the copying can run in parallel: prepare() sizes and clears
+  /// (serial), store_range() fills contacts[first, last) (disjoint ranges in parallel; each
+  /// sphere's range is written by the contacts at its ends only).
+  void prepare(std::size_t contact_count, const SphereSoA& spheres);
+  void store_range(std::span<const Contact> contacts, std::size_t static_count, std::size_t first, std::size_t last,
+                   const SphereSoA& spheres);
   /// Sets normal_impulse and the friction impulse of contacts[first, last) (detection order, as
   /// for store) from the matching remembered contact, the friction impulse projected onto the
   /// new contact's tangent plane; zero where nothing matches. Disjoint ranges may run in
