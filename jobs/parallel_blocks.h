@@ -14,9 +14,9 @@
 namespace hail {
 
 /// Calls f(block, begin, end) for the fixed blocks [k * block_size, (k+1) * block_size) of
-/// [0, count), in parallel when there is more than one block.
-template <class F>
-void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
+/// [0, count), in parallel when there is more than one block, blocks handed out by `partitioner`.
+template <class Partitioner, class F>
+void for_each_block_partitioned(std::size_t count, std::size_t block_size, const Partitioner& partitioner, F&& f) {
   const std::size_t blocks = (count + block_size - 1) / block_size;
   if (blocks == 0) return;
   if (blocks == 1) {
@@ -28,7 +28,13 @@ void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b != r.end(); ++b) f(b, b * block_size, std::min(count, (b + 1) * block_size));
       },
-      tbb::simple_partitioner());
+      partitioner);
+}
+
+/// for_each_block_partitioned with each block a task of its own (tbb::simple_partitioner).
+template <class F>
+void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
+  for_each_block_partitioned(count, block_size, tbb::simple_partitioner(), f);
 }
 
 /// for_each_block with the blocks split evenly over the threads in the same way on every call
@@ -37,18 +43,7 @@ void for_each_block(std::size_t count, std::size_t block_size, F&& f) {
 /// thread's cache. Which thread runs a block never changes a result.
 template <class F>
 void for_each_block_pinned(std::size_t count, std::size_t block_size, F&& f) {
-  const std::size_t blocks = (count + block_size - 1) / block_size;
-  if (blocks == 0) return;
-  if (blocks == 1) {
-    f(std::size_t{0}, std::size_t{0}, count);
-    return;
-  }
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, blocks, 1),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) f(b, b * block_size, std::min(count, (b + 1) * block_size));
-      },
-      tbb::static_partitioner());
+  for_each_block_partitioned(count, block_size, tbb::static_partitioner(), f);
 }
 
 /// Number of fixed blocks of block_size covering count items.

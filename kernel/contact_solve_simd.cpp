@@ -108,6 +108,14 @@ struct Lanes {
 
 }  // namespace
 
+/// The staged data of the batch at lane offset o, with its bodies' velocities gathered.
+struct ContactBatchAccess {
+  static Lanes lanes(const ContactBatches& c, std::size_t o, const float* bodies) {
+    const float* const n[3] = {&c.nx_[o], &c.ny_[o], &c.nz_[o]};
+    return Lanes(&c.ima_[o], &c.iia_[o], &c.ra_[o], &c.imb_[o], &c.iib_[o], &c.rb_[o], n, &c.a_[o], &c.b_[o], bodies);
+  }
+};
+
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
                                 float restitution_threshold, std::uint32_t pass) {
   bool any = false;
@@ -204,8 +212,7 @@ bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::s
       const index_batch sb = index_batch::gather(stamps, index_batch::load_aligned(&b_[o]) * stride);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
-    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
-    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
+    Lanes L = ContactBatchAccess::lanes(*this, o, base);
     batch v[3];
     L.relative_velocity(v);
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
@@ -239,8 +246,7 @@ void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::spa
   const batch zero(0.0f);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
-    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
+    Lanes L = ContactBatchAccess::lanes(*this, o, base);
     batch v[3];
     L.relative_velocity(v);
     const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
@@ -269,8 +275,7 @@ void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<S
   const batch zero(0.0f);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    const float* const n[3] = {&nx_[o], &ny_[o], &nz_[o]};
-    Lanes L(&ima_[o], &iia_[o], &ra_[o], &imb_[o], &iib_[o], &rb_[o], n, &a_[o], &b_[o], base);
+    Lanes L = ContactBatchAccess::lanes(*this, o, base);
     const lane_mask active = !((L.ima + L.imb) <= zero);
     const batch impulse = batch::load_aligned(&normal_impulse_[o]);
     const batch p[3] = {impulse * L.n[0] + batch::load_aligned(&tx_[o]), impulse * L.n[1] + batch::load_aligned(&ty_[o]),

@@ -62,6 +62,7 @@ class ContactBatches {
   void store_impulses(std::span<Contact> contacts) const;
 
  private:
+  friend struct ContactBatchAccess;  // kernel/contact_solve_simd.cpp: a batch's lanes
   std::size_t width_ = 1;
   std::vector<std::size_t> colour_batches_, tail_begin_;
   std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact
