@@ -63,6 +63,9 @@ CommandOptions parse(const std::vector<std::string>& args) {
       if (o.params.reorder_interval < 0) usage_error("--reorder must be >= 0 (steps between Morton re-sorts; 0 = never)");
     } else if (flag == "--trace") {
       o.trace_path = value();
+    } else if (flag == "--resting") {
+      o.params.resting_iterations = parse_number<int>(flag, value());
+      if (o.params.resting_iterations < 0) usage_error("--resting must be >= 0 (resting-contact passes per step)");
     } else if (flag == "--warm-start") {
       const std::string& v = value();
       if (v == "on" || v == "off") {

@@ -14,6 +14,7 @@ Scene build_implosion(const SceneParams& p) {
   settings.pair_search = p.pair_search;
   settings.warm_start = p.warm_start;
   settings.warm_start_factor = p.warm_start_factor;
+  settings.resting_iterations = p.resting_iterations;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;

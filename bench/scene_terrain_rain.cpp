@@ -20,6 +20,7 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
   settings.pair_search = p.pair_search;
   settings.warm_start = p.warm_start;
   settings.warm_start_factor = p.warm_start_factor;
+  settings.resting_iterations = p.resting_iterations;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;

@@ -19,6 +19,7 @@ struct SceneParams {
   PairSearch pair_search = PairSearch::Automatic;            ///< --pairs NAME
   bool warm_start = WorldSettings{}.warm_start;              ///< --warm-start on|off|FACTOR
   float warm_start_factor = WorldSettings{}.warm_start_factor;
+  int resting_iterations = WorldSettings{}.resting_iterations;  ///< --resting N
 };
 
 /// What a scene builds and how its results are judged.
