@@ -1,12 +1,14 @@
 // World::step: the phases of one step, in order, each a parallel loop over fixed blocks.
 //
-//   predict      v += g dt; largest speed (sizes the speculative contact margin)
+//   predict      v += g dt; largest speed of the spheres that are not fast (sizes the
+//                speculative contact margin); the fast ones listed for the sweep
 //   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
 //                time; per-block buffers merged in block order
 //   solve        contacts coloured so that a colour has no shared sphere; colours solved one
 //                after another, each in parallel and 8 contacts per SIMD instruction:
 //                collision passes, then resting passes
-//   integrate    positions, with exact time-of-impact bounces on planes
+//   sweep        fast spheres moved along their paths impact by impact (continuous collision)
+//   integrate    positions of the others, with exact time-of-impact bounces on planes
 //   depenetrate  push overlapping spheres apart, colour by colour
 //
 // Nothing here depends on the thread count except which thread runs a block, so the state
@@ -40,17 +42,24 @@ struct StepPipeline {
   World& w;
   IntegrationParams params;
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
+  float fast_fraction = 1.0f;  // is_fast's threshold (WorldSettings::fast_travel_fraction)
+  bool sweeping = true;        // continuous collision on: fast spheres are swept
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
-    w.block_max_speed_.assign(block_count(n, kSphereBlock), 0.0f);
+    const std::size_t blocks = block_count(n, kSphereBlock);
+    w.block_max_speed_.assign(blocks, 0.0f);
+    if (w.fast_blocks_.size() < blocks) w.fast_blocks_.resize(blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Predict);
-      w.block_max_speed_[b] = predict_velocities(s, first, last, params);
+      w.fast_blocks_[b].clear();
+      w.block_max_speed_[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &w.fast_blocks_[b] : nullptr);
     });
     float max_speed = 0.0f;
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
+    w.fast_.clear();
+    for (std::size_t b = 0; b < blocks; ++b) w.fast_.insert(w.fast_.end(), w.fast_blocks_[b].begin(), w.fast_blocks_[b].end());
     max_radius = 0.0f;
     min_radius = n > 0 ? s.radius[0] : 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
@@ -71,7 +80,7 @@ struct StepPipeline {
       find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
       if (w.terrain_)
         w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
-                                  w.contact_blocks_[b]);
+                                  w.contact_blocks_[b], fast_fraction, sweeping);
     });
   }
 
@@ -100,7 +109,38 @@ struct StepPipeline {
         case PairSearch::Bvh: w.sphere_bvh_.find_pairs(s, first, last, margin, out, row); break;
         default: find_sphere_pairs_simd(s, first, last, margin, out); break;
       }
+      if (!w.fast_.empty()) drop_fast_speculative_pairs(out);
     });
+  }
+
+  /// A fast sphere meets what it does not touch yet in the sweep, at the time it hits: a
+  /// speculative contact would bounce it at the start of the step instead.
+  void drop_fast_speculative_pairs(std::vector<SpherePair>& pairs) const {
+    const SphereSoA& s = w.spheres_;
+    auto fast = [&](std::uint32_t i) { return std::binary_search(w.fast_.begin(), w.fast_.end(), i); };
+    std::erase_if(pairs, [&](const SpherePair& p) {
+      if (!fast(p.a) && !fast(p.b)) return false;
+      const float dx = s.px[p.b] - s.px[p.a], dy = s.py[p.b] - s.py[p.a], dz = s.pz[p.b] - s.pz[p.a];
+      const float reach = s.radius[p.a] + s.radius[p.b];
+      return dx * dx + dy * dy + dz * dz > reach * reach;
+    });
+  }
+
+  /// Continuous collision: the fast spheres' first impacts found in parallel, then all impacts
+  /// taken in time order (serial, few), then the swept spheres placed at their end of step.
+  void sweep() {
+    ContinuousCollision& ccd = w.sweep_motion_;
+    SphereSoA& s = w.spheres_;
+    ccd.begin(s, w.fast_, params.dt);
+    if (w.fast_.empty()) return;
+    const SweepScene scene{w.terrain_.get(), w.terrain_restitution_, w.terrain_friction_, w.planes_,
+                           w.settings_.sphere_collisions};
+    for_each_block(w.fast_.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      ccd.find_first_events(s, scene, first, last);
+    });
+    ccd.resolve(s, scene, params.restitution_threshold, w.settings_.max_sweep_events);
+    ccd.finish(s);
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
@@ -283,7 +323,7 @@ struct StepPipeline {
     SphereSoA& s = w.spheres_;
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Integrate);
-      integrate_positions(s, first, last, w.planes_, params);
+      integrate_positions(s, first, last, w.planes_, params, w.sweep_motion_.moved());
     });
   }
 
@@ -312,6 +352,12 @@ struct StepPipeline {
         [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); },
         [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); });
     { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); solve(); }
+    if (sweeping) {
+      ScopedPhaseTimer timer(t.sweep);
+      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      sweep();
+      w.stats_.sweep = w.sweep_motion_.stats();
+    }
     { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace_, Phase::Integrate); integrate(); }
     { ScopedPhaseTimer timer(t.depenetrate); ScopedTraceRecord record(w.trace_, Phase::Depenetrate); depenetrate(); }
   }
@@ -329,6 +375,8 @@ void World::step(float dt) {
   pipeline.params.gravity[1] = settings_.gravity.y();
   pipeline.params.gravity[2] = settings_.gravity.z();
   pipeline.params.dt = scaled;
+  pipeline.fast_fraction = settings_.fast_travel_fraction;
+  pipeline.sweeping = settings_.continuous_collision;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
   arena_->execute([&] { pipeline.run(); });

@@ -3,11 +3,13 @@
 #include <cmath>
 
 #include "kernel/contact_impulse.h"
+#include "kernel/continuous_collision.h"
 #include "kernel/sphere_pairs.h"
 
 namespace hail {
 
-float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p) {
+float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
+                         float fast_fraction, std::vector<std::uint32_t>* fast) {
   const float gx = p.gravity[0] * p.dt, gy = p.gravity[1] * p.dt, gz = p.gravity[2] * p.dt;
   float max_speed2 = 0.0f;
   for (std::size_t i = first; i < last; ++i) {
@@ -17,6 +19,11 @@ float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, cons
       s.vz[i] += gz;
     }
     const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+    // The same expression as the terrain's per-sphere margin, so both agree on who is fast.
+    if (fast && s.inv_mass[i] > 0.0f && is_fast(std::sqrt(v2), p.dt, s.radius[i], fast_fraction)) {
+      fast->push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
     max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
   }
   return std::sqrt(max_speed2);
@@ -48,10 +55,11 @@ double earliest_root(double d0, double vn, double an, double limit) {
 }  // namespace
 
 void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
-                         const IntegrationParams& p) {
+                         const IntegrationParams& p, std::span<const std::uint8_t> skip) {
   const bool uniform = p.integrator == Integrator::UniformAcceleration;
   const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
   for (std::size_t i = first; i < last; ++i) {
+    if (!skip.empty() && skip[i]) continue;
     const float movable = s.inv_mass[i] > 0.0f ? 1.0f : 0.0f;
     const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
     float x[3] = {s.px[i], s.py[i], s.pz[i]};

@@ -7,7 +7,9 @@
 // bounced there (restitution and friction), and moved on for the rest of the step, so bounce
 // heights carry no error from where inside a step the impact fell.
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "kernel/plane.h"
 #include "soa/sphere_soa.h"
@@ -28,12 +30,17 @@ struct IntegrationParams {
   float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
 };
 
-/// v += g dt for movable spheres in [first, last); returns the largest speed after it.
-float predict_velocities(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params);
+/// v += g dt for movable spheres in [first, last); returns the largest speed after it among
+/// the spheres that are not fast. With `fast` given, the movable spheres that travel more than
+/// fast_fraction of their radius this step (is_fast, kernel/continuous_collision.h) are
+/// appended to it in slot order.
+float predict_velocities(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
+                         float fast_fraction = 0.0f, std::vector<std::uint32_t>* fast = nullptr);
 
 /// Moves spheres in [first, last) over dt with their solved velocities, resolving impacts with
-/// the planes at their exact time (at most four per sphere per step).
+/// the planes at their exact time (at most four per sphere per step). Spheres with skip[i] != 0
+/// were moved already (continuous collision); an empty `skip` skips none.
 void integrate_positions(SphereSoA& spheres, std::size_t first, std::size_t last, std::span<const Plane> planes,
-                         const IntegrationParams& params);
+                         const IntegrationParams& params, std::span<const std::uint8_t> skip = {});
 
 }  // namespace hail

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "kernel/bvh_packet_walk.h"
+#include "kernel/continuous_collision.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/sphere_triangle.h"
 
@@ -55,7 +56,7 @@ Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std:
 }
 
 void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t last, float dt, float restitution,
-                            float friction, std::vector<Contact>& out) const {
+                            float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const {
   const TerrainTriangles& t = triangles_;
   // Spheres go through the BVH a packet at a time (kernel/bvh_packet_walk.h): neighbours in the
   // SoA share most of their walk. Each lane gets the triangles whose box its sphere touches in
@@ -69,8 +70,12 @@ void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t l
     packet.clear();
     for (std::size_t i = p0; i < p1; ++i) {
       const float speed = std::sqrt(s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
-      const std::uint32_t lane = packet.add(s.px[i], s.py[i], s.pz[i], s.radius[i] + speed * dt);
-      margin[lane] = speed * dt;
+      const bool fast = s.inv_mass[i] > 0.0f && is_fast(speed, dt, s.radius[i], fast_fraction);
+      // Capped for fast spheres: a reach of hundreds of metres would gather hundreds of
+      // triangles the sphere is not heading for, and bounce it from the nearest one at once.
+      const float reach = fast ? (sweep_fast ? 0.0f : fast_fraction * s.radius[i]) : speed * dt;
+      const std::uint32_t lane = packet.add(s.px[i], s.py[i], s.pz[i], s.radius[i] + reach);
+      margin[lane] = reach;
       lanes[lane].count = 0;
     }
     query_sphere_packet_exact(bvh_, triangle_bounds_, packet, [&](std::uint32_t lane, std::uint32_t k) {

@@ -31,8 +31,12 @@ class Terrain {
   /// contact. Spheres walk the BVH in packets (kernel/bvh_packet_walk.h). No allocation beyond
   /// `out`'s growth.
   /// `restitution` and `friction` are the terrain's material, combined with each sphere's.
+  /// Spheres that are fast (is_fast with `fast_fraction`, kernel/continuous_collision.h) reach
+  /// no further than fast_fraction of their radius; with `sweep_fast` they get only the
+  /// contacts they touch already, since what they meet later in the step is swept.
   void find_contacts(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt, float restitution,
-                     float friction, std::vector<Contact>& out) const;
+                     float friction, std::vector<Contact>& out, float fast_fraction = 0.0f,
+                     bool sweep_fast = false) const;
 
   /// Deepest penetration (m, >= 0) of a sphere into the terrain: for error reports.
   [[nodiscard]] float penetration(float x, float y, float z, float r) const;

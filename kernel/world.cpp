@@ -46,6 +46,9 @@ void World::validate(const WorldSettings& s) {
           describe("WorldSettings::warm_start_factor must be in [0, 1], got", s.warm_start_factor));
   require(s.reorder_interval >= 0, "WorldSettings::reorder_interval must be >= 0 (0 = never), got " +
                                        std::to_string(s.reorder_interval));
+  require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
+          describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
+  require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
 }

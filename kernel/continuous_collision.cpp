@@ -1,0 +1,242 @@
+#include "kernel/continuous_collision.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernel/contact_impulse.h"
+#include "kernel/path_box_scan.h"
+#include "kernel/sphere_pairs.h"
+#include "kernel/swept_sphere.h"
+
+namespace hail {
+namespace {
+
+constexpr double kNoEvent = -1.0;
+
+/// Float boxes around double paths are grown by this much (relative to the coordinates, plus
+/// 0.1 mm) so that rounding can only add candidates, never drop one.
+float box_padding(const double lo[3], const double hi[3]) {
+  double largest = 0.0;
+  for (int d = 0; d < 3; ++d) largest = std::max({largest, std::fabs(lo[d]), std::fabs(hi[d])});
+  return static_cast<float>(1e-4 + 1e-5 * largest);
+}
+
+}  // namespace
+
+bool ContinuousCollision::later(const Event& a, const Event& b) {
+  // A total order, so that the event taken next never depends on heap history.
+  if (a.t != b.t) return a.t > b.t;
+  if (a.motion != b.motion) return a.motion > b.motion;
+  if (a.target != b.target) return a.target > b.target;
+  return a.other > b.other;
+}
+
+std::uint32_t ContinuousCollision::version_of(std::uint32_t slot) const {
+  const std::int32_t m = motion_of_[slot];
+  return m >= 0 ? motions_[static_cast<std::size_t>(m)].version : 0u;
+}
+
+void ContinuousCollision::centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const {
+  const std::int32_t m = motion_of_[slot];
+  if (m < 0) {  // not swept: still on the straight path the solver left it on
+    const double p[3] = {s.px[slot], s.py[slot], s.pz[slot]}, u[3] = {s.vx[slot], s.vy[slot], s.vz[slot]};
+    for (int d = 0; d < 3; ++d) out[d] = p[d] + u[d] * t, v[d] = u[d];
+    return;
+  }
+  const Motion& mo = motions_[static_cast<std::size_t>(m)];
+  for (int d = 0; d < 3; ++d) {
+    v[d] = mo.stopped ? 0.0 : mo.v[d];
+    out[d] = mo.x[d] + v[d] * (t - mo.t0);
+  }
+}
+
+std::uint32_t ContinuousCollision::activate(const SphereSoA& s, std::uint32_t slot) {
+  if (motion_of_[slot] >= 0) return static_cast<std::uint32_t>(motion_of_[slot]);
+  Motion m{};
+  m.x[0] = s.px[slot], m.x[1] = s.py[slot], m.x[2] = s.pz[slot];
+  m.v[0] = s.vx[slot], m.v[1] = s.vy[slot], m.v[2] = s.vz[slot];
+  m.slot = slot;
+  motion_of_[slot] = static_cast<std::int32_t>(motions_.size());
+  motions_.push_back(m);
+  return static_cast<std::uint32_t>(motions_.size() - 1);
+}
+
+void ContinuousCollision::push(const Event& e) {
+  if (e.t < 0.0) return;
+  heap_.push_back(e);
+  std::push_heap(heap_.begin(), heap_.end(), later);
+}
+
+void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_t> fast, float dt) {
+  for (const Motion& m : motions_) moved_[m.slot] = 0;  // last step's marks
+  motions_.clear();
+  heap_.clear();
+  stats_ = {};
+  dt_ = dt;
+  fast_count_ = fast.size();
+  any_ = !fast.empty();
+  if (!any_) return;
+  if (motion_of_.size() < s.size()) motion_of_.resize(s.size(), -1);
+  if (moved_.size() < s.size()) moved_.resize(s.size(), 0);
+  for (std::uint32_t slot : fast) activate(s, slot);
+  first_events_.resize(fast.size());
+  stats_.fast = fast.size();
+}
+
+ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& s, const SweepScene& scene,
+                                                                std::uint32_t m) const {
+  const Motion& mo = motions_[m];
+  Event best{kNoEvent, m, mo.version, Target::Terrain, 0, 0, {0, 0, 0}};
+  const double t_left = dt_ - mo.t0;
+  if (mo.stopped || !(t_left > 0.0)) return best;
+  const std::uint32_t slot = mo.slot;
+  const double r = s.radius[slot];
+  const double* c = mo.x;
+  const double* v = mo.v;
+  // The first hit found wins a tie: the searches below run in a fixed order.
+  auto offer = [&](double t_rel, Target target, std::uint32_t other, std::uint32_t other_version, const double* n) {
+    const double t = mo.t0 + t_rel;
+    if (best.t >= 0.0 && t >= best.t) return;
+    best.t = t, best.target = target, best.other = other, best.other_version = other_version;
+    for (int d = 0; d < 3; ++d) best.n[d] = n ? n[d] : 0.0;
+  };
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = std::min(c[d], c[d] + v[d] * t_left) - r;
+    hi[d] = std::max(c[d], c[d] + v[d] * t_left) + r;
+  }
+  const float pad = box_padding(lo, hi);
+
+  if (scene.terrain) {
+    const TerrainTriangles& tri = scene.terrain->triangles();
+    Aabb box;
+    for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
+    query_aabb(scene.terrain->bvh(), box, [&](std::uint32_t k) {
+      const double a[3] = {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, b[3] = {tri.v1x[k], tri.v1y[k], tri.v1z[k]};
+      const double cc[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
+      SweptHit hit;
+      if (swept_sphere_triangle(c, v, r, a, b, cc, n, tri.internal_edges[k], t_left, hit))
+        offer(hit.t, Target::Terrain, k, 0, hit.n);
+    });
+  }
+  for (std::uint32_t k = 0; k < scene.planes.size(); ++k) {
+    const Plane& p = scene.planes[k];
+    const double n[3] = {p.nx, p.ny, p.nz};
+    SweptHit hit;
+    if (swept_sphere_plane(c, v, r, n, p.offset, t_left, hit)) offer(hit.t, Target::Plane, k, 0, hit.n);
+  }
+  if (!scene.sphere_collisions) return best;
+  auto try_sphere = [&](std::uint32_t j) {
+    double cj[3], vj[3];
+    centre_at(s, j, mo.t0, cj, vj);
+    const double dp[3] = {cj[0] - c[0], cj[1] - c[1], cj[2] - c[2]}, dv[3] = {vj[0] - v[0], vj[1] - v[1], vj[2] - v[2]};
+    const double t = sphere_sphere_time_of_impact(dp, dv, r + s.radius[j], t_left);
+    if (t >= 0.0) offer(t, Target::Sphere, j, version_of(j), nullptr);
+  };
+  PathBox box;
+  for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
+  // Spheres not swept are still on their solved straight paths: scan those paths' boxes.
+  scan_path_boxes_simd(s, box, static_cast<float>(mo.t0), static_cast<float>(dt_), [&](std::uint32_t j) {
+    if (motion_of_[j] < 0) try_sphere(j);
+  });
+  for (const Motion& other : motions_)
+    if (other.slot != slot) try_sphere(other.slot);
+  return best;
+}
+
+void ContinuousCollision::find_first_events(const SphereSoA& s, const SweepScene& scene, std::size_t first,
+                                            std::size_t last) {
+  for (std::size_t k = first; k < last; ++k) first_events_[k] = earliest_event(s, scene, static_cast<std::uint32_t>(k));
+}
+
+void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float restitution_threshold, int max_events) {
+  if (!any_) return;
+  for (std::size_t k = 0; k < fast_count_; ++k) push(first_events_[k]);
+  auto advance = [&](std::uint32_t m, double t) {
+    Motion& mo = motions_[m];
+    if (!mo.stopped)
+      for (int d = 0; d < 3; ++d) mo.x[d] += mo.v[d] * (t - mo.t0);
+    mo.t0 = t;
+  };
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end(), later);
+    const Event e = heap_.back();
+    heap_.pop_back();
+    if (e.version != motions_[e.motion].version) continue;  // superseded: a newer search was pushed
+    if (e.target == Target::Sphere && e.other_version != version_of(e.other)) {
+      push(earliest_event(s, scene, e.motion));  // the other sphere changed path: search again
+      continue;
+    }
+    const std::uint32_t ma = e.motion;
+    const std::uint32_t mb = e.target == Target::Sphere ? activate(s, e.other) : ma;
+    advance(ma, e.t);
+    if (mb != ma) advance(mb, e.t);
+    const std::uint32_t a = motions_[ma].slot;
+    Contact contact;
+    contact.a = a;
+    double n[3] = {e.n[0], e.n[1], e.n[2]};
+    if (e.target == Target::Sphere) {
+      contact.b = e.other;
+      double len2 = 0.0;
+      for (int d = 0; d < 3; ++d) n[d] = motions_[mb].x[d] - motions_[ma].x[d], len2 += n[d] * n[d];
+      const double len = std::sqrt(len2);
+      if (len > 0.0) {
+        for (double& x : n) x /= len;
+      } else {
+        n[0] = 0.0, n[1] = 1.0, n[2] = 0.0;  // coincident centres: a fixed normal, never NaN
+      }
+      contact.restitution = combine_restitution(s.restitution[a], s.restitution[e.other]);
+      contact.friction = combine_friction(s.friction[a], s.friction[e.other]);
+    } else if (e.target == Target::Terrain) {
+      contact.restitution = combine_restitution(s.restitution[a], scene.terrain_restitution);
+      contact.friction = combine_friction(s.friction[a], scene.terrain_friction);
+      contact.feature = e.other;
+    } else {
+      const Plane& p = scene.planes[e.other];
+      contact.restitution = combine_restitution(s.restitution[a], p.restitution);
+      contact.friction = combine_friction(s.friction[a], p.friction);
+      contact.feature = kPlaneFeature | e.other;
+    }
+    contact.nx = static_cast<float>(n[0]), contact.ny = static_cast<float>(n[1]), contact.nz = static_cast<float>(n[2]);
+    ContactBodies bodies = gather_bodies(s, contact);
+    for (int d = 0; d < 3; ++d) bodies.va[d] = static_cast<float>(motions_[ma].v[d]);
+    if (mb != ma)
+      for (int d = 0; d < 3; ++d) bodies.vb[d] = static_cast<float>(motions_[mb].v[d]);
+    solve_impact(contact, bodies, restitution_threshold);
+    scatter_bodies(s, contact, bodies);  // angular velocities (and the SoA copy of v, rewritten by finish)
+    ++stats_.events;
+    for (std::uint32_t m : {ma, mb}) {
+      Motion& mo = motions_[m];
+      const float* vnew = m == ma ? bodies.va : bodies.vb;
+      for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
+      ++mo.version;
+      if (++mo.events >= max_events && !mo.stopped) {
+        mo.stopped = true;
+        ++stats_.capped;
+      }
+      push(earliest_event(s, scene, m));
+      if (mb == ma) break;
+    }
+  }
+}
+
+void ContinuousCollision::finish(SphereSoA& s) {
+  if (!any_) return;
+  for (Motion& mo : motions_) {
+    const double rest = dt_ - mo.t0;
+    const std::uint32_t i = mo.slot;
+    const double x[3] = {mo.x[0], mo.x[1], mo.x[2]};
+    const double step = mo.stopped ? 0.0 : rest;
+    s.px[i] = static_cast<float>(x[0] + mo.v[0] * step);
+    s.py[i] = static_cast<float>(x[1] + mo.v[1] * step);
+    s.pz[i] = static_cast<float>(x[2] + mo.v[2] * step);
+    s.vx[i] = static_cast<float>(mo.v[0]);
+    s.vy[i] = static_cast<float>(mo.v[1]);
+    s.vz[i] = static_cast<float>(mo.v[2]);
+    moved_[i] = 1;
+    motion_of_[i] = -1;
+  }
+  stats_.swept = motions_.size();
+}
+
+}  // namespace hail

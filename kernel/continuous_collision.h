@@ -1,0 +1,120 @@
+#pragma once
+// Continuous collision: spheres that move far in one step compared with their radius ("fast")
+// are moved along their straight path event by event, in time order, so that they neither pass
+// through the terrain or each other nor bounce from where they were instead of where they hit.
+//
+// The discrete step (detect, solve) handles every sphere as before, except that a fast sphere
+// gets no speculative contacts (only those it already touches): what it will meet during the
+// step is found here instead, after the solve and before the integrator. For each fast sphere
+// the earliest time of impact (kernel/swept_sphere.h) against
+//   * terrain triangles: its path's box goes into the terrain's flat BVH (the stackless box
+//     walk), then the swept-sphere test against each triangle found;
+//   * planes;
+//   * other spheres, each moving on its own straight path (fast-slow and fast-fast alike):
+//     the path boxes of all spheres are scanned (kernel/path_box_scan.h), then the exact
+//     quadratic |dp + dv t| = ra + rb.
+// Events are then taken earliest first: both spheres are advanced to the time of impact, the
+// impulse with restitution and friction is applied there (kernel/contact_impulse.h's
+// solve_impact, the rule the integrator uses for planes), and each sphere goes on with its new
+// velocity for the rest of the step. A sphere hit this way joins the swept set for the rest of
+// the step, so a slow sphere knocked into the ground or a neighbour is caught too. Events whose
+// spheres changed path since they were found are dropped and searched again.
+//
+// Nothing is lost silently: a sphere that reaches `max_events` impacts in one step stops where
+// its last impact left it for the rest of that step (its velocity kept), and is counted in
+// SweepStats::capped.
+//
+// Cost: nothing at all in a step with no fast sphere. Otherwise O(n) per search for the
+// sphere scan (SIMD), plus the terrain walk; events are processed serially, in a fixed order,
+// so the result does not depend on the thread count.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernel/plane.h"
+#include "kernel/terrain.h"
+#include "soa/sphere_soa.h"
+
+namespace hail {
+
+/// Whether a sphere moving at `speed` travels more than `fraction` of its radius in dt (then it
+/// is swept). fraction <= 0: continuous collision is off and no sphere is fast.
+[[nodiscard]] inline bool is_fast(float speed, float dt, float radius, float fraction) {
+  return fraction > 0.0f && speed * dt > fraction * radius;
+}
+
+/// What swept spheres can hit besides each other.
+struct SweepScene {
+  const Terrain* terrain = nullptr;
+  float terrain_restitution = 0.5f, terrain_friction = 0.5f;
+  std::span<const Plane> planes;
+  bool sphere_collisions = true;
+};
+
+struct SweepStats {
+  std::size_t fast = 0;    ///< spheres swept because they were fast
+  std::size_t swept = 0;   ///< spheres swept in all (fast ones and those they hit)
+  std::size_t events = 0;  ///< impacts resolved at their time
+  std::size_t capped = 0;  ///< spheres that reached max_events and stopped for the rest of the step
+};
+
+class ContinuousCollision {
+ public:
+  /// Starts a step's sweep of the fast spheres (slots, ascending) over dt. Clears the last
+  /// step's marks. Allocates only when the sphere count grows.
+  void begin(const SphereSoA& spheres, std::span<const std::uint32_t> fast, float dt);
+  /// Finds the first event of fast spheres [first, last) (positions in the fast list). Only
+  /// reads shared state: ranges may run in parallel.
+  void find_first_events(const SphereSoA& spheres, const SweepScene& scene, std::size_t first, std::size_t last);
+  /// Takes events earliest first until none is left in the step (serial).
+  void resolve(SphereSoA& spheres, const SweepScene& scene, float restitution_threshold, int max_events);
+  /// Writes every swept sphere's end-of-step position and velocity, and marks it in moved().
+  void finish(SphereSoA& spheres);
+
+  /// moved()[slot] != 0: finish() already moved this sphere over the step (the integrator skips
+  /// it). Empty when the step had no fast sphere.
+  [[nodiscard]] std::span<const std::uint8_t> moved() const { return any_ ? std::span<const std::uint8_t>(moved_) : std::span<const std::uint8_t>(); }
+  [[nodiscard]] const SweepStats& stats() const { return stats_; }
+  [[nodiscard]] std::size_t fast_count() const { return fast_count_; }
+
+ private:
+  enum class Target : std::uint8_t { Terrain, Plane, Sphere };
+  struct Motion {
+    double x[3];  ///< centre at time t0
+    double v[3];  ///< velocity since t0
+    double t0;
+    std::uint32_t slot;
+    std::uint32_t version;  ///< +1 at every impact: events found before it are stale
+    int events;
+    bool stopped;  ///< reached max_events: stays at x for the rest of the step
+  };
+  struct Event {
+    double t;
+    std::uint32_t motion;         ///< index in motions_
+    std::uint32_t version;        ///< motions_[motion].version when found
+    Target target;
+    std::uint32_t other;          ///< triangle (BVH order), plane index or sphere slot
+    std::uint32_t other_version;  ///< the other sphere's version when found
+    double n[3];                  ///< for static targets: contact normal into the surface
+  };
+  static bool later(const Event& a, const Event& b);
+
+  [[nodiscard]] Event earliest_event(const SphereSoA& s, const SweepScene& scene, std::uint32_t m) const;
+  void centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const;
+  [[nodiscard]] std::uint32_t version_of(std::uint32_t slot) const;
+  std::uint32_t activate(const SphereSoA& s, std::uint32_t slot);
+  void push(const Event& e);
+
+  double dt_ = 0;
+  bool any_ = false;
+  std::size_t fast_count_ = 0;
+  std::vector<Motion> motions_;
+  std::vector<std::int32_t> motion_of_;  ///< slot -> index in motions_, or -1
+  std::vector<std::uint8_t> moved_;
+  std::vector<Event> first_events_;  ///< find_first_events' results, one per fast sphere
+  std::vector<Event> heap_;          ///< pending events, earliest on top
+  SweepStats stats_;
+};
+
+}  // namespace hail
