@@ -95,13 +95,17 @@ template <BoxBounds Box>
 /// per axis (+-inf for a zero component). Conservative: the exit distance is widened by
 /// 2 gamma(3) of itself (Pharr et al., PBRT 3.9.2) so rounding never drops a box the ray touches, and
 /// a 0 * inf = NaN slab (ray in a face's plane) is ignored rather than rejecting the box.
+/// With grow > 0 the box is first grown by that much on every side: a sphere of radius `grow`
+/// moving along the ray can touch the box only if this passes (the grown box holds the box's
+/// Minkowski sum with the sphere), which continuous collision uses to walk the terrain's BVH.
 template <BoxBounds Box>
-[[nodiscard]] inline bool ray_overlaps(const Box& b, const float origin[3], const float inv_dir[3], float t_max) {
+[[nodiscard]] inline bool ray_overlaps(const Box& b, const float origin[3], const float inv_dir[3], float t_max,
+                                       float grow = 0.0f) {
   constexpr float kTwoGamma3 = 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
   float t0 = 0.0f, t1 = t_max;
   for (int k = 0; k < 3; ++k) {
-    float near = (b.min[k] - origin[k]) * inv_dir[k];
-    float far = (b.max[k] - origin[k]) * inv_dir[k];
+    float near = (b.min[k] - grow - origin[k]) * inv_dir[k];
+    float far = (b.max[k] + grow - origin[k]) * inv_dir[k];
     if (near > far) std::swap(near, far);
     far += std::fabs(far) * kTwoGamma3;
     // Written so that a NaN slab leaves the interval unchanged.

@@ -108,15 +108,20 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   const float pad = box_padding(lo, hi);
 
   if (scene.terrain) {
+    // The path walks the BVH as a ray whose node boxes are grown by the radius, pruned by the
+    // earliest hit so far (float, conservative); the hits themselves are timed in double.
     const TerrainTriangles& tri = scene.terrain->triangles();
-    Aabb box;
-    for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
-    query_aabb(scene.terrain->bvh(), box, [&](std::uint32_t k) {
+    const float origin[3] = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+    const float dir[3] = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+    const float reach = static_cast<float>(r) + pad;
+    const float t_walk = static_cast<float>(t_left) * (1.0f + 1e-6f);
+    (void)query_swept_sphere(scene.terrain->bvh(), origin, dir, t_walk, reach, [&](std::uint32_t k) {
       const double a[3] = {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, b[3] = {tri.v1x[k], tri.v1y[k], tri.v1z[k]};
       const double cc[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
       SweptHit hit;
-      if (swept_sphere_triangle(c, v, r, a, b, cc, n, tri.internal_edges[k], t_left, hit))
-        offer(hit.t, Target::Terrain, k, 0, hit.n);
+      if (!swept_sphere_triangle(c, v, r, a, b, cc, n, tri.internal_edges[k], t_left, hit)) return -1.0f;
+      offer(hit.t, Target::Terrain, k, 0, hit.n);
+      return static_cast<float>(hit.t);
     });
   }
   for (std::uint32_t k = 0; k < scene.planes.size(); ++k) {

@@ -131,6 +131,28 @@ template <class Intersect, class Count = NoNodeCount>
   return best;
 }
 
+/// Earliest hit of a sphere of radius r swept along o + t d, t in [0, t_max): query_ray's walk
+/// with every node box grown by r, so the path's whole width is covered; intersect(k) returns
+/// the sphere's time of impact with primitive k, with query_ray's rules. Only the leaves along
+/// the path are visited, and those entered after the earliest hit so far are skipped, where a
+/// box around the whole path (query_aabb) would visit every leaf it spans.
+template <class Intersect, class Count = NoNodeCount>
+[[nodiscard]] RayHit query_swept_sphere(const FlatBvh& bvh, const float origin[3], const float dir[3], float t_max,
+                                        float r, Intersect&& intersect, Count&& count = {}) {
+  const float inv_dir[3] = {1.0f / dir[0], 1.0f / dir[1], 1.0f / dir[2]};
+  RayHit best{t_max, kNoPrimitive};
+  walk_stackless(
+      bvh.nodes, [&](const FlatNode& n) { return ray_overlaps(n, origin, inv_dir, best.t, r); },
+      [&](std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t k = first; k < first + n; ++k) {
+          const float t = intersect(k);
+          if (t >= 0.0f && t < best.t) best = RayHit{t, k};
+        }
+      },
+      count);
+  return best;
+}
+
 /// Brute force beside the BVH (tests, benchmark): visit(i) for every box bounds[i] the sphere
 /// touches, in index order. Exact per primitive, where the BVH gives leaf candidates.
 template <class Visit>

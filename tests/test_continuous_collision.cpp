@@ -331,3 +331,41 @@ TEST_CASE("Swept steps are bitwise the same on 1, 2 and 3 threads, and slow scen
   // No fast sphere: the feature changes nothing.
   CHECK(run(2, true, false).first == run(2, false, false).first);
 }
+
+TEST_CASE("The swept-sphere BVH walk finds the same first triangle as testing every triangle", "[ccd][bvh]") {
+  const Terrain& terrain = *rain_terrain();
+  const TerrainTriangles& tri = terrain.triangles();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  auto first_hit = [&](std::uint32_t k, const double c[3], const double v[3], double r, double t_max, SweptHit& hit) {
+    const double a[3] = {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, b[3] = {tri.v1x[k], tri.v1y[k], tri.v1z[k]};
+    const double cc[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
+    return swept_sphere_triangle(c, v, r, a, b, cc, n, tri.internal_edges[k], t_max, hit);
+  };
+  int hits = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const double c[3] = {20.0 + 200.0 * u(rng), 12.0 + 10.0 * u(rng), 20.0 + 200.0 * u(rng)};
+    const double speed = 100.0 + 2000.0 * u(rng), angle = 6.2831853 * u(rng), down = 0.05 + 0.9 * u(rng);
+    const double v[3] = {speed * std::cos(angle) * (1 - down), -speed * down, speed * std::sin(angle) * (1 - down)};
+    const double r = 0.05 + 0.5 * u(rng), t_max = 1.0 / 60.0;
+    double brute_t = -1.0;
+    std::uint32_t brute_k = kNoPrimitive;
+    for (std::uint32_t k = 0; k < tri.size(); ++k) {
+      SweptHit hit;
+      if (first_hit(k, c, v, r, t_max, hit) && (brute_t < 0.0 || hit.t < brute_t)) brute_t = hit.t, brute_k = k;
+    }
+    const float o[3] = {float(c[0]), float(c[1]), float(c[2])}, d[3] = {float(v[0]), float(v[1]), float(v[2])};
+    double walk_t = -1.0;
+    std::uint32_t walk_k = kNoPrimitive;
+    (void)query_swept_sphere(terrain.bvh(), o, d, float(t_max) * 1.000001f, float(r) + 1e-3f, [&](std::uint32_t k) {
+      SweptHit hit;
+      if (!first_hit(k, c, v, r, t_max, hit)) return -1.0f;
+      if (walk_t < 0.0 || hit.t < walk_t) walk_t = hit.t, walk_k = k;
+      return float(hit.t);
+    });
+    CHECK(walk_k == brute_k);
+    CHECK(walk_t == brute_t);
+    hits += brute_k != kNoPrimitive;
+  }
+  CHECK(hits > 15);  // both outcomes covered: 22 of the 60 paths hit
+}
