@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "machine_info.h"
+#include "scene_file.h"
 #include "scene_run.h"
 
 namespace hail::bench {
@@ -19,6 +20,10 @@ struct CommandOptions {
   std::string json_path;
   std::string trace_path;
   bool quiet = false;
+  std::string scene_file;       // --scene FILE.json (instead of a scene name)
+  std::string dump_state_path;  // --dump-state FILE.csv
+  bool scene_named = false;
+  std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
 };
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
@@ -38,9 +43,10 @@ T parse_number(const std::string& flag, const std::string& text) {
 CommandOptions parse(const std::vector<std::string>& args) {
   CommandOptions o;
   std::size_t k = 0;
-  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++];
+  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++], o.scene_named = true;
   for (; k < args.size(); ++k) {
     const std::string& flag = args[k];
+    o.given.push_back(flag);
     auto value = [&]() -> const std::string& {
       if (k + 1 >= args.size()) usage_error(flag + " needs a value");
       return args[++k];
@@ -87,19 +93,46 @@ CommandOptions parse(const std::vector<std::string>& args) {
       o.json_path = value();
     } else if (flag == "--quiet") {
       o.quiet = true;
+    } else if (flag == "--scene") {
+      o.scene_file = value();
+    } else if (flag == "--dump-state") {
+      o.dump_state_path = value();
     } else {
       usage_error("unknown option '" + flag + "' (see hail-bench --help)");
     }
   }
+  if (o.scene_named && !o.scene_file.empty())
+    usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   return o;
+}
+
+/// The flags given on the command line, which override a scene file's values.
+SceneOverrides file_overrides(const CommandOptions& o) {
+  auto given = [&](const char* flag) { return std::find(o.given.begin(), o.given.end(), flag) != o.given.end(); };
+  SceneOverrides v;
+  if (given("--spheres")) v.spheres = o.params.spheres;
+  if (given("--threads")) v.threads = o.params.threads;
+  if (given("--steps")) v.steps = o.steps;
+  if (given("--dt")) v.dt = o.params.dt;
+  if (given("--reorder")) v.reorder_interval = o.params.reorder_interval;
+  if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
+  if (given("--pairs")) v.pair_search = o.params.pair_search;
+  if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
+    v.warm_start = o.params.warm_start;
+    if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;
+  }
+  return v;
 }
 
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
   const CommandOptions o = parse(args);
-  const SceneEntry& entry = find_scene(o.scene);
-  const RunResult r = run_scene(entry, o.params, {.steps = o.steps, .trace_path = o.trace_path, .progress = !o.quiet, .progress_label = ""});
+  const RunOptions run_options{.steps = o.steps, .trace_path = o.trace_path, .progress = !o.quiet, .progress_label = "",
+                               .dump_state_path = o.dump_state_path};
+  const RunResult r = o.scene_file.empty()
+                          ? run_scene(find_scene(o.scene), o.params, run_options)
+                          : run_scene(o.scene_file, [&] { return load_scene_file(o.scene_file, file_overrides(o)); }, run_options);
   const ErrorFigures& e = r.errors;
   const PhaseTimes& p = r.phase_ms;
   std::printf("hail-bench run %s  (%s)\n", r.scene.c_str(), r.description.c_str());
@@ -117,6 +150,7 @@ int run_command(const std::vector<std::string>& args) {
   std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,
               r.energy_start, r.energy_drift, r.momentum_drift);
   std::printf("  state     hash %s\n", r.state_hash.c_str());
+  if (!o.dump_state_path.empty()) std::printf("  dump      final state of every sphere written to %s\n", o.dump_state_path.c_str());
   if (!o.trace_path.empty())
     std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n", o.trace_path.c_str());
   if (!o.json_path.empty()) {

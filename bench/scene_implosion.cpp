@@ -15,21 +15,24 @@ Scene build_implosion(const SceneParams& p) {
   settings.warm_start = p.warm_start;
   settings.warm_start_factor = p.warm_start_factor;
   settings.resting_iterations = p.resting_iterations;
+  settings.continuous_collision = p.continuous_collision;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;
+  scene.dt = p.dt;
   scene.description = "implosion: cubic lattice, spacing 1.5 m, 5 m/s towards the origin, e = 1, mu = 0";
   const std::size_t side = static_cast<std::size_t>(std::ceil(std::cbrt(static_cast<double>(p.spheres))));
   const float centre = 0.5f * static_cast<float>(side - 1);
   scene.world->reserve(p.spheres);
+  scene.ids.reserve(p.spheres);
   for (std::size_t k = 0; k < p.spheres; ++k) {
     const Vec3 position = 1.5f * Vec3(static_cast<float>(k % side) - centre,
                                       static_cast<float>((k / side) % side) - centre,
                                       static_cast<float>(k / (side * side)) - centre);
     const float distance = position.norm();
     const Vec3 velocity = distance > 0.0f ? Vec3(-5.0f * position / distance) : Vec3(Vec3::Zero());
-    scene.world->add_sphere({.position = position, .velocity = velocity, .radius = 0.5f, .mass = 1.0f,
-                             .restitution = 1.0f, .friction = 0.0f});
+    scene.ids.push_back(scene.world->add_sphere({.position = position, .velocity = velocity, .radius = 0.5f,
+                                                 .mass = 1.0f, .restitution = 1.0f, .friction = 0.0f}));
   }
   return scene;
 }
@@ -39,6 +42,7 @@ const std::vector<SceneEntry>& scene_registry() {
       {"terrain-rain", "the main benchmark: N spheres rain onto a 256^2 sine heightmap (130,050 triangles)", build_terrain_rain},
       {"terrain-rain-dem", "terrain-rain on the real Jacksboro SRTM DEM (403 x 344, 1 m cells, heights / 80)", build_terrain_rain_dem},
       {"bowl-pile", "stiff: a deep column of spheres settling in a paraboloid bowl, 1200 steps", build_bowl_pile},
+      {"bullets", "spheres fired at terrain-rain's terrain at 100..1000 m/s: what continuous collision prevents", build_bullets},
       {"implosion", "spheres only: lattice imploding at 5 m/s, e = 1 (momentum and energy must hold)", build_implosion},
   };
   return scenes;

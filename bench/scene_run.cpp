@@ -65,21 +65,42 @@ const SceneEntry& find_scene(const std::string& name) {
 }
 
 RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options) {
+  return run_scene(entry.name, [&] { return entry.build(params); }, options);
+}
+
+void write_state_csv(const Scene& scene, const std::string& path) {
+  const World& world = *scene.world;
+  if (scene.ids.size() != world.sphere_count())
+    throw std::runtime_error("cannot write " + path + ": the scene recorded " + std::to_string(scene.ids.size()) +
+                             " sphere handles for " + std::to_string(world.sphere_count()) + " spheres");
+  std::FILE* out = std::fopen(path.c_str(), "w");
+  if (!out) throw std::runtime_error("cannot write " + path);
+  std::fputs("id,x,y,z,vx,vy,vz,wx,wy,wz\n", out);
+  for (std::size_t k = 0; k < scene.ids.size(); ++k) {
+    const Vec3 x = world.position(scene.ids[k]), v = world.velocity(scene.ids[k]), w = world.angular_velocity(scene.ids[k]);
+    std::fprintf(out, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, x.x(), x.y(), x.z(), v.x(), v.y(), v.z(),
+                 w.x(), w.y(), w.z());
+  }
+  const bool failed = std::ferror(out) != 0;
+  if (std::fclose(out) != 0 || failed) throw std::runtime_error("cannot write " + path);
+}
+
+RunResult run_scene(const std::string& name, const std::function<Scene()>& build, const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   RunResult r;
   const auto setup_start = clock::now();
-  Scene scene = entry.build(params);
+  Scene scene = build();
   r.setup_s = std::chrono::duration<double>(clock::now() - setup_start).count();
   World& world = *scene.world;
-  r.scene = entry.name;
+  r.scene = name;
   r.description = scene.description;
   r.spheres = world.sphere_count();
   r.threads = world.thread_count();
   r.steps = options.steps > 0 ? options.steps : scene.default_steps;
   r.warmup = r.steps > 120 ? 60 : 0;  // the scenes' definition: report steps 60..599
-  r.dt = params.dt;
-  r.reorder_interval = params.reorder_interval;
-  r.warm_start = params.warm_start;
+  r.dt = scene.dt;
+  r.reorder_interval = world.settings().reorder_interval;
+  r.warm_start = world.settings().warm_start;
 
   if (!options.trace_path.empty()) world.enable_trace(true);
   r.energy_start = world.kinetic_energy();
@@ -91,7 +112,7 @@ RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const Ru
   const auto run_start = clock::now();
   for (int k = 0; k < r.steps; ++k) {
     const auto t0 = clock::now();
-    world.step(params.dt);
+    world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
     if (k >= r.warmup) {
       add(r.phase_ms, world.last_phase_times(), weight);
@@ -119,6 +140,7 @@ RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const Ru
   constexpr const char* kPairSearchNames[] = {"auto", "brute force", "grid", "sweep and prune", "sphere BVH"};
   r.pair_search = kPairSearchNames[static_cast<int>(world.last_step_stats().pair_search)];
   if (!options.trace_path.empty()) write_trace(options.trace_path, world.trace(), world.thread_count());
+  if (!options.dump_state_path.empty()) write_state_csv(scene, options.dump_state_path);
   return r;
 }
 

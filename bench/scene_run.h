@@ -2,6 +2,7 @@
 // One measured run of a scene: build it, step it, time every step, then measure its error
 // figures. `hail-bench run` prints one; `hail-bench scale` collects many.
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -30,6 +31,7 @@ struct RunOptions {
   std::string trace_path;      ///< non-empty: write a Chrome trace there
   bool progress = true;        ///< a line on stderr every 2 s
   std::string progress_label;  ///< prefix of the progress lines
+  std::string dump_state_path; ///< non-empty: write every sphere's final state there (write_state_csv)
 };
 
 /// The registered scene of that name; InvalidArgument-style std::invalid_argument listing the known ones.
@@ -38,6 +40,14 @@ const SceneEntry& find_scene(const std::string& name);
 /// Builds and runs the scene; times steps warmup..steps-1 (warmup = 60 when steps > 120, the
 /// scenes' definition, else 0).
 RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options);
+
+/// The same for a scene made by `build` (a scene file): `name` is what the result calls it;
+/// building counts as set-up time; steps of the scene's own dt.
+RunResult run_scene(const std::string& name, const std::function<Scene()>& build, const RunOptions& options);
+
+/// CSV of every sphere's state, `id,x,y,z,vx,vy,vz,wx,wy,wz`, one row per sphere in the order
+/// the scene added them (id = that index), floats as %.9g so they read back bit for bit.
+void write_state_csv(const Scene& scene, const std::string& path);
 
 /// Every figure of the run, as `hail-bench run --json` writes it.
 nlohmann::json to_json(const RunResult& r);

@@ -5,12 +5,11 @@
 
 namespace hail::bench {
 
-namespace {
-
-/// terrain-rain's height field, h(x, z) = 8 sin(0.05 x) cos(0.07 z) + 3 sin(0.21 x + 0.13 z).
-float rain_height(float x, float z) {
+float terrain_rain_height(float x, float z) {
   return 8.0f * std::sin(0.05f * x) * std::cos(0.07f * z) + 3.0f * std::sin(0.21f * x + 0.13f * z);
 }
+
+namespace {
 
 Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_y, std::size_t max_side,
                    float spacing, float centre_x, float centre_z, const char* description) {
@@ -21,6 +20,7 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
   settings.warm_start = p.warm_start;
   settings.warm_start_factor = p.warm_start_factor;
   settings.resting_iterations = p.resting_iterations;
+  settings.continuous_collision = p.continuous_collision;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;
@@ -32,15 +32,18 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
   scene.ground_height = [terrain](float x, float z) { return terrain->heightmap().surface_height(x, z); };
   scene.world->set_terrain(terrain, 0.5f, 0.5f);
   scene.description = description;
+  scene.dt = p.dt;
   // Layer side s = min(max_side, ceil(sqrt(N))); s/2 is a real division.
   const std::size_t s = std::min<std::size_t>(max_side, static_cast<std::size_t>(std::ceil(std::sqrt(double(p.spheres)))));
   const float half = static_cast<float>(s) / 2.0f;
   scene.world->reserve(p.spheres);
+  scene.ids.reserve(p.spheres);
   for (std::size_t k = 0; k < p.spheres; ++k) {
     const float x = centre_x + (static_cast<float>(k % s) - half) * spacing;
     const float z = centre_z + (static_cast<float>((k / s) % s) - half) * spacing;
     const float y = first_layer_y + static_cast<float>(k / (s * s)) * spacing;
-    scene.world->add_sphere({.position = {x, y, z}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f});
+    scene.ids.push_back(
+        scene.world->add_sphere({.position = {x, y, z}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f}));
   }
   return scene;
 }
@@ -48,7 +51,7 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
 }  // namespace
 
 Scene build_terrain_rain(const SceneParams& p) {
-  Heightmap heightmap = Heightmap::from_function(256, 256, {}, rain_height);
+  Heightmap heightmap = Heightmap::from_function(256, 256, {}, terrain_rain_height);
   return with_terrain(p, std::move(heightmap), 13.0f, 160, 1.5f, 127.5f, 127.5f,
                       "terrain-rain: 256^2 heightmap, 1 m cells, spheres r 0.5 in 1.5 m layers from y = 13");
 }

@@ -20,6 +20,7 @@ struct SceneParams {
   bool warm_start = WorldSettings{}.warm_start;              ///< --warm-start on|off|FACTOR
   float warm_start_factor = WorldSettings{}.warm_start_factor;
   int resting_iterations = WorldSettings{}.resting_iterations;  ///< --resting N
+  bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
 };
 
 /// What a scene builds and how its results are judged.
@@ -31,6 +32,10 @@ struct Scene {
   std::function<float(float, float)> ground_height;
   float min_x = 0, max_x = 0, min_z = 0, max_z = 0;  ///< ground extent (fell_off outside)
   std::string description;
+  float dt = 1.0f / 60.0f;  ///< s per step (SceneParams::dt, or the scene file's)
+  /// Handles of the spheres in the order they were added (the World re-sorts its slots), so
+  /// that `--dump-state` writes sphere k on row k.
+  std::vector<SphereId> ids;
 };
 
 using SceneBuilder = Scene (*)(const SceneParams&);
@@ -44,9 +49,13 @@ struct SceneEntry {
 /// Every scene hail-bench knows.
 const std::vector<SceneEntry>& scene_registry();
 
+/// terrain-rain's height field, h(x, z) = 8 sin(0.05 x) cos(0.07 z) + 3 sin(0.21 x + 0.13 z).
+float terrain_rain_height(float x, float z);
+
 Scene build_implosion(const SceneParams& params);
 Scene build_terrain_rain(const SceneParams& params);
 Scene build_terrain_rain_dem(const SceneParams& params);
 Scene build_bowl_pile(const SceneParams& params);
+Scene build_bullets(const SceneParams& params);
 
 }  // namespace hail::bench

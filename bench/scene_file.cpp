@@ -1,0 +1,654 @@
+#include "scene_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "kernel/errors.h"
+#include "kernel/heightmap.h"
+
+namespace hail::bench {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr std::int64_t kMaxSpheres = 100'000'000;  // as hail-bench run --spheres
+
+/// Where in which file a value sits: "spheres[2].list[5].radius" in "scene.json".
+struct Where {
+  const std::string& source;
+  std::string path;
+
+  [[nodiscard]] Where key(std::string_view name) const {
+    return {source, path.empty() ? std::string(name) : path + "." + std::string(name)};
+  }
+  [[nodiscard]] Where index(std::size_t k) const { return {source, path + "[" + std::to_string(k) + "]"}; }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw std::invalid_argument(source + ": " + (path.empty() ? "" : path + ": ") + message);
+  }
+};
+
+/// The value as the file wrote it, for "got ..." (strings and containers with their type).
+std::string got(const json& j) {
+  std::string text = j.dump();
+  if (text.size() > 48) text = text.substr(0, 45) + "...";
+  if (j.is_number() || j.is_boolean() || j.is_null()) return text;
+  return std::string(j.type_name()) + " " + text;
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+float to_float(const json& j, const Where& at) {
+  if (!j.is_number()) at.fail("must be a number, got " + got(j));
+  const float value = static_cast<float>(j.get<double>());
+  if (!std::isfinite(value)) at.fail("must be a finite number within float range, got " + got(j));
+  return value;
+}
+
+std::int64_t to_integer(const json& j, const Where& at, std::int64_t min, std::int64_t max) {
+  if (!j.is_number_integer()) at.fail("must be an integer, got " + got(j));
+  if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(max))
+    at.fail("must be <= " + std::to_string(max) + ", got " + got(j));
+  const std::int64_t value = j.get<std::int64_t>();
+  if (value < min) at.fail("must be >= " + std::to_string(min) + ", got " + got(j));
+  if (value > max) at.fail("must be <= " + std::to_string(max) + ", got " + got(j));
+  return value;
+}
+
+Vec3 to_vec3(const json& j, const Where& at) {
+  if (!j.is_array() || j.size() != 3) at.fail("must be an array of 3 numbers [x, y, z], got " + got(j));
+  return {to_float(j[0], at.index(0)), to_float(j[1], at.index(1)), to_float(j[2], at.index(2))};
+}
+
+/// One JSON object of the schema: its keys are declared up front, so an unknown one is an
+/// error naming it (with the nearest known key when one is close).
+class Object {
+ public:
+  Object(const json& j, Where at, std::initializer_list<std::string_view> known) : j_(j), at_(std::move(at)), known_(known) {
+    if (!j.is_object()) at_.fail("must be an object, got " + got(j));
+  }
+
+  /// Throws for the first key that is not a known one.
+  void reject_unknown_keys() const {
+    for (const auto& [key, value] : j_.items()) {
+      if (std::find(known_.begin(), known_.end(), key) != known_.end()) continue;
+      std::string_view nearest;
+      std::size_t best = 3;  // suggest only within two edits
+      for (std::string_view k : known_)
+        if (const std::size_t d = edit_distance(key, k); d < best) best = d, nearest = k;
+      std::string known_list;
+      for (std::string_view k : known_) known_list += std::string(known_list.empty() ? "" : ", ") + std::string(k);
+      const std::string hint =
+          nearest.empty() ? " (known: " + known_list + ")" : " (did you mean \"" + std::string(nearest) + "\"?)";
+      const std::string message = "unknown key \"" + key + "\"";
+      if (at_.path.empty()) at_.fail(message + " at top level" + hint);
+      at_.fail(message + hint);
+    }
+  }
+
+  [[nodiscard]] const Where& where() const { return at_; }
+  [[nodiscard]] Where at(std::string_view key) const { return at_.key(key); }
+  [[nodiscard]] bool has(std::string_view key) const { return j_.contains(key); }
+  [[nodiscard]] const json& operator[](std::string_view key) const { return j_.at(key); }
+
+  const json& required(std::string_view key) const {
+    if (!has(key)) at_.fail("missing required key \"" + std::string(key) + "\"");
+    return j_.at(key);
+  }
+  /// `key` must not be given in this kind of object (`why` says which kind).
+  void forbid(std::string_view key, const std::string& why) const {
+    if (has(key)) at(key).fail(why);
+  }
+
+  [[nodiscard]] std::optional<float> opt_number(std::string_view key) const {
+    if (!has(key)) return std::nullopt;
+    return to_float(j_.at(key), at(key));
+  }
+  [[nodiscard]] float number(std::string_view key, float fallback) const { return opt_number(key).value_or(fallback); }
+  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min, std::int64_t max) const {
+    return has(key) ? to_integer(j_.at(key), at(key), min, max) : fallback;
+  }
+  [[nodiscard]] bool boolean(std::string_view key, bool fallback) const {
+    if (!has(key)) return fallback;
+    const json& v = j_.at(key);
+    if (!v.is_boolean()) at(key).fail("must be true or false, got " + got(v));
+    return v.get<bool>();
+  }
+  [[nodiscard]] std::optional<std::string> opt_string(std::string_view key) const {
+    if (!has(key)) return std::nullopt;
+    const json& v = j_.at(key);
+    if (!v.is_string()) at(key).fail("must be a string, got " + got(v));
+    return v.get<std::string>();
+  }
+  [[nodiscard]] Vec3 vec3(std::string_view key, const Vec3& fallback) const {
+    return has(key) ? to_vec3(j_.at(key), at(key)) : fallback;
+  }
+  /// One of `names` (the string given), mapped to the value beside it.
+  template <class T>
+  [[nodiscard]] std::optional<T> choice(std::string_view key, std::initializer_list<std::pair<std::string_view, T>> names) const {
+    const std::optional<std::string> name = opt_string(key);
+    if (!name) return std::nullopt;
+    std::string list;
+    for (const auto& [n, value] : names) {
+      if (*name == n) return value;
+      list += std::string(list.empty() ? "" : ", ") + "\"" + std::string(n) + "\"";
+    }
+    at(key).fail("must be one of " + list + ", got \"" + *name + "\"");
+  }
+
+ private:
+  const json& j_;
+  Where at_;
+  std::vector<std::string_view> known_;
+};
+
+// ---- checks shared by every kind of object --------------------------------------------------
+
+float positive(const Object& o, std::string_view key, float fallback) {
+  const float v = o.number(key, fallback);
+  if (!(v > 0.0f)) o.at(key).fail("must be > 0, got " + got(o[key]));
+  return v;
+}
+
+float non_negative(const Object& o, std::string_view key, float fallback) {
+  const float v = o.number(key, fallback);
+  if (!(v >= 0.0f)) o.at(key).fail("must be >= 0, got " + got(o[key]));
+  return v;
+}
+
+float unit_interval(const Object& o, std::string_view key, float fallback) {
+  const float v = o.number(key, fallback);
+  if (!(v >= 0.0f && v <= 1.0f)) o.at(key).fail("must be in [0, 1], got " + got(o[key]));
+  return v;
+}
+
+/// A number, or [min, max] with 0 < min <= max (`allow_zero`: 0 <= min).
+std::pair<float, float> range(const Object& o, std::string_view key, float fallback, bool allow_zero) {
+  if (!o.has(key)) return {fallback, fallback};
+  const json& j = o[key];
+  const Where at = o.at(key);
+  std::pair<float, float> r;
+  if (j.is_array()) {
+    if (j.size() != 2) at.fail("must be a number or [min, max], got " + got(j));
+    r = {to_float(j[0], at.index(0)), to_float(j[1], at.index(1))};
+  } else {
+    if (!j.is_number()) at.fail("must be a number or [min, max], got " + got(j));
+    r.first = r.second = to_float(j, at);
+  }
+  const bool min_ok = allow_zero ? r.first >= 0.0f : r.first > 0.0f;
+  if (!min_ok) at.fail(std::string("must be ") + (allow_zero ? ">= 0" : "> 0") + ", got " + got(j));
+  if (r.first > r.second) at.fail("min must be <= max, got " + got(j));
+  return r;
+}
+
+/// radius / mass / restitution / friction / static, defaulting from `base`.
+struct Material {
+  float radius = 0.5f, mass = 1.0f, restitution = 0.5f, friction = 0.5f;
+  bool is_static = false;
+};
+
+Material read_material(const Object& o, const Material& base, bool ranges_elsewhere = false) {
+  Material m = base;
+  if (!ranges_elsewhere) {
+    m.radius = positive(o, "radius", base.radius);
+    m.mass = positive(o, "mass", base.mass);
+  }
+  m.restitution = unit_interval(o, "restitution", base.restitution);
+  m.friction = non_negative(o, "friction", base.friction);
+  m.is_static = o.boolean("static", base.is_static);
+  return m;
+}
+
+SphereDesc sphere(const Vec3& position, const Vec3& velocity, const Vec3& angular_velocity, const Material& m) {
+  return {.position = position, .velocity = velocity, .angular_velocity = angular_velocity, .radius = m.radius,
+          .mass = m.mass, .restitution = m.restitution, .friction = m.friction, .is_static = m.is_static};
+}
+
+// ---- settings --------------------------------------------------------------------------------
+
+void read_settings(const Object& o, WorldSettings& s) {
+  o.reject_unknown_keys();
+  constexpr std::int64_t big = std::numeric_limits<int>::max();
+  s.time_scale = non_negative(o, "time_scale", s.time_scale);
+  if (auto v = o.choice<Integrator>("integrator", {{"semi-implicit-euler", Integrator::SemiImplicitEuler},
+                                                   {"uniform-acceleration", Integrator::UniformAcceleration}}))
+    s.integrator = *v;
+  s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
+  s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
+  s.depenetration_iterations = static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
+  if (o.has("depenetration")) {
+    const Object d(o["depenetration"], o.at("depenetration"), {"fraction", "slop_fraction"});
+    d.reject_unknown_keys();
+    s.depenetration.fraction = unit_interval(d, "fraction", s.depenetration.fraction);
+    s.depenetration.slop_fraction = non_negative(d, "slop_fraction", s.depenetration.slop_fraction);
+  }
+  s.restitution_threshold = non_negative(o, "restitution_threshold", s.restitution_threshold);
+  s.sphere_collisions = o.boolean("sphere_collisions", s.sphere_collisions);
+  if (auto v = o.choice<PairSearch>("pair_search", {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
+                                                    {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
+                                                    {"bvh", PairSearch::Bvh}}))
+    s.pair_search = *v;
+  s.speculative_radii = non_negative(o, "speculative_radii", s.speculative_radii);
+  s.reorder_interval = static_cast<int>(o.integer("reorder_interval", s.reorder_interval, 0, big));
+  s.warm_start = o.boolean("warm_start", s.warm_start);
+  s.warm_start_factor = unit_interval(o, "warm_start_factor", s.warm_start_factor);
+  s.continuous_collision = o.boolean("continuous_collision", s.continuous_collision);
+  s.fast_travel_fraction = o.number("fast_travel_fraction", s.fast_travel_fraction);
+  if (!(s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f))
+    o.at("fast_travel_fraction").fail("must be in (0, 1], got " + got(o["fast_travel_fraction"]));
+  s.max_sweep_events = static_cast<int>(o.integer("max_sweep_events", s.max_sweep_events, 1, big));
+}
+
+// ---- terrain ---------------------------------------------------------------------------------
+
+void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, float& restitution, float& friction,
+                  std::shared_ptr<const Terrain>& terrain) {
+  o.reject_unknown_keys();
+  restitution = unit_interval(o, "restitution", 0.5f);
+  friction = non_negative(o, "friction", 0.5f);
+  const bool is_function = o.has("function"), is_file = o.has("heightmap");
+  if (is_function == is_file) o.where().fail("needs exactly one of \"function\" or \"heightmap\"");
+
+  HeightmapParams params;
+  if (o.has("cell_size")) {
+    const json& c = o["cell_size"];
+    const Where at = o.at("cell_size");
+    if (c.is_array()) {
+      if (c.size() != 2) at.fail("must be a number or [x, z], got " + got(c));
+      params.cell_x = to_float(c[0], at.index(0));
+      params.cell_z = to_float(c[1], at.index(1));
+    } else {
+      params.cell_x = params.cell_z = to_float(c, at);
+    }
+    if (!(params.cell_x > 0.0f && params.cell_z > 0.0f)) at.fail("must be > 0, got " + got(c));
+  }
+  const Vec3 origin = o.vec3("origin", Vec3::Zero());
+  params.origin_x = origin.x();
+  params.origin_y = origin.y();
+  params.origin_z = origin.z();
+
+  std::uint32_t cols = 0, rows = 0;
+  if (o.has("size")) {
+    const json& s = o["size"];
+    const Where at = o.at("size");
+    if (!s.is_array() || s.size() != 2) at.fail("must be [columns, rows], got " + got(s));
+    cols = static_cast<std::uint32_t>(to_integer(s[0], at.index(0), 2, kMaxHeightmapSide));
+    rows = static_cast<std::uint32_t>(to_integer(s[1], at.index(1), 2, kMaxHeightmapSide));
+    if (std::uint64_t(cols) * rows > kMaxHeightmapVertices)
+      at.fail("has " + std::to_string(std::uint64_t(cols) * rows) + " vertices, more than the " +
+              std::to_string(kMaxHeightmapVertices) + " allowed");
+  }
+
+  std::optional<Heightmap> heightmap;
+  if (is_function) {
+    for (const char* key : {"format", "height_scale", "height_offset"})
+      o.forbid(key, "applies to a \"heightmap\" terrain only");
+    enum class Shape { Rain, Bowl, Flat };
+    const Shape shape = *o.choice<Shape>("function", {{"terrain-rain", Shape::Rain}, {"bowl", Shape::Bowl}, {"flat", Shape::Flat}});
+    if (shape != Shape::Bowl) o.forbid("coefficient", "applies to the \"bowl\" function only");
+    if (!o.has("size")) cols = rows = 256;
+    const float k = o.number("coefficient", 0.002f);
+    try {
+      if (shape == Shape::Rain) {
+        heightmap = Heightmap::from_function(cols, rows, params, terrain_rain_height);
+      } else if (shape == Shape::Bowl) {
+        // h = k ((x - cx)^2 + (z - cz)^2), centred on the map: bowl-pile's bowl for the defaults.
+        const float cx = params.origin_x + 0.5f * static_cast<float>(cols - 1) * params.cell_x;
+        const float cz = params.origin_z + 0.5f * static_cast<float>(rows - 1) * params.cell_z;
+        heightmap = Heightmap::from_function(cols, rows, params, [=](float x, float z) {
+          return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
+        });
+      } else {
+        heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
+      }
+    } catch (const InvalidArgument& e) {  // e.g. heights beyond float range
+      o.where().fail(e.what());
+    }
+  } else {
+    o.forbid("coefficient", "applies to the \"bowl\" function only");
+    const std::string file = *o.opt_string("heightmap");
+    params.height_scale = o.number("height_scale", 1.0f);
+    params.height_offset = o.number("height_offset", 0.0f);
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = std::filesystem::path(base_dir) / path;
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    enum class Format { Pgm, Png, RawF32, RawU16Le, RawU16Be };
+    std::optional<Format> format = o.choice<Format>("format", {{"pgm", Format::Pgm}, {"png", Format::Png},
+                                                               {"raw-f32", Format::RawF32}, {"raw-u16le", Format::RawU16Le},
+                                                               {"raw-u16be", Format::RawU16Be}});
+    if (!format) {
+      if (extension == ".pgm") format = Format::Pgm;
+      else if (extension == ".png") format = Format::Png;
+      else o.at("heightmap").fail("cannot tell the format from \"" + extension + "\": add \"format\" (pgm, png, raw-f32, raw-u16le, raw-u16be)");
+    }
+    const bool raw = *format != Format::Pgm && *format != Format::Png;
+    if (raw && !o.has("size")) o.where().fail("missing required key \"size\" ([columns, rows]) for a raw heightmap");
+    if (!raw) o.forbid("size", "applies to raw heightmaps only (PGM and PNG files give their own size)");
+    try {
+      switch (*format) {
+        case Format::Pgm: heightmap = Heightmap::load_pgm(path.string(), params); break;
+        case Format::Png: heightmap = Heightmap::load_png(path.string(), params); break;
+        case Format::RawF32: heightmap = Heightmap::load_raw_f32(path.string(), cols, rows, params); break;
+        case Format::RawU16Le: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, true); break;
+        case Format::RawU16Be: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, false); break;
+      }
+    } catch (const std::exception& e) {  // FileError or InvalidArgument from the loader
+      o.at("heightmap").fail(e.what());
+    }
+  }
+
+  scene.has_terrain = true;
+  scene.min_x = heightmap->x_of(0);
+  scene.max_x = heightmap->max_x();
+  scene.min_z = heightmap->z_of(0);
+  scene.max_z = heightmap->max_z();
+  terrain = std::make_shared<const Terrain>(std::move(*heightmap));
+  scene.ground_height = [t = terrain](float x, float z) { return t->heightmap().surface_height(x, z); };
+}
+
+// ---- sphere generators -----------------------------------------------------------------------
+
+/// What a generator may refer to outside itself.
+struct GeneratorContext {
+  Material material;            ///< the top-level "material"
+  const Terrain* terrain;       ///< for "y_from"
+  std::optional<std::size_t> count_override;  ///< --spheres, for the one lattice / random generator
+};
+
+std::size_t read_count(const Object& o, const GeneratorContext& g) {
+  const auto count = static_cast<std::size_t>(to_integer(o.required("count"), o.at("count"), 0, kMaxSpheres));
+  return g.count_override.value_or(count);
+}
+
+/// "velocity" or "towards" {"point", "speed"}: the velocity of a sphere at `position`.
+struct VelocityRule {
+  Vec3 velocity = Vec3::Zero();
+  bool towards = false;
+  Vec3 point = Vec3::Zero();
+  float speed = 0.0f;
+
+  [[nodiscard]] Vec3 at(const Vec3& position) const {
+    if (!towards) return velocity;
+    const Vec3 offset = position - point;
+    const float distance = offset.norm();
+    return distance > 0.0f ? Vec3(-speed * offset / distance) : Vec3(Vec3::Zero());
+  }
+};
+
+VelocityRule read_velocity_rule(const Object& o) {
+  VelocityRule rule;
+  rule.velocity = o.vec3("velocity", Vec3::Zero());
+  if (o.has("towards")) {
+    if (o.has("velocity")) o.where().fail("give \"velocity\" or \"towards\", not both");
+    const Object t(o["towards"], o.at("towards"), {"point", "speed"});
+    t.reject_unknown_keys();
+    rule.towards = true;
+    rule.point = t.vec3("point", Vec3::Zero());
+    rule.speed = non_negative(t, "speed", 0.0f);
+  }
+  return rule;
+}
+
+void read_list(const json& list, const Where& at, const GeneratorContext& g, std::vector<SphereDesc>& out) {
+  if (!list.is_array()) at.fail("must be an array of spheres, got " + got(list));
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const Object o(list[k], at.index(k), {"position", "velocity", "angular_velocity", "radius", "mass", "restitution",
+                                          "friction", "static"});
+    o.reject_unknown_keys();
+    const Material m = read_material(o, g.material);
+    out.push_back(sphere(to_vec3(o.required("position"), o.at("position")), o.vec3("velocity", Vec3::Zero()),
+                         o.vec3("angular_velocity", Vec3::Zero()), m));
+  }
+}
+
+void read_lattice(const Object& o, const GeneratorContext& g, std::vector<SphereDesc>& out) {
+  o.reject_unknown_keys();
+  const std::size_t n = read_count(o, g);
+  const Material m = read_material(o, g.material);
+  enum class Layout { Layers, Cube };
+  const Layout layout = o.choice<Layout>("layout", {{"layers", Layout::Layers}, {"cube", Layout::Cube}}).value_or(Layout::Layers);
+  const float spacing = positive(o, "spacing", 2.0f * m.radius);
+  Vec3 centre = o.vec3("centre", Vec3::Zero());
+  enum class From { TerrainMin, TerrainMax };
+  if (const auto from = o.choice<From>("y_from", {{"terrain-min", From::TerrainMin}, {"terrain-max", From::TerrainMax}})) {
+    if (!g.terrain) o.at("y_from").fail("needs a terrain");
+    const Heightmap& h = g.terrain->heightmap();
+    centre.y() = (*from == From::TerrainMin ? h.min_height() : h.max_height()) + centre.y();
+  }
+  if (o.has("layer_side") && o.has("max_layer_side")) o.where().fail("give \"layer_side\" or \"max_layer_side\", not both");
+  const auto side_limit = static_cast<std::size_t>(o.integer("max_layer_side", kMaxSpheres, 1, kMaxSpheres));
+  const double root = layout == Layout::Layers ? std::ceil(std::sqrt(double(n))) : std::ceil(std::cbrt(double(n)));
+  const std::size_t s = o.has("layer_side") ? static_cast<std::size_t>(o.integer("layer_side", 1, 1, kMaxSpheres))
+                                            : std::max<std::size_t>(1, std::min(side_limit, static_cast<std::size_t>(root)));
+  const VelocityRule velocity = read_velocity_rule(o);
+  const Vec3 angular_velocity = o.vec3("angular_velocity", Vec3::Zero());
+
+  out.reserve(out.size() + n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Vec3 position;
+    if (layout == Layout::Layers) {
+      // terrain-rain's layering (shared/scenes/README.md): s/2 is a real division.
+      const float half = static_cast<float>(s) / 2.0f;
+      position = {centre.x() + (static_cast<float>(k % s) - half) * spacing,
+                  centre.y() + static_cast<float>(k / (s * s)) * spacing,
+                  centre.z() + (static_cast<float>((k / s) % s) - half) * spacing};
+    } else {
+      // implosion's cube: x fastest, then y, then z, centred on `centre`.
+      const float c = 0.5f * static_cast<float>(s - 1);
+      position = centre + spacing * Vec3(static_cast<float>(k % s) - c, static_cast<float>((k / s) % s) - c,
+                                         static_cast<float>(k / (s * s)) - c);
+    }
+    out.push_back(sphere(position, velocity.at(position), angular_velocity, m));
+  }
+}
+
+void read_random(const Object& o, const GeneratorContext& g, std::vector<SphereDesc>& out) {
+  o.reject_unknown_keys();
+  const std::size_t n = read_count(o, g);
+  const json& seed_json = o.required("seed");
+  if (!seed_json.is_number_integer() || (!seed_json.is_number_unsigned() && seed_json.get<std::int64_t>() < 0))
+    o.at("seed").fail("must be an integer >= 0, got " + got(seed_json));
+  const std::uint64_t seed = seed_json.get<std::uint64_t>();
+  const Vec3 lo = to_vec3(o.required("box_min"), o.at("box_min"));
+  const Vec3 hi = to_vec3(o.required("box_max"), o.at("box_max"));
+  for (int a = 0; a < 3; ++a)
+    if (!(lo[a] <= hi[a])) o.where().fail("box_min must be <= box_max on every axis, got " + got(o["box_min"]) + " and " + got(o["box_max"]));
+  const Material m = read_material(o, g.material, true);
+  const auto radius = range(o, "radius", g.material.radius, false);
+  const auto mass = range(o, "mass", g.material.mass, false);
+  const auto speed = range(o, "speed", 0.0f, true);
+
+  // The documented sequence (docs/scene_format.md): per sphere x, y, z, radius, mass, speed,
+  // then direction triples until one lies inside the unit ball (and not at its centre).
+  std::mt19937_64 rng(seed);
+  auto between = [&](float a, float b) { return a + (b - a) * unit_float(rng); };
+  out.reserve(out.size() + n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Material mk = m;
+    const Vec3 position(between(lo.x(), hi.x()), between(lo.y(), hi.y()), between(lo.z(), hi.z()));
+    mk.radius = between(radius.first, radius.second);
+    mk.mass = between(mass.first, mass.second);
+    const float v = between(speed.first, speed.second);
+    float dx, dy, dz, length2;
+    do {
+      dx = 2.0f * unit_float(rng) - 1.0f;
+      dy = 2.0f * unit_float(rng) - 1.0f;
+      dz = 2.0f * unit_float(rng) - 1.0f;
+      length2 = dx * dx + dy * dy + dz * dz;
+    } while (!(length2 > 1e-6f && length2 <= 1.0f));
+    const float scale = v / std::sqrt(length2);
+    out.push_back(sphere(position, Vec3(dx * scale, dy * scale, dz * scale), Vec3::Zero(), mk));
+  }
+}
+
+bool is_counted_generator(const json& j) { return j.is_object() && (j.contains("lattice") || j.contains("random")); }
+
+}  // namespace
+
+Scene parse_scene_json(const json& doc, const std::string& source_name, const SceneOverrides& overrides,
+                       const std::string& base_dir) {
+  const Where root{source_name, ""};
+  const Object top(doc, root, {"format", "version", "description", "gravity", "dt", "steps", "threads", "settings",
+                               "terrain", "planes", "material", "spheres"});
+  // The format and version first: a newer file's new keys should not read as typos.
+  const std::optional<std::string> format = top.opt_string("format");
+  if (format != "hail-scene")
+    root.fail(format ? "\"format\" must be \"hail-scene\", got \"" + *format + "\"" : "missing \"format\": \"hail-scene\"");
+  if (!top.has("version")) root.fail("missing required key \"version\" (this hail-bench reads version " + std::to_string(kSceneFormatVersion) + ")");
+  const std::int64_t version = to_integer(top["version"], top.at("version"), 1, std::numeric_limits<int>::max());
+  if (version != kSceneFormatVersion)
+    top.at("version").fail("this hail-bench reads version " + std::to_string(kSceneFormatVersion) + ", got " + std::to_string(version));
+  top.reject_unknown_keys();
+
+  Scene scene;
+  scene.description = top.opt_string("description").value_or("scene file " + source_name);
+  scene.dt = positive(top, "dt", 1.0f / 60.0f);
+  scene.default_steps = static_cast<int>(top.integer("steps", 600, 1, std::numeric_limits<int>::max()));
+
+  WorldSettings settings;
+  settings.gravity = top.vec3("gravity", settings.gravity);
+  settings.threads = static_cast<int>(top.integer("threads", 0, 0, 4096));
+  if (top.has("settings")) read_settings(Object(top["settings"], top.at("settings"),
+                                                {"time_scale", "integrator", "collision_iterations", "resting_iterations",
+                                                 "depenetration_iterations", "depenetration", "restitution_threshold",
+                                                 "sphere_collisions", "pair_search", "speculative_radii",
+                                                 "reorder_interval", "warm_start", "warm_start_factor",
+                                                 "continuous_collision", "fast_travel_fraction", "max_sweep_events"}),
+                                         settings);
+
+  std::shared_ptr<const Terrain> terrain;
+  float terrain_restitution = 0.5f, terrain_friction = 0.5f;
+  if (top.has("terrain") && !top["terrain"].is_null())
+    read_terrain(Object(top["terrain"], top.at("terrain"), {"function", "heightmap", "format", "size", "cell_size",
+                                                            "height_scale", "height_offset", "origin", "coefficient",
+                                                            "restitution", "friction"}),
+                 base_dir, scene, terrain_restitution, terrain_friction, terrain);
+
+  std::vector<PlaneDesc> planes;
+  if (top.has("planes")) {
+    const json& list = top["planes"];
+    if (!list.is_array()) top.at("planes").fail("must be an array, got " + got(list));
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const Object p(list[k], top.at("planes").index(k), {"normal", "offset", "restitution", "friction"});
+      p.reject_unknown_keys();
+      const Vec3 normal = to_vec3(p.required("normal"), p.at("normal"));
+      if (!(normal.norm() > 1e-6f)) p.at("normal").fail("must not be zero, got " + got(p["normal"]));
+      planes.push_back({.normal = normal, .offset = p.number("offset", 0.0f),
+                        .restitution = unit_interval(p, "restitution", 0.5f), .friction = non_negative(p, "friction", 0.5f)});
+    }
+  }
+
+  GeneratorContext context{.material = {}, .terrain = terrain.get(), .count_override = std::nullopt};
+  if (top.has("material")) {
+    const Object m(top["material"], top.at("material"), {"radius", "mass", "restitution", "friction"});
+    m.reject_unknown_keys();
+    context.material = read_material(m, {});
+  }
+
+  std::vector<SphereDesc> spheres;
+  if (top.has("spheres")) {
+    const json& generators = top["spheres"];
+    const Where at = top.at("spheres");
+    if (!generators.is_array()) at.fail("must be an array of generators, got " + got(generators));
+    if (overrides.spheres) {
+      const auto counted = std::count_if(generators.begin(), generators.end(), is_counted_generator);
+      if (counted != 1)
+        at.fail("--spheres needs exactly one \"lattice\" or \"random\" generator to resize, the file has " +
+                std::to_string(counted));
+    }
+    for (std::size_t k = 0; k < generators.size(); ++k) {
+      const Object gen(generators[k], at.index(k), {"list", "lattice", "random"});
+      gen.reject_unknown_keys();
+      if (generators[k].size() != 1) gen.where().fail("must have exactly one of \"list\", \"lattice\" or \"random\"");
+      GeneratorContext g = context;
+      if (is_counted_generator(generators[k])) g.count_override = overrides.spheres;
+      if (gen.has("list")) {
+        read_list(gen["list"], gen.at("list"), g, spheres);
+      } else if (gen.has("lattice")) {
+        read_lattice(Object(gen["lattice"], gen.at("lattice"),
+                            {"count", "layout", "layer_side", "max_layer_side", "spacing", "centre", "y_from", "velocity",
+                             "towards", "angular_velocity", "radius", "mass", "restitution", "friction", "static"}),
+                     g, spheres);
+      } else {
+        read_random(Object(gen["random"], gen.at("random"),
+                           {"count", "seed", "box_min", "box_max", "radius", "mass", "speed", "restitution", "friction",
+                            "static"}),
+                    g, spheres);
+      }
+    }
+  }
+  if (spheres.size() > static_cast<std::size_t>(kMaxSpheres))
+    top.at("spheres").fail("makes " + std::to_string(spheres.size()) + " spheres, more than " + std::to_string(kMaxSpheres));
+
+  // The command line has the last word.
+  if (overrides.threads) settings.threads = *overrides.threads;
+  if (overrides.steps) scene.default_steps = *overrides.steps;
+  if (overrides.dt) scene.dt = *overrides.dt;
+  if (overrides.reorder_interval) settings.reorder_interval = *overrides.reorder_interval;
+  if (overrides.resting_iterations) settings.resting_iterations = *overrides.resting_iterations;
+  if (overrides.pair_search) settings.pair_search = *overrides.pair_search;
+  if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
+  if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;
+
+  // Every value was checked above; the World checks again, and its message gets the file's name.
+  try {
+    scene.world = std::make_unique<World>(settings);
+  } catch (const InvalidArgument& e) {
+    root.fail(e.what());
+  }
+  if (terrain) scene.world->set_terrain(terrain, terrain_restitution, terrain_friction);
+  for (const PlaneDesc& p : planes) scene.world->add_plane(p);
+  scene.world->reserve(spheres.size());
+  scene.ids.reserve(spheres.size());
+  for (std::size_t k = 0; k < spheres.size(); ++k) {
+    try {
+      scene.ids.push_back(scene.world->add_sphere(spheres[k]));
+    } catch (const InvalidArgument& e) {
+      root.key("spheres").fail("sphere " + std::to_string(k) + ": " + e.what());
+    }
+  }
+  return scene;
+}
+
+Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides,
+                       const std::string& base_dir) {
+  json doc;
+  try {
+    doc = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    throw std::invalid_argument(source_name + ": " + e.what());
+  }
+  return parse_scene_json(doc, source_name, overrides, base_dir);
+}
+
+Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw std::invalid_argument(path + ": cannot read the scene file");
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  return parse_scene_text(text.str(), path, overrides, folder.empty() ? std::string(".") : folder.string());
+}
+
+}  // namespace hail::bench

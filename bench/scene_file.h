@@ -1,0 +1,55 @@
+#pragma once
+// Scene files: a scene described in JSON (docs/scene_format.md) and read into the same Scene the
+// built-in builders make, so `hail-bench run --scene FILE.json` reports the same timing and
+// error figures. Every problem is a std::invalid_argument naming the file and the field
+// ("scene.json: spheres[2].list[5].radius: must be > 0, got -1"); unknown keys are errors, so
+// a typo cannot silently leave a default in place.
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
+#include <string>
+#include <string_view>
+
+#include "scenes.h"
+
+namespace hail::bench {
+
+/// The `"version"` this reader understands (`"format": "hail-scene"`).
+inline constexpr int kSceneFormatVersion = 1;
+
+/// Values given on the command line, which replace the file's. Unset: the file's value stands.
+struct SceneOverrides {
+  std::optional<std::size_t> spheres = std::nullopt;  ///< count of the file's only lattice or random generator
+  std::optional<int> threads = std::nullopt;
+  std::optional<int> steps = std::nullopt;
+  std::optional<float> dt = std::nullopt;
+  std::optional<int> reorder_interval = std::nullopt;
+  std::optional<int> resting_iterations = std::nullopt;
+  std::optional<PairSearch> pair_search = std::nullopt;
+  std::optional<bool> warm_start = std::nullopt;
+  std::optional<float> warm_start_factor = std::nullopt;
+};
+
+/// Reads and builds the scene in `path`; a heightmap path inside is relative to the file's
+/// folder. The description is the file's; dt and default_steps are set; ids holds every sphere.
+Scene load_scene_file(const std::string& path, const SceneOverrides& overrides = {});
+
+/// The same from JSON text (`//` and `/* */` comments allowed); `source_name` starts every
+/// error message and `base_dir` resolves a relative heightmap path.
+Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides = {},
+                       const std::string& base_dir = ".");
+
+/// The same from a parsed document.
+Scene parse_scene_json(const nlohmann::json& doc, const std::string& source_name, const SceneOverrides& overrides = {},
+                       const std::string& base_dir = ".");
+
+/// The random generator's uniform draw in [0, 1): the top 24 bits of one std::mt19937_64 output
+/// times 2^-24, exact in a float and the same with every standard library.
+[[nodiscard]] inline float unit_float(std::mt19937_64& rng) {
+  return static_cast<float>(rng() >> 40) * 0x1p-24f;
+}
+
+}  // namespace hail::bench
