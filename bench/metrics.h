@@ -13,6 +13,7 @@ struct ErrorFigures {
   double max_terrain_penetration = 0;  ///< m, deepest sphere-triangle (or plane) overlap
   std::size_t tunnelled = 0;           ///< centres below the ground at their (x, z)
   std::size_t fell_off = 0;            ///< centres outside the ground's x/z extent
+  std::size_t tunnelled_ever = 0;      ///< spheres below the ground after any step (Scene::track_tunnelling)
   std::size_t nan_count = 0;
   double kinetic_energy = 0;           ///< J
 };

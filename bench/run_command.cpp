@@ -24,6 +24,8 @@ struct CommandOptions {
   std::string dump_state_path;  // --dump-state FILE.csv
   bool scene_named = false;
   std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
+  bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
+  int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
 };
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
@@ -93,6 +95,14 @@ CommandOptions parse(const std::vector<std::string>& args) {
       o.json_path = value();
     } else if (flag == "--quiet") {
       o.quiet = true;
+    } else if (flag == "--ccd") {
+      const std::string& v = value();
+      if (v != "on" && v != "off" && v != "both") usage_error("--ccd must be on, off or both, got '" + v + "'");
+      o.params.continuous_collision = v != "off";
+      o.ccd_both = v == "both";
+    } else if (flag == "--repeat") {
+      o.repeat = parse_number<int>(flag, value());
+      if (o.repeat < 1 || o.repeat > 1000) usage_error("--repeat must be in [1, 1000]");
     } else if (flag == "--scene") {
       o.scene_file = value();
     } else if (flag == "--dump-state") {
@@ -117,6 +127,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--reorder")) v.reorder_interval = o.params.reorder_interval;
   if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
   if (given("--pairs")) v.pair_search = o.params.pair_search;
+  if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
   if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
     v.warm_start = o.params.warm_start;
     if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;
@@ -124,32 +135,111 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   return v;
 }
 
-}  // namespace
 
-int run_command(const std::vector<std::string>& args) {
-  const CommandOptions o = parse(args);
-  const RunOptions run_options{.steps = o.steps, .trace_path = o.trace_path, .progress = !o.quiet, .progress_label = "",
-                               .dump_state_path = o.dump_state_path};
-  const RunResult r = o.scene_file.empty()
-                          ? run_scene(find_scene(o.scene), o.params, run_options)
-                          : run_scene(o.scene_file, [&] { return load_scene_file(o.scene_file, file_overrides(o)); }, run_options);
+/// One run of the scene (named or from a file) with these parameters.
+RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
+  const RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
+                               .progress_label = "", .dump_state_path = last ? o.dump_state_path : ""};
+  if (o.scene_file.empty()) return run_scene(find_scene(o.scene), params, run_options);
+  CommandOptions file_options = o;
+  file_options.params = params;
+  return run_scene(o.scene_file, [&] { return load_scene_file(o.scene_file, file_overrides(file_options)); }, run_options);
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void print_report(const RunResult& r) {
   const ErrorFigures& e = r.errors;
   const PhaseTimes& p = r.phase_ms;
   std::printf("hail-bench run %s  (%s)\n", r.scene.c_str(), r.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s\n", cpu_model().c_str(), r.threads, simd_path().c_str());
-  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps\n", r.spheres, r.steps,
-              r.dt, r.reorder_interval);
+  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps, continuous collision %s\n",
+              r.spheres, r.steps, r.dt, r.reorder_interval, r.continuous_collision ? "on" : "off");
   std::printf("  time      %.3f ms/step mean, %.3f median (steps %d..%d), total %.3f s, set-up %.3f s\n", r.mean_ms,
               r.median_ms, r.warmup, r.steps - 1, r.total_s, r.setup_s);
-  std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  integrate %.3f  depenetrate %.3f ms\n",
-              p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.integrate, p.depenetrate);
+  std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  sweep %.3f  integrate %.3f  depenetrate %.3f ms\n",
+              p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.sweep, p.integrate, p.depenetrate);
   std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
               r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
+  if (r.continuous_collision)
+    std::printf("  sweep     per step: %.1f spheres swept, %.1f impacts at their time; %zu times a sphere reached the impact cap\n",
+                r.swept, r.sweep_events, r.sweep_capped);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
+  if (r.tunnelled_tracked)
+    std::printf("  tunnel    %zu spheres were below the ground after some step (checked after every step)\n", e.tunnelled_ever);
   std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,
               r.energy_start, r.energy_drift, r.momentum_drift);
   std::printf("  state     hash %s\n", r.state_hash.c_str());
+}
+
+/// --ccd both: runs with continuous collision on and off, alternating in ABBA order so that a
+/// drift in machine speed falls on both alike; one table with the ratio of the medians.
+int run_both(const CommandOptions& o) {
+  const int repeat = o.repeat > 0 ? o.repeat : 3;
+  std::vector<RunResult> on, off;
+  for (int k = 0; k < 2 * repeat; ++k) {
+    const bool ccd = (k % 4 == 0 || k % 4 == 3);
+    SceneParams params = o.params;
+    params.continuous_collision = ccd;
+    if (!o.quiet) std::fprintf(stderr, "  run %d/%d: continuous collision %s\n", k + 1, 2 * repeat, ccd ? "on" : "off");
+    (ccd ? on : off).push_back(run_once(o, params, k + 2 >= 2 * repeat));
+  }
+  auto medians = [](const std::vector<RunResult>& runs) {
+    std::vector<double> m;
+    for (const RunResult& r : runs) m.push_back(r.median_ms);
+    return m;
+  };
+  const RunResult& a = on.back();
+  const RunResult& b = off.back();
+  std::printf("hail-bench run %s --ccd both  (%s)\n", a.scene.c_str(), a.description.c_str());
+  std::printf("  machine   %s, %d threads, SIMD %s; %zu spheres, %d steps of dt = %.6g s; %d runs each, ABBA order\n",
+              cpu_model().c_str(), a.threads, simd_path().c_str(), a.spheres, a.steps, a.dt, repeat);
+  std::printf("  %-4s %10s %10s %9s %9s %10s %10s %9s %9s %9s %5s  %s\n", "ccd", "ms/step", "(runs)", "swept", "impacts",
+              "pen. sph", "pen. gnd", "tunnelled", "ever", "fell off", "NaN", "hash");
+  for (const auto* runs : {&on, &off}) {
+    const RunResult& r = runs->back();
+    const std::vector<double> m = medians(*runs);
+    std::string spread;
+    for (double x : m) spread += (spread.empty() ? "" : " ") + std::to_string(x).substr(0, 5);
+    std::printf("  %-4s %10.3f %10s %9.1f %9.1f %10.4g %10.4g %9zu %9s %9zu %5zu  %s\n", runs == &on ? "on" : "off",
+                median_of(m), ("(" + spread + ")").c_str(), r.swept, r.sweep_events, r.errors.max_sphere_penetration,
+                r.errors.max_terrain_penetration, r.errors.tunnelled,
+                r.tunnelled_tracked ? std::to_string(r.errors.tunnelled_ever).c_str() : "-", r.errors.fell_off,
+                r.errors.nan_count, r.state_hash.c_str());
+  }
+  std::printf("  ratio on / off of the median ms/step: %.3f\n", median_of(medians(on)) / median_of(medians(off)));
+  if (!o.json_path.empty()) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const RunResult& r : on) runs.push_back(to_json(r));
+    for (const RunResult& r : off) runs.push_back(to_json(r));
+    std::ofstream out(o.json_path);
+    if (!out) throw std::runtime_error("cannot write " + o.json_path);
+    out << nlohmann::json{{"runs", runs}, {"ratio_on_off", median_of(medians(on)) / median_of(medians(off))}}.dump(2) << "\n";
+  }
+  return a.errors.nan_count == 0 && b.errors.nan_count == 0 ? 0 : 3;
+}
+
+}  // namespace
+
+int run_command(const std::vector<std::string>& args) {
+  const CommandOptions o = parse(args);
+  if (o.ccd_both) return run_both(o);
+  const int repeat = o.repeat > 0 ? o.repeat : 1;
+  std::vector<RunResult> runs;
+  for (int k = 0; k < repeat; ++k) runs.push_back(run_once(o, o.params, k + 1 == repeat));
+  const RunResult& r = runs.back();
+  print_report(r);
+  if (repeat > 1) {
+    std::vector<double> m;
+    std::string all;
+    for (const RunResult& x : runs) m.push_back(x.median_ms), all += " " + std::to_string(x.median_ms).substr(0, 6);
+    std::printf("  repeats   median of %d runs' medians: %.3f ms/step (runs:%s)\n", repeat, median_of(m), all.c_str());
+  }
   if (!o.dump_state_path.empty()) std::printf("  dump      final state of every sphere written to %s\n", o.dump_state_path.c_str());
   if (!o.trace_path.empty())
     std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n", o.trace_path.c_str());
@@ -158,7 +248,7 @@ int run_command(const std::vector<std::string>& args) {
     if (!out) throw std::runtime_error("cannot write " + o.json_path);
     out << to_json(r).dump(2) << "\n";
   }
-  return e.nan_count == 0 ? 0 : 3;
+  return r.errors.nan_count == 0 ? 0 : 3;
 }
 
 }  // namespace hail::bench

@@ -39,6 +39,7 @@ Scene build_bullets(const SceneParams& p) {
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;
   scene.default_steps = 120;
+  scene.track_tunnelling = true;
   scene.dt = p.dt;
   Heightmap heightmap = Heightmap::from_function(256, 256, {}, terrain_rain_height);
   scene.min_x = heightmap.x_of(0);

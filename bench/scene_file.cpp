@@ -609,6 +609,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.pair_search) settings.pair_search = *overrides.pair_search;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
   if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;
+  if (overrides.continuous_collision) settings.continuous_collision = *overrides.continuous_collision;
 
   // Every value was checked above; the World checks again, and its message gets the file's name.
   try {

@@ -35,12 +35,26 @@ void write_trace(const std::string& path, const PhaseTrace& trace, int threads) 
   out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
 }
 
+/// Marks (by handle index) every sphere whose centre is below the ground inside its extent.
+void mark_below_ground(const Scene& scene, std::vector<std::uint8_t>& below) {
+  const SphereSoA& s = scene.world->soa();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const float x = s.px[i], z = s.pz[i];
+    if (!(x >= scene.min_x && x <= scene.max_x && z >= scene.min_z && z <= scene.max_z)) continue;
+    if (!(s.py[i] < scene.ground_height(x, z))) continue;
+    const std::uint32_t id = s.id_at(i).index;
+    if (below.size() <= id) below.resize(id + 1, 0);
+    below[id] = 1;
+  }
+}
+
 void add(PhaseTimes& sum, const PhaseTimes& t, double weight) {
   sum.reorder += weight * t.reorder;
   sum.predict += weight * t.predict;
   sum.detect_terrain += weight * t.detect_terrain;
   sum.detect_pairs += weight * t.detect_pairs;
   sum.solve += weight * t.solve;
+  sum.sweep += weight * t.sweep;
   sum.integrate += weight * t.integrate;
   sum.depenetrate += weight * t.depenetrate;
 }
@@ -101,6 +115,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.dt = scene.dt;
   r.reorder_interval = world.settings().reorder_interval;
   r.warm_start = world.settings().warm_start;
+  r.continuous_collision = world.settings().continuous_collision;
+  r.tunnelled_tracked = scene.track_tunnelling;
 
   if (!options.trace_path.empty()) world.enable_trace(true);
   r.energy_start = world.kinetic_energy();
@@ -110,10 +126,12 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   const double weight = 1.0 / static_cast<double>(r.steps - r.warmup);
   auto last_progress = clock::now();
   const auto run_start = clock::now();
+  std::vector<std::uint8_t> went_below;  // by SphereId index, for Scene::track_tunnelling
   for (int k = 0; k < r.steps; ++k) {
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+    if (scene.track_tunnelling) mark_below_ground(scene, went_below);
     if (k >= r.warmup) {
       add(r.phase_ms, world.last_phase_times(), weight);
       const StepStats& stats = world.last_step_stats();
@@ -122,7 +140,10 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.warm_started += weight * double(stats.warm_started);
       r.colours += weight * double(stats.colours);
       r.collision_passes += weight * stats.collision_passes;
+      r.swept += weight * double(stats.sweep.swept);
+      r.sweep_events += weight * double(stats.sweep.events);
     }
+    r.sweep_capped += world.last_step_stats().sweep.capped;
     if (options.progress && clock::now() - last_progress > std::chrono::seconds(2)) {
       std::fprintf(stderr, "  %sstep %d/%d, %.2f ms/step so far\n", options.progress_label.c_str(), k + 1, r.steps,
                    std::accumulate(step_ms.begin(), step_ms.end(), 0.0) / static_cast<double>(step_ms.size()));
@@ -134,6 +155,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.mean_ms = std::accumulate(timed.begin(), timed.end(), 0.0) / static_cast<double>(timed.size());
   r.median_ms = median(timed);
   r.errors = measure_errors(scene);
+  r.errors.tunnelled_ever = static_cast<std::size_t>(std::count(went_below.begin(), went_below.end(), std::uint8_t{1}));
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
   r.state_hash = hex_hash(world.state_hash());
@@ -164,6 +186,7 @@ nlohmann::json to_json(const RunResult& r) {
       {"max_sphere_penetration", e.max_sphere_penetration},
       {"max_terrain_penetration", e.max_terrain_penetration},
       {"tunnelled", e.tunnelled},
+      {"tunnelled_ever", e.tunnelled_ever},
       {"fell_off", e.fell_off},
       {"kinetic_energy", e.kinetic_energy},
       {"kinetic_energy_start", r.energy_start},
@@ -173,12 +196,14 @@ nlohmann::json to_json(const RunResult& r) {
       {"state_hash", r.state_hash},
       {"pair_search", r.pair_search},
       {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
-                     {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"integrate", p.integrate},
+                     {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"sweep", p.sweep}, {"integrate", p.integrate},
                      {"depenetrate", p.depenetrate}}},
       {"warm_start", r.warm_start},
       {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
                            {"warm_started", r.warm_started},
                            {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
+      {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept},
+                                {"impacts_per_step", r.sweep_events}, {"capped_total", r.sweep_capped}}},
       {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}},
   };
 }

@@ -24,6 +24,10 @@ struct RunResult {
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;
   std::string state_hash;
   std::string pair_search;  ///< the search the last step used
+  bool continuous_collision = true;
+  bool tunnelled_tracked = false;  ///< errors.tunnelled_ever was counted (Scene::track_tunnelling)
+  double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
+  std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
 };
 
 struct RunOptions {

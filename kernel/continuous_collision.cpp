@@ -61,6 +61,17 @@ std::uint32_t ContinuousCollision::activate(const SphereSoA& s, std::uint32_t sl
   return static_cast<std::uint32_t>(motions_.size() - 1);
 }
 
+void ContinuousCollision::sync_path(SphereSoA& s, const Motion& mo) {
+  const std::uint32_t i = mo.slot;
+  const double v[3] = {mo.stopped ? 0.0 : mo.v[0], mo.stopped ? 0.0 : mo.v[1], mo.stopped ? 0.0 : mo.v[2]};
+  s.px[i] = static_cast<float>(mo.x[0] - v[0] * mo.t0);
+  s.py[i] = static_cast<float>(mo.x[1] - v[1] * mo.t0);
+  s.pz[i] = static_cast<float>(mo.x[2] - v[2] * mo.t0);
+  s.vx[i] = static_cast<float>(v[0]);
+  s.vy[i] = static_cast<float>(v[1]);
+  s.vz[i] = static_cast<float>(v[2]);
+}
+
 void ContinuousCollision::push(const Event& e) {
   if (e.t < 0.0) return;
   heap_.push_back(e);
@@ -140,12 +151,11 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   };
   PathBox box;
   for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
-  // Spheres not swept are still on their solved straight paths: scan those paths' boxes.
+  // Every sphere's SoA position and velocity describe its current straight path (for swept
+  // ones, as set by sync_path), so one scan covers swept and unswept spheres alike.
   scan_path_boxes_simd(s, box, static_cast<float>(mo.t0), static_cast<float>(dt_), [&](std::uint32_t j) {
-    if (motion_of_[j] < 0) try_sphere(j);
+    if (j != slot) try_sphere(j);
   });
-  for (const Motion& other : motions_)
-    if (other.slot != slot) try_sphere(other.slot);
   return best;
 }
 
@@ -208,7 +218,7 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     if (mb != ma)
       for (int d = 0; d < 3; ++d) bodies.vb[d] = static_cast<float>(motions_[mb].v[d]);
     solve_impact(contact, bodies, restitution_threshold);
-    scatter_bodies(s, contact, bodies);  // angular velocities (and the SoA copy of v, rewritten by finish)
+    scatter_bodies(s, contact, bodies);  // angular velocities (linear ones: sync_path below)
     ++stats_.events;
     for (std::uint32_t m : {ma, mb}) {
       Motion& mo = motions_[m];
@@ -219,6 +229,7 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
         mo.stopped = true;
         ++stats_.capped;
       }
+      sync_path(s, mo);
       push(earliest_event(s, scene, m));
       if (mb == ma) break;
     }

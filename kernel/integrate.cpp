@@ -11,20 +11,31 @@ namespace hail {
 float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
                          float fast_fraction, std::vector<std::uint32_t>* fast) {
   const float gx = p.gravity[0] * p.dt, gy = p.gravity[1] * p.dt, gz = p.gravity[2] * p.dt;
-  float max_speed2 = 0.0f;
+  const float dt2 = p.dt * p.dt;
+  float max_speed2 = 0.0f, fastest = -1.0f;  // fastest > 0: some sphere may be fast
+  // Branch-free (selects), so that the compiler vectorises it: this runs for every sphere.
   for (std::size_t i = first; i < last; ++i) {
-    if (s.inv_mass[i] > 0.0f) {
-      s.vx[i] += gx;
-      s.vy[i] += gy;
-      s.vz[i] += gz;
-    }
-    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-    // The same expression as the terrain's per-sphere margin, so both agree on who is fast.
-    if (fast && s.inv_mass[i] > 0.0f && is_fast(std::sqrt(v2), p.dt, s.radius[i], fast_fraction)) {
-      fast->push_back(static_cast<std::uint32_t>(i));
-      continue;
-    }
+    const bool movable = s.inv_mass[i] > 0.0f;
+    const float vx = movable ? s.vx[i] + gx : s.vx[i];
+    const float vy = movable ? s.vy[i] + gy : s.vy[i];
+    const float vz = movable ? s.vz[i] + gz : s.vz[i];
+    s.vx[i] = vx, s.vy[i] = vy, s.vz[i] = vz;
+    const float v2 = vx * vx + vy * vy + vz * vz;
+    const float reach = fast_fraction * s.radius[i];
+    const float excess = v2 * dt2 - reach * reach;
     max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
+    fastest = movable && excess > fastest ? excess : fastest;
+  }
+  if (!fast || !(fastest > 0.0f)) return std::sqrt(max_speed2);
+  // Some sphere is fast: list the fast ones and take the largest speed of the others.
+  max_speed2 = 0.0f;
+  for (std::size_t i = first; i < last; ++i) {
+    // The same expression as the terrain's per-sphere margin, so both agree on who is fast.
+    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+    if (s.inv_mass[i] > 0.0f && is_fast(v2, p.dt, s.radius[i], fast_fraction))
+      fast->push_back(static_cast<std::uint32_t>(i));
+    else
+      max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
   }
   return std::sqrt(max_speed2);
 }

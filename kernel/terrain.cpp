@@ -69,8 +69,9 @@ void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t l
     const std::size_t p1 = std::min(last, p0 + kSpherePacketWidth);
     packet.clear();
     for (std::size_t i = p0; i < p1; ++i) {
-      const float speed = std::sqrt(s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
-      const bool fast = s.inv_mass[i] > 0.0f && is_fast(speed, dt, s.radius[i], fast_fraction);
+      const float speed2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+      const float speed = std::sqrt(speed2);
+      const bool fast = s.inv_mass[i] > 0.0f && is_fast(speed2, dt, s.radius[i], fast_fraction);
       // Capped for fast spheres: a reach of hundreds of metres would gather hundreds of
       // triangles the sphere is not heading for, and bounce it from the nearest one at once.
       const float reach = fast ? (sweep_fast ? 0.0f : fast_fraction * s.radius[i]) : speed * dt;

@@ -31,7 +31,6 @@ struct SphereId {
 /// Per-sphere flag bits.
 enum SphereFlags : std::uint32_t {
   kSphereFlagNone = 0,
-  kSphereFlagFast = 1u << 0,  ///< set by the predict phase when travel this step is large
 };
 
 /// Everything a new sphere is made of, already validated and converted to inverse quantities.
