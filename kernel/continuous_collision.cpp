@@ -78,7 +78,8 @@ void ContinuousCollision::push(const Event& e) {
   std::push_heap(heap_.begin(), heap_.end(), later);
 }
 
-void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_t> fast, float dt) {
+void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_t> fast, float dt,
+                                SweepCandidates candidates) {
   for (const Motion& m : motions_) moved_[m.slot] = 0;  // last step's marks
   motions_.clear();
   heap_.clear();
@@ -92,6 +93,22 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   for (std::uint32_t slot : fast) activate(s, slot);
   first_events_.resize(fast.size());
   stats_.fast = fast.size();
+  changed_.clear();
+  use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
+  if (!use_bvh_) return;
+  path_boxes_.resize(s.size());
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    const double lo[3] = {std::min<double>(s.px[j], double(s.px[j]) + double(s.vx[j]) * dt),
+                          std::min<double>(s.py[j], double(s.py[j]) + double(s.vy[j]) * dt),
+                          std::min<double>(s.pz[j], double(s.pz[j]) + double(s.vz[j]) * dt)};
+    const double hi[3] = {std::max<double>(s.px[j], double(s.px[j]) + double(s.vx[j]) * dt),
+                          std::max<double>(s.py[j], double(s.py[j]) + double(s.vy[j]) * dt),
+                          std::max<double>(s.pz[j], double(s.pz[j]) + double(s.vz[j]) * dt)};
+    const float pad = box_padding(lo, hi) + s.radius[j];
+    for (int d = 0; d < 3; ++d)
+      path_boxes_[j].min[d] = static_cast<float>(lo[d]) - pad, path_boxes_[j].max[d] = static_cast<float>(hi[d]) + pad;
+  }
+  path_bvh_.build(path_boxes_);
 }
 
 ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& s, const SweepScene& scene,
@@ -104,10 +121,12 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   const double r = s.radius[slot];
   const double* c = mo.x;
   const double* v = mo.v;
-  // The first hit found wins a tie: the searches below run in a fixed order.
+  // Ties go to the smaller (target, other), so the result does not depend on the order in
+  // which candidates are found (scan or BVH).
   auto offer = [&](double t_rel, Target target, std::uint32_t other, std::uint32_t other_version, const double* n) {
     const double t = mo.t0 + t_rel;
-    if (best.t >= 0.0 && t >= best.t) return;
+    if (best.t >= 0.0 && (t > best.t || (t == best.t && (target > best.target || (target == best.target && other >= best.other)))))
+      return;
     best.t = t, best.target = target, best.other = other, best.other_version = other_version;
     for (int d = 0; d < 3; ++d) best.n[d] = n ? n[d] : 0.0;
   };
@@ -151,6 +170,19 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   };
   PathBox box;
   for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
+  if (use_bvh_) {
+    // The BVH holds every path as it was at the start of the step: right for spheres whose
+    // path has not changed, and those that changed are few (each had an impact) and tried all.
+    Aabb query;
+    for (int d = 0; d < 3; ++d) query.min[d] = box.min[d], query.max[d] = box.max[d];
+    query_aabb(path_bvh_, query, [&](std::uint32_t k) {
+      const std::uint32_t j = path_bvh_.primitive_order[k];
+      if (j != slot && version_of(j) == 0) try_sphere(j);
+    });
+    for (std::uint32_t m_changed : changed_)
+      if (motions_[m_changed].slot != slot) try_sphere(motions_[m_changed].slot);
+    return best;
+  }
   // Every sphere's SoA position and velocity describe its current straight path (for swept
   // ones, as set by sync_path), so one scan covers swept and unswept spheres alike.
   scan_path_boxes_simd(s, box, static_cast<float>(mo.t0), static_cast<float>(dt_), [&](std::uint32_t j) {
@@ -224,7 +256,7 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       Motion& mo = motions_[m];
       const float* vnew = m == ma ? bodies.va : bodies.vb;
       for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
-      ++mo.version;
+      if (mo.version++ == 0 && use_bvh_) changed_.push_back(m);
       if (++mo.events >= max_events && !mo.stopped) {
         mo.stopped = true;
         ++stats_.capped;
