@@ -108,7 +108,7 @@ int scale_command(const std::vector<std::string>& args) {
   std::ofstream csv(o.out_dir + "/scale.csv");
   if (!csv) throw std::runtime_error("cannot write " + o.out_dir + "/scale.csv");
   csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
-         "detect_terrain_ms,detect_pairs_ms,solve_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
+         "detect_terrain_ms,detect_pairs_ms,solve_ms,sweep_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
          "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash\n";
   nlohmann::json runs = nlohmann::json::array();
   std::vector<std::vector<double>> ns_table(counts.size()), speedup_table(counts.size());  // [count][thread - 1]
@@ -138,7 +138,7 @@ int scale_command(const std::vector<std::string>& args) {
       std::fflush(stdout);
       csv << r.spheres << ',' << t << ',' << r.mean_ms << ',' << r.median_ms << ',' << ns << ',' << speedup << ','
           << p.reorder << ',' << p.predict << ',' << p.detect_terrain << ',' << p.detect_pairs << ',' << p.solve << ','
-          << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
+          << p.sweep << ',' << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
           << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
           << r.state_hash << '\n';
       csv.flush();
