@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy_command.h"
 #include "kernel/errors.h"
 #include "pairs_command.h"
 #include "query_command.h"
@@ -29,6 +30,10 @@ void print_help() {
       "  run --scene FILE.json [same options] [--dump-state FILE.csv]\n"
       "      run a scene described in a JSON file (docs/scene_format.md; data/scenes/ has the built-in ones);\n"
       "      options given override the file's values; --dump-state writes id,x,y,z,vx,vy,vz,wx,wy,wz per sphere\n"
+      "  accuracy [--dt 1/60,1/240,1/1000] [--spheres N] [--repeats R] [--out DIR] [--no-scenes] [--no-plot]\n"
+      "      error against wall time: the known-answer cases (bounce, slide-to-roll, head-on, cradle, slope roll)\n"
+      "      for hail's knobs (integrator, substeps, solver passes) and the peers found at build time, at each dt;\n"
+      "      terrain-rain and bowl-pile (N spheres) against a dt/16 reference; table, CSV, JSON, gnuplot SVGs\n"
       "  scale [scene] [--min N] [--max N] [--threads T] [--steps S] [--out DIR] [--no-plot]\n"
       "      the scene at doubling sphere counts (default 1000..256000) on 1..T threads (default: all):\n"
       "      table, DIR/scale.csv, DIR/scale.json, and gnuplot SVGs of ns per sphere-step and speed-up\n"
@@ -55,6 +60,7 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
+    if (args[0] == "accuracy") return hail::bench::accuracy_command(rest);
     if (args[0] == "scale") return hail::bench::scale_command(rest);
     if (args[0] == "pairs") return hail::bench::pairs_command(rest);
     if (args[0] == "query") return hail::bench::query_command(rest);

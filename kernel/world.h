@@ -190,6 +190,8 @@ class World {
   /// immutable and may be shared by several worlds. Throws InvalidArgument on a bad material.
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
+  [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
+  [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
   /// Reserves room for n spheres so that adding them does not reallocate.
   void reserve(std::size_t spheres);
 

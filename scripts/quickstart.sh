@@ -13,6 +13,8 @@ mode="${1:-bench}"
 case "$mode" in bench|test) ;; *) echo "usage: $0 bench|test" >&2; exit 2 ;; esac
 
 packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libstb-dev)
+# The benchmark side also wants the peers and tools it compares with; the tests never need them.
+if [ "$mode" = bench ]; then packages+=(libbullet-dev libbenchmark-dev gnuplot-nox); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

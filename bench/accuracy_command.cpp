@@ -1,0 +1,278 @@
+#include "accuracy_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "accuracy_cases.h"
+#include "machine_info.h"
+#include "peer_engine.h"
+#include "scenes.h"
+
+namespace hail::bench {
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+/// One engine with one setting of its cost knobs.
+struct Variant {
+  std::string name;
+  std::function<std::unique_ptr<PeerEngine>(const PeerScene&)> make;
+  int substeps = 1;  ///< engine steps of dt / substeps per frame
+};
+
+std::vector<Variant> variants() {
+  auto hail_with = [](auto tweak) {
+    return [tweak](const PeerScene& scene) {
+      WorldSettings s;
+      s.threads = 1;  // the cases hold a few spheres: one thread, no scheduling noise
+      tweak(s);
+      return make_hail_engine(scene, s);
+    };
+  };
+  std::vector<Variant> v;
+  v.push_back({"hail", hail_with([](WorldSettings&) {}), 1});
+  v.push_back({"hail-uniform-accel", hail_with([](WorldSettings& s) { s.integrator = Integrator::UniformAcceleration; }), 1});
+  v.push_back({"hail-4-substeps", hail_with([](WorldSettings&) {}), 4});
+  v.push_back({"hail-4+2-passes", hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
+  for (const PeerFactory& peer : peer_factories()) v.push_back({peer.name, peer.make, 1});
+  return v;
+}
+
+struct Options {
+  std::vector<double> dts{1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0};
+  std::size_t scene_spheres = 1000;
+  int repeats = 3;
+  std::string out_dir = "hail-accuracy";
+  bool plot = true, scenes = true, quiet = false;
+};
+
+Options parse(const std::vector<std::string>& args) {
+  Options o;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& flag = args[k];
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw std::invalid_argument(flag + " needs a value");
+      return args[++k];
+    };
+    auto number = [&](const std::string& text) {
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !(v > 0)) throw std::invalid_argument(flag + " expects a positive number, got '" + text + "'");
+      return v;
+    };
+    if (flag == "--dt") {  // comma-separated, each a number or 1/N
+      o.dts.clear();
+      std::string list = value();
+      for (std::size_t start = 0; start <= list.size();) {
+        const std::size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / number(item.substr(2)) : number(item));
+        start = end + 1;
+      }
+    } else if (flag == "--spheres") {
+      o.scene_spheres = static_cast<std::size_t>(number(value()));
+    } else if (flag == "--repeats") {
+      o.repeats = static_cast<int>(number(value()));
+    } else if (flag == "--out") {
+      o.out_dir = value();
+    } else if (flag == "--no-plot") {
+      o.plot = false;
+    } else if (flag == "--no-scenes") {
+      o.scenes = false;
+    } else if (flag == "--quiet") {
+      o.quiet = true;
+    } else {
+      throw std::invalid_argument("unknown option '" + flag + "' (see hail-bench --help)");
+    }
+  }
+  return o;
+}
+
+struct Row {
+  std::string what, variant;
+  double dt = 0, error = 0, wall_ms = 0;
+  std::string note;
+};
+
+/// Runs the case once; returns its error and the wall time spent in step() (ms).
+std::pair<double, double> run_case(AccuracyCase& c, const Variant& v, double dt) {
+  const PeerScene scene = c.scene();
+  std::unique_ptr<PeerEngine> engine = v.make(scene);
+  c.reset();
+  std::vector<PeerState> state;
+  const long frames = std::lround(c.duration() / dt);
+  const float sub = static_cast<float>(dt / v.substeps);
+  double stepping = 0.0;
+  for (long f = 1; f <= frames; ++f) {
+    const auto t0 = clock_type::now();
+    for (int s = 0; s < v.substeps; ++s) engine->step(sub);
+    stepping += std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+    engine->read_state(state);
+    c.observe(state, static_cast<double>(f) * dt);
+  }
+  return {c.error(), stepping};
+}
+
+/// Positions after `seconds` of a scene at dt, and the wall time of the stepping.
+std::pair<std::vector<PeerState>, double> run_scene_for(const PeerScene& scene, const Variant& v, double dt, double seconds) {
+  std::unique_ptr<PeerEngine> engine = v.make(scene);
+  const long frames = std::lround(seconds / dt);
+  const float sub = static_cast<float>(dt / v.substeps);
+  const auto t0 = clock_type::now();
+  for (long f = 0; f < frames; ++f)
+    for (int s = 0; s < v.substeps; ++s) engine->step(sub);
+  const double ms = std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+  std::vector<PeerState> state;
+  engine->read_state(state);
+  return {state, ms};
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::string dt_label(double dt) {
+  char buffer[32];
+  const double inverse = 1.0 / dt;
+  if (std::fabs(inverse - std::round(inverse)) < 1e-6) std::snprintf(buffer, sizeof buffer, "1/%.0f", inverse);
+  else std::snprintf(buffer, sizeof buffer, "%.6g", dt);
+  return buffer;
+}
+
+// One SVG per case: error against wall time, log-log, one line per variant through its dts.
+const char* kGnuplotScript = R"(# hail-bench accuracy: work-precision plots, one per case.
+set terminal svg size 760,480 dynamic font 'sans,11'
+set logscale xy
+set grid
+set key outside right
+set xlabel 'wall time of the run (ms, stepping only)'
+set ylabel 'relative error (below 1e-9 drawn at 1e-9)'
+do for [c=1:words(CASES)] {
+  name = word(CASES, c)
+  set output 'accuracy_'.name.'.svg'
+  set title name.' ('.MACHINE.')'
+  plot for [v=1:words(VARIANTS)] 'accuracy_'.name.'.dat' index (v - 1) using 1:2 with linespoints title word(VARIANTS, v)
+}
+)";
+
+}  // namespace
+
+int accuracy_command(const std::vector<std::string>& args) {
+  const Options o = parse(args);
+  std::filesystem::create_directories(o.out_dir);
+  const std::vector<Variant> vs = variants();
+  std::vector<Row> rows;
+  std::printf("hail-bench accuracy: error against wall time (%s, %s); median wall time of %d runs\n",
+              cpu_model().c_str(), simd_path().c_str(), o.repeats);
+  std::printf("  %-20s %-22s %8s %12s %12s\n", "case", "engine / knob", "dt", "error", "wall ms");
+  std::vector<std::unique_ptr<AccuracyCase>> cases = known_answer_cases();
+  for (auto& c : cases) {
+    for (const Variant& v : vs) {
+      for (double dt : o.dts) {
+        std::vector<double> walls;
+        double error = 0.0;
+        for (int r = 0; r < o.repeats; ++r) {
+          const auto [e, ms] = run_case(*c, v, dt);
+          error = e, walls.push_back(ms);
+        }
+        rows.push_back({c->name(), v.name, dt, error, median(walls), ""});
+        std::printf("  %-20s %-22s %8s %12.3e %12.3f\n", c->name().c_str(), v.name.c_str(), dt_label(dt).c_str(), error,
+                    rows.back().wall_ms);
+        std::fflush(stdout);
+      }
+    }
+  }
+
+  if (o.scenes) {
+    // No exact answer: compare with hail at dt / 16 after 1 s (RMS of positions over spheres).
+    SceneParams params;
+    params.spheres = o.scene_spheres;
+    params.threads = 1;
+    const std::pair<const char*, SceneBuilder> scenes[] = {{"terrain-rain", build_terrain_rain}, {"bowl-pile", build_bowl_pile}};
+    for (const auto& [name, build] : scenes) {
+      const PeerScene peer = peer_scene_from(build(params), name);
+      const double base = 1.0 / 60.0, seconds = 1.0;
+      if (!o.quiet) std::fprintf(stderr, "  %s: reference run at dt = 1/960 ...\n", name);
+      const std::vector<PeerState> reference = run_scene_for(peer, vs[0], base / 16.0, seconds).first;
+      for (const Variant& v : vs) {
+        for (double dt : {base, base / 4.0}) {
+          std::vector<double> walls;
+          std::vector<PeerState> state;
+          for (int r = 0; r < o.repeats; ++r) {
+            auto [s, ms] = run_scene_for(peer, v, dt, seconds);
+            state = std::move(s), walls.push_back(ms);
+          }
+          double sum = 0.0;
+          std::size_t nan = 0;
+          for (std::size_t k = 0; k < state.size(); ++k) {
+            const Vec3 d = state[k].position - reference[k].position;
+            if (!d.allFinite()) ++nan;
+            else sum += double(d.squaredNorm());
+          }
+          const double rms = std::sqrt(sum / double(std::max<std::size_t>(state.size(), 1)));
+          const std::string what = std::string(name) + "-" + std::to_string(o.scene_spheres);
+          rows.push_back({what, v.name, dt, rms, median(walls), nan ? std::to_string(nan) + " NaN" : ""});
+          std::printf("  %-20s %-22s %8s %12.3e %12.3f   (m, RMS position vs dt = 1/960 at t = 1 s)%s\n", what.c_str(),
+                      v.name.c_str(), dt_label(dt).c_str(), rms, rows.back().wall_ms, rows.back().note.c_str());
+          std::fflush(stdout);
+        }
+      }
+    }
+  }
+
+  nlohmann::json runs = nlohmann::json::array();
+  std::ofstream csv(o.out_dir + "/accuracy.csv");
+  csv << "case,engine,dt,error,wall_ms,note\n";
+  for (const Row& r : rows) {
+    csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ',' << r.note << '\n';
+    runs.push_back({{"case", r.what}, {"engine", r.variant}, {"dt", r.dt}, {"error", r.error}, {"wall_ms", r.wall_ms}, {"note", r.note}});
+  }
+  std::ofstream(o.out_dir + "/accuracy.json")
+      << nlohmann::json{{"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}}}, {"runs", runs}}.dump(2) << "\n";
+  std::printf("  data: %s/accuracy.csv, %s/accuracy.json\n", o.out_dir.c_str(), o.out_dir.c_str());
+  if (!o.plot) return 0;
+
+  std::vector<std::string> case_names, variant_names;
+  for (const Row& r : rows) {
+    if (std::find(case_names.begin(), case_names.end(), r.what) == case_names.end()) case_names.push_back(r.what);
+    if (std::find(variant_names.begin(), variant_names.end(), r.variant) == variant_names.end()) variant_names.push_back(r.variant);
+  }
+  std::string cases_word, variants_word;
+  for (const std::string& c : case_names) {
+    cases_word += (cases_word.empty() ? "" : " ") + c;
+    std::ofstream dat(o.out_dir + "/accuracy_" + c + ".dat");
+    for (const std::string& v : variant_names) {  // one block per variant, two blank lines apart (gnuplot's index)
+      dat << "# " << v << ": wall_ms error\n";
+      for (const Row& r : rows)
+        if (r.what == c && r.variant == v) dat << r.wall_ms << ' ' << std::max(r.error, 1e-9) << '\n';
+      dat << "\n\n";
+    }
+  }
+  for (const std::string& v : variant_names) variants_word += (variants_word.empty() ? "" : " ") + v;
+  std::ofstream(o.out_dir + "/accuracy.gp") << kGnuplotScript;
+  const std::string command = "cd '" + o.out_dir + "' && gnuplot -e \"CASES='" + cases_word + "'; VARIANTS='" +
+                              variants_word + "'; MACHINE='" + cpu_model() + "'\" accuracy.gp";
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+    std::printf("  plots: gnuplot not found (sudo apt-get install gnuplot-nox); data and accuracy.gp are in %s/\n", o.out_dir.c_str());
+  else if (std::system(command.c_str()) != 0)
+    std::printf("  plots: gnuplot failed; run it by hand: %s\n", command.c_str());
+  else
+    std::printf("  plots: %s/accuracy_<case>.svg (one per case)\n", o.out_dir.c_str());
+  return 0;
+}
+
+}  // namespace hail::bench
