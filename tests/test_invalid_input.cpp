@@ -106,6 +106,19 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(WorldSettings{.time_scale = kInf}, "time_scale");
   rejected(WorldSettings{.threads = -2}, "threads");
   rejected(WorldSettings{.restitution_threshold = -1}, "restitution_threshold");
+  auto with = [](auto edit) { WorldSettings s; edit(s); return s; };
+  rejected(with([](WorldSettings& s) { s.collision_iterations = -1; }), "collision_iterations");
+  rejected(with([](WorldSettings& s) { s.resting_iterations = -1; }), "resting_iterations");
+  rejected(with([](WorldSettings& s) { s.depenetration_iterations = -1; }), "depenetration_iterations");
+  rejected(with([](WorldSettings& s) { s.depenetration.fraction = 1.5f; }), "depenetration.fraction");
+  rejected(with([](WorldSettings& s) { s.depenetration.slop_fraction = kNaN; }), "slop_fraction");
+  rejected(with([](WorldSettings& s) { s.speculative_radii = -1; }), "speculative_radii");
+  rejected(with([](WorldSettings& s) { s.reorder_interval = -1; }), "reorder_interval");
+  rejected(with([](WorldSettings& s) { s.warm_start_factor = 1.5f; }), "warm_start_factor");
+  rejected(with([](WorldSettings& s) { s.fast_travel_fraction = 0; }), "fast_travel_fraction");
+  rejected(with([](WorldSettings& s) { s.fast_travel_fraction = kNaN; }), "fast_travel_fraction");
+  rejected(with([](WorldSettings& s) { s.fast_travel_fraction = 2; }), "fast_travel_fraction");
+  rejected(with([](WorldSettings& s) { s.max_sweep_events = 0; }), "max_sweep_events");
 }
 
 TEST_CASE("A stale handle is reported, not dereferenced", "[invalid]") {
