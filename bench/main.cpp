@@ -12,6 +12,7 @@
 #include "query_command.h"
 #include "run_command.h"
 #include "scale_command.h"
+#include "stress_command.h"
 #include "scenes.h"
 
 namespace {
@@ -34,6 +35,9 @@ void print_help() {
       "      error against wall time: the known-answer cases (bounce, slide-to-roll, head-on, cradle, slope roll)\n"
       "      for hail's knobs (integrator, substeps, solver passes) and the peers found at build time, at each dt;\n"
       "      terrain-rain and bowl-pile (N spheres) against a dt/16 reference; table, CSV, JSON, gnuplot SVGs\n"
+      "  stress [--case NAME] [--quick] [--json FILE]\n"
+      "      the stability battery: each stiff or extreme case with its invariants and the worst values\n"
+      "      measured over every step; exit status 1 if any case fails (--quick skips the slow ones)\n"
       "  scale [scene] [--min N] [--max N] [--threads T] [--steps S] [--out DIR] [--no-plot]\n"
       "      the scene at doubling sphere counts (default 1000..256000) on 1..T threads (default: all):\n"
       "      table, DIR/scale.csv, DIR/scale.json, and gnuplot SVGs of ns per sphere-step and speed-up\n"
@@ -61,6 +65,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
     if (args[0] == "accuracy") return hail::bench::accuracy_command(rest);
+    if (args[0] == "stress") return hail::bench::stress_command(rest);
     if (args[0] == "scale") return hail::bench::scale_command(rest);
     if (args[0] == "pairs") return hail::bench::pairs_command(rest);
     if (args[0] == "query") return hail::bench::query_command(rest);

@@ -1,0 +1,304 @@
+#include "stress_cases.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "scenes.h"
+
+namespace hail::bench {
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+std::shared_ptr<const Terrain> flat_terrain(int side = 64, float height = 0.0f, HeightmapParams params = {}) {
+  return std::make_shared<const Terrain>(Heightmap::from_function(side, side, params, [=](float, float) { return height; }));
+}
+
+std::shared_ptr<const Terrain> rain_terrain(HeightmapParams params = {}, float lift = 0.0f) {
+  return std::make_shared<const Terrain>(Heightmap::from_function(256, 256, params, [&](float x, float z) {
+    return lift + terrain_rain_height(x - params.origin_x, z - params.origin_z);
+  }));
+}
+
+std::string format(const char* fmt, double a, double b = 0) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b);
+  return buffer;
+}
+
+/// Steps the world `steps` times of dt, watching every step (pairs every `pair_every` steps).
+StressResult watch(World& world, const std::string& name, const std::string& invariants, int steps, float dt,
+                   StressBounds bounds, double energy_scale = 1.0, double momentum_scale = 1.0, int pair_every = 1) {
+  StressResult r;
+  r.name = name, r.invariants = invariants, r.bounds = bounds;
+  StressWatch w(world, energy_scale, momentum_scale);
+  const auto t0 = clock_type::now();
+  for (int k = 0; k < steps; ++k) {
+    world.step(dt);
+    w.after_step(world, (k + 1) % pair_every == 0 || k + 1 == steps);
+  }
+  r.wall_s = std::chrono::duration<double>(clock_type::now() - t0).count();
+  r.worst = w.worst();
+  judge(r);
+  return r;
+}
+
+WorldSettings all_threads() {
+  WorldSettings s;
+  s.threads = 0;
+  return s;
+}
+
+/// A 3 x 3 layer of light spheres touching on flat ground, a heavy one resting in the middle
+/// hollow on top.
+StressResult heavy_on_light() {
+  World w(all_threads());
+  w.set_terrain(flat_terrain(), 0.5f, 0.5f);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      w.add_sphere({.position = {31.0f + i, 0.5f, 31.0f + j}, .radius = 0.5f, .mass = 1.0f});
+  // Resting on the four around (31.5, 31.5): centre sqrt(1 - 0.5) above their centres.
+  w.add_sphere({.position = {31.5f, 0.5f + std::sqrt(0.5f), 31.5f}, .radius = 0.5f, .mass = 1e4f});
+  return watch(w, "mass-ratio-1e4-on-1", "1e4 kg sphere on nine 1 kg spheres on flat ground, 10 s", 600, 1.0f / 60.0f, {});
+}
+
+/// Three spheres stacked straight up on flat ground: 1 kg at the bottom, then 100 kg, then 1e4 kg.
+StressResult stack_ratios() {
+  World w(all_threads());
+  w.set_terrain(flat_terrain(), 0.5f, 0.5f);
+  const float masses[3] = {1.0f, 100.0f, 1e4f};
+  for (int k = 0; k < 3; ++k) w.add_sphere({.position = {32.0f, 0.5f + k * 1.0f, 32.0f}, .radius = 0.5f, .mass = masses[k]});
+  return watch(w, "stack-1-100-1e4", "vertical stack 1 : 100 : 10,000 kg (bottom to top) on flat ground, 10 s", 600,
+               1.0f / 60.0f, {});
+}
+
+/// A 1e-3 kg sphere at rest hit head-on by a 1e3 kg one at 10 m/s, e = 1, no gravity.
+StressResult light_hit_by_heavy() {
+  WorldSettings s = all_threads();
+  s.gravity = Vec3(0, 0, 0);
+  World w(s);
+  const SphereId light = w.add_sphere({.position = {2, 0, 0}, .radius = 0.5f, .mass = 1e-3f, .restitution = 1, .friction = 0});
+  w.add_sphere({.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = 1e3f, .restitution = 1, .friction = 0});
+  StressBounds b;
+  b.energy_growth = 1e-5, b.momentum_drift = 1e-6;
+  StressResult r = watch(w, "light-hit-by-heavy", "1e-3 kg hit by 1e3 kg at 10 m/s, e = 1, no gravity: momentum and energy held",
+                         120, 1.0f / 60.0f, b, 1.0, 1.0);
+  const double expected = 2.0 * 1e3 / (1e3 + 1e-3) * 10.0;
+  const double got = w.velocity(light).x();
+  r.note = format("light sphere leaves at %.6g m/s (exact %.6g)", got, expected);
+  if (std::fabs(got - expected) > 1e-4 * expected) r.failures.push_back("light sphere's velocity off: " + r.note);
+  return r;
+}
+
+/// Radius 0.01 spheres rained onto radius 10 spheres resting on flat ground.
+StressResult small_among_large() {
+  World w(all_threads());
+  w.set_terrain(flat_terrain(128), 0.5f, 0.5f);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) w.add_sphere({.position = {40.0f + 20.0f * i, 10.0f, 40.0f + 20.0f * j}, .radius = 10.0f, .mass = 1000.0f});
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int k = 0; k < 200; ++k)
+    w.add_sphere({.position = {35.0f + 50.0f * u(rng), 22.0f + 5.0f * u(rng), 35.0f + 50.0f * u(rng)}, .radius = 0.01f, .mass = 1e-3f});
+  return watch(w, "radius-0.01-among-10", "200 spheres of radius 0.01 onto nine of radius 10 on flat ground, 5 s", 300,
+               1.0f / 60.0f, {});
+}
+
+/// Spheres at 1e4 m/s into terrain-rain's terrain, continuous collision on.
+StressResult bullets_1e4() {
+  World w(all_threads());
+  w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int k = 0; k < 100; ++k) {
+    const float a = 6.2831853f * u(rng), dip = 0.3f + 1.2f * u(rng);
+    w.add_sphere({.position = {40.0f + 170.0f * u(rng), 20.0f + 20.0f * u(rng), 40.0f + 170.0f * u(rng)},
+                  .velocity = Vec3(std::cos(a) * std::cos(dip), -std::sin(dip), std::sin(a) * std::cos(dip)) * 1e4f,
+                  .radius = 0.25f, .mass = 1.0f});
+  }
+  return watch(w, "speed-1e4-into-terrain", "100 spheres at 1e4 m/s into terrain-rain's terrain, 2 s", 120, 1.0f / 60.0f, {},
+               1.0, 1.0);
+}
+
+/// A 1e4 m/s sphere into a resting pile on flat ground.
+StressResult bullet_into_pile() {
+  World w(all_threads());
+  w.set_terrain(flat_terrain(), 0.5f, 0.5f);
+  for (int y = 0; y < 3; ++y)
+    for (int z = 0; z < 4; ++z)
+      for (int x = 0; x < 4; ++x) w.add_sphere({.position = {30.0f + x, 0.5f + y, 30.0f + z}, .radius = 0.5f, .mass = 1.0f});
+  for (int k = 0; k < 120; ++k) w.step(1.0f / 60.0f);  // settle
+  w.add_sphere({.position = {5.0f, 1.0f, 31.2f}, .velocity = {1e4f, 0.0f, 0.0f}, .radius = 0.5f, .mass = 1.0f});
+  return watch(w, "speed-1e4-into-pile", "a 1e4 m/s sphere into a settled pile of 48 on flat ground, 2 s", 120, 1.0f / 60.0f, {});
+}
+
+/// The same small pile on terrain-rain's terrain at dt from 1e-5 s to 1/20 s, 0.5 s each.
+StressResult time_steps() {
+  StressResult all;
+  all.name = "dt-1e-5-to-1/20";
+  all.invariants = "27 spheres dropped on terrain-rain's terrain at dt 1e-5, 1e-4, 1e-3, 1/60, 1/20 (0.5 s each)";
+  for (const float dt : {1e-5f, 1e-4f, 1e-3f, 1.0f / 60.0f, 1.0f / 20.0f}) {
+    World w(all_threads());
+    w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+    for (int k = 0; k < 27; ++k)
+      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f, .mass = 1.0f});
+    const int steps = static_cast<int>(std::lround(0.5 / dt));
+    StressResult r = watch(w, all.name, all.invariants, steps, dt, {}, 100.0, 1.0, steps > 1000 ? 100 : 1);
+    all.wall_s += r.wall_s;
+    StressWorst& a = all.worst;
+    a.non_finite = std::max(a.non_finite, r.worst.non_finite);
+    a.below_surface = std::max(a.below_surface, r.worst.below_surface);
+    a.sphere_penetration = std::max(a.sphere_penetration, r.worst.sphere_penetration);
+    a.ground_penetration = std::max(a.ground_penetration, r.worst.ground_penetration);
+    a.energy_growth = std::max(a.energy_growth, r.worst.energy_growth);
+    a.steps += r.worst.steps;
+    for (const std::string& f : r.failures) all.failures.push_back(format("dt %.3g: ", dt) + f);
+  }
+  return all;
+}
+
+/// Coincident centres, and spheres placed exactly on triangle edges and vertices.
+StressResult coincident_and_edges() {
+  World w(all_threads());
+  w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+  w.add_sphere({.position = {100.0f, 20.0f, 100.0f}, .radius = 0.5f, .mass = 1.0f});
+  w.add_sphere({.position = {100.0f, 20.0f, 100.0f}, .radius = 0.5f, .mass = 1.0f});  // same centre
+  const Heightmap& h = w.terrain()->heightmap();
+  for (int i = 60; i < 64; ++i) {
+    // Lowest point exactly on vertex (i, 60), and on the midpoint of the diagonal of cell (i, 62).
+    w.add_sphere({.position = {float(i), h.h(i, 60) + 0.5f, 60.0f}, .radius = 0.5f, .mass = 1.0f});
+    const float mx = i + 0.5f, mz = 62.5f;
+    w.add_sphere({.position = {mx, h.surface_height(mx, mz) + 0.5f, mz}, .radius = 0.5f, .mass = 1.0f});
+  }
+  StressBounds b;
+  b.sphere_penetration = 2.1;  // the coincident pair starts fully overlapped; the case checks it is pushed apart
+  StressResult r = watch(w, "coincident-and-on-edges", "two spheres with the same centre; spheres on vertices and edges, 3 s",
+                         180, 1.0f / 60.0f, b, 10.0);
+  const SphereState s = w.spheres();
+  double closest = 1e9;
+  for (std::size_t i = 0; i < w.sphere_count(); ++i)
+    for (std::size_t j = i + 1; j < w.sphere_count(); ++j) {
+      const double dx = s.px[j] - s.px[i], dy = s.py[j] - s.py[i], dz = s.pz[j] - s.pz[i];
+      closest = std::min(closest, std::sqrt(dx * dx + dy * dy + dz * dz));
+    }
+  r.note = format("closest centres at the end %.4g m (touching: 1)", closest);
+  if (closest < 0.95) r.failures.push_back("spheres still overlapping at the end: " + r.note);
+  return r;
+}
+
+/// A vertical 10 m cliff and one-cell spikes 8 m high; spheres rain onto both.
+StressResult cliffs_and_spikes() {
+  World w(all_threads());
+  auto terrain = std::make_shared<const Terrain>(Heightmap::from_function(64, 64, {}, [](float x, float z) {
+    if (int(x) == 20 && int(z) % 8 == 4) return 8.0f;  // spikes one vertex wide
+    return x < 32.0f ? 10.0f : 0.0f;                 // the cliff between x = 31 and 32
+  }));
+  w.set_terrain(terrain, 0.5f, 0.5f);
+  for (int k = 0; k < 100; ++k)
+    w.add_sphere({.position = {16.0f + (k % 10) * 2.0f, 14.0f + (k / 50), 4.0f + ((k / 10) % 5) * 12.0f},
+                  .velocity = {6.0f, 0.0f, 0.0f}, .radius = 0.4f, .mass = 1.0f});
+  return watch(w, "cliff-and-spikes", "100 spheres rolled over a 10 m vertical cliff and 8 m one-vertex spikes, 6 s", 360,
+               1.0f / 60.0f, {}, 100.0);
+}
+
+/// terrain-rain's terrain lifted to 1e4 m, and moved 1e4 m and 1e5 m away from the origin.
+StressResult far_away(float offset, float lift, const char* name) {
+  World w(all_threads());
+  HeightmapParams params;
+  params.origin_x = offset, params.origin_z = offset;
+  w.set_terrain(rain_terrain(params, lift), 0.5f, 0.5f);
+  for (int k = 0; k < 100; ++k)
+    w.add_sphere({.position = {offset + 120.0f + (k % 10) * 1.5f, lift + 13.0f, offset + 120.0f + (k / 10) * 1.5f},
+                  .radius = 0.5f, .mass = 1.0f});
+  StressBounds b;
+  b.energy_growth = 0.01;
+  return watch(w, name, "100 spheres raining onto terrain-rain's terrain, moved away from the origin, 5 s", 300,
+               1.0f / 60.0f, b, 1000.0);
+}
+
+/// Restitution 0 and 1, friction 0 and 10, time scale 0 and 100 on a small rain.
+StressResult materials_and_time_scale() {
+  StressResult all;
+  all.name = "materials-and-time-scale";
+  all.invariants = "27 spheres on terrain-rain's terrain with e 0 / 1, mu 0 / 10, time scale 0 / 100, 2 s each";
+  struct Variant { float e, mu, scale; };
+  for (const Variant v : {Variant{0, 0.5f, 1}, Variant{1, 0.5f, 1}, Variant{0.5f, 0, 1}, Variant{0.5f, 10, 1},
+                          Variant{0.5f, 0.5f, 0}, Variant{0.5f, 0.5f, 100}}) {
+    WorldSettings s = all_threads();
+    s.time_scale = v.scale;
+    World w(s);
+    w.set_terrain(rain_terrain(), v.e, v.mu);
+    for (int k = 0; k < 27; ++k)
+      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f,
+                    .mass = 1.0f, .restitution = v.e, .friction = v.mu});
+    StressResult r = watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 100.0);
+    all.wall_s += r.wall_s;
+    StressWorst& a = all.worst;
+    a.non_finite = std::max(a.non_finite, r.worst.non_finite);
+    a.below_surface = std::max(a.below_surface, r.worst.below_surface);
+    a.sphere_penetration = std::max(a.sphere_penetration, r.worst.sphere_penetration);
+    a.ground_penetration = std::max(a.ground_penetration, r.worst.ground_penetration);
+    a.energy_growth = std::max(a.energy_growth, r.worst.energy_growth);
+    a.steps += r.worst.steps;
+    char label[64];
+    std::snprintf(label, sizeof label, "e %g, mu %g, time scale %g: ", v.e, v.mu, v.scale);
+    for (const std::string& f : r.failures) all.failures.push_back(label + f);
+  }
+  return all;
+}
+
+/// bowl-pile with 10,000 spheres for 20 s: it must end at rest.
+StressResult dense_pile() {
+  SceneParams p;
+  p.spheres = 10000;
+  Scene scene = build_bowl_pile(p);
+  World& w = *scene.world;
+  StressResult r = watch(w, "bowl-pile-10k-20s", "bowl-pile, 10,000 spheres, 1,200 steps: settles (KE < 1e-3 J per sphere)",
+                         1200, 1.0f / 60.0f, {}, 1e4, 1.0, 100);
+  const double per_sphere = w.kinetic_energy() / double(w.sphere_count());
+  r.note = format("kinetic energy at 20 s: %.3g J per sphere", per_sphere);
+  if (!(per_sphere < 1e-3)) r.failures.push_back("not at rest: " + r.note);
+  return r;
+}
+
+}  // namespace
+
+void judge(StressResult& r) {
+  const StressWorst& w = r.worst;
+  const StressBounds& b = r.bounds;
+  if (w.non_finite > 0) r.failures.push_back(format("%.0f non-finite state components", double(w.non_finite)));
+  if (w.below_surface > 0) r.failures.push_back(format("%.0f centres below the terrain surface", double(w.below_surface)));
+  if (b.sphere_penetration >= 0 && w.sphere_penetration > b.sphere_penetration)
+    r.failures.push_back(format("sphere penetration %.3g of the smaller radius (bound %.3g)", w.sphere_penetration, b.sphere_penetration));
+  if (b.ground_penetration >= 0 && w.ground_penetration > b.ground_penetration)
+    r.failures.push_back(format("ground penetration %.3g of the radius (bound %.3g)", w.ground_penetration, b.ground_penetration));
+  if (b.energy_growth >= 0 && w.energy_growth > b.energy_growth)
+    r.failures.push_back(format("mechanical energy grew by %.3g (bound %.3g)", w.energy_growth, b.energy_growth));
+  if (b.momentum_drift >= 0 && w.momentum_drift > b.momentum_drift)
+    r.failures.push_back(format("momentum drifted by %.3g (bound %.3g)", w.momentum_drift, b.momentum_drift));
+}
+
+std::vector<StressCase> stress_cases() {
+  return {
+      {"mass-ratio-1e4-on-1", false, heavy_on_light},
+      {"stack-1-100-1e4", false, stack_ratios},
+      {"light-hit-by-heavy", false, light_hit_by_heavy},
+      {"radius-0.01-among-10", false, small_among_large},
+      {"speed-1e4-into-terrain", false, bullets_1e4},
+      {"speed-1e4-into-pile", false, bullet_into_pile},
+      {"dt-1e-5-to-1/20", false, time_steps},
+      {"coincident-and-on-edges", false, coincident_and_edges},
+      {"cliff-and-spikes", false, cliffs_and_spikes},
+      {"rain-at-origin", false, [] { return far_away(0.0f, 0.0f, "rain-at-origin"); }},
+      {"heights-1e4", false, [] { return far_away(0.0f, 1e4f, "heights-1e4"); }},
+      {"far-1e4", false, [] { return far_away(1e4f, 0.0f, "far-1e4"); }},
+      {"far-1e5", false, [] { return far_away(1e5f, 0.0f, "far-1e5"); }},
+      {"materials-and-time-scale", false, materials_and_time_scale},
+      {"bowl-pile-10k-20s", true, dense_pile},
+  };
+}
+
+}  // namespace hail::bench

@@ -1,0 +1,58 @@
+#include "stress_command.h"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "machine_info.h"
+#include "stress_cases.h"
+
+namespace hail::bench {
+
+int stress_command(const std::vector<std::string>& args) {
+  std::string only, json_path;
+  bool quick = false;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw std::invalid_argument(args[k] + " needs a value");
+      return args[++k];
+    };
+    if (args[k] == "--case") only = value();
+    else if (args[k] == "--json") json_path = value();
+    else if (args[k] == "--quick") quick = true;
+    else throw std::invalid_argument("unknown option '" + args[k] + "' (see hail-bench --help)");
+  }
+  std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
+  std::printf("  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
+              "  no NaN, no centre below the terrain surface; worst values over every step\n\n");
+  std::printf("  %-26s %-6s %7s %6s %9s %9s %10s %10s %7s\n", "case", "result", "steps", "NaN", "below", "pen. sph",
+              "pen. gnd", "energy +", "s");
+  int failed = 0, ran = 0;
+  nlohmann::json out = nlohmann::json::array();
+  for (const StressCase& c : stress_cases()) {
+    if (!only.empty() && c.name != only) continue;
+    if (quick && c.slow) continue;
+    const StressResult r = c.run();
+    ++ran;
+    const StressWorst& w = r.worst;
+    std::printf("  %-26s %-6s %7d %6zu %9zu %9.3g %10.3g %10.3g %7.2f\n", r.name.c_str(), r.passed() ? "ok" : "FAIL",
+                w.steps, w.non_finite, w.below_surface, w.sphere_penetration, w.ground_penetration, w.energy_growth, r.wall_s);
+    std::printf("      %s\n", r.invariants.c_str());
+    if (!r.note.empty()) std::printf("      %s\n", r.note.c_str());
+    for (const std::string& f : r.failures) std::printf("      FAILED: %s\n", f.c_str());
+    std::fflush(stdout);
+    failed += r.passed() ? 0 : 1;
+    out.push_back({{"case", r.name}, {"invariants", r.invariants}, {"passed", r.passed()}, {"steps", w.steps},
+                   {"non_finite", w.non_finite}, {"below_surface", w.below_surface},
+                   {"sphere_penetration", w.sphere_penetration}, {"ground_penetration", w.ground_penetration},
+                   {"energy_growth", w.energy_growth}, {"momentum_drift", w.momentum_drift}, {"wall_s", r.wall_s},
+                   {"note", r.note}, {"failures", r.failures}});
+  }
+  if (ran == 0) throw std::invalid_argument("no stress case named '" + only + "'");
+  std::printf("\n  %d of %d cases passed\n", ran - failed, ran);
+  if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace hail::bench
