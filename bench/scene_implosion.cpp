@@ -7,15 +7,8 @@ namespace hail::bench {
 // implosion: N spheres of radius 0.5 on a cubic lattice of spacing 1.5 m centred on the origin,
 // each moving towards the origin at 5 m/s; restitution 1, friction 0; no terrain, no gravity.
 Scene build_implosion(const SceneParams& p) {
-  WorldSettings settings;
+  WorldSettings settings = world_settings(p);
   settings.gravity = Vec3::Zero();
-  settings.threads = p.threads;
-  settings.reorder_interval = p.reorder_interval;
-  settings.pair_search = p.pair_search;
-  settings.warm_start = p.warm_start;
-  settings.warm_start_factor = p.warm_start_factor;
-  settings.resting_iterations = p.resting_iterations;
-  settings.continuous_collision = p.continuous_collision;
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.default_steps = 600;

@@ -13,14 +13,7 @@ namespace {
 
 Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_y, std::size_t max_side,
                    float spacing, float centre_x, float centre_z, const char* description) {
-  WorldSettings settings;
-  settings.threads = p.threads;
-  settings.reorder_interval = p.reorder_interval;
-  settings.pair_search = p.pair_search;
-  settings.warm_start = p.warm_start;
-  settings.warm_start_factor = p.warm_start_factor;
-  settings.resting_iterations = p.resting_iterations;
-  settings.continuous_collision = p.continuous_collision;
+  const WorldSettings settings = world_settings(p);
   Scene scene;
   scene.world = std::make_unique<World>(settings);
   scene.has_terrain = true;

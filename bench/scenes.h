@@ -23,6 +23,19 @@ struct SceneParams {
   bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
 };
 
+/// The WorldSettings the command-line parameters ask for (the rest at their defaults).
+inline WorldSettings world_settings(const SceneParams& p) {
+  WorldSettings s;
+  s.threads = p.threads;
+  s.reorder_interval = p.reorder_interval;
+  s.pair_search = p.pair_search;
+  s.warm_start = p.warm_start;
+  s.warm_start_factor = p.warm_start_factor;
+  s.resting_iterations = p.resting_iterations;
+  s.continuous_collision = p.continuous_collision;
+  return s;
+}
+
 /// What a scene builds and how its results are judged.
 struct Scene {
   std::unique_ptr<World> world;

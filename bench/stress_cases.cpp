@@ -46,6 +46,21 @@ StressResult watch(World& world, const std::string& name, const std::string& inv
   return r;
 }
 
+/// Folds one run of a case with several variants into the case: worst of the worst values,
+/// failures labelled with the variant.
+void merge_into(StressResult& all, const StressResult& r, const std::string& label) {
+  all.wall_s += r.wall_s;
+  StressWorst& a = all.worst;
+  a.non_finite = std::max(a.non_finite, r.worst.non_finite);
+  a.below_surface = std::max(a.below_surface, r.worst.below_surface);
+  a.sphere_penetration = std::max(a.sphere_penetration, r.worst.sphere_penetration);
+  a.ground_penetration = std::max(a.ground_penetration, r.worst.ground_penetration);
+  a.energy_growth = std::max(a.energy_growth, r.worst.energy_growth);
+  a.momentum_drift = std::max(a.momentum_drift, r.worst.momentum_drift);
+  a.steps += r.worst.steps;
+  for (const std::string& f : r.failures) all.failures.push_back(label + f);
+}
+
 WorldSettings all_threads() {
   WorldSettings s;
   s.threads = 0;
@@ -146,16 +161,8 @@ StressResult time_steps() {
     for (int k = 0; k < 27; ++k)
       w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f, .mass = 1.0f});
     const int steps = static_cast<int>(std::lround(0.5 / dt));
-    StressResult r = watch(w, all.name, all.invariants, steps, dt, {}, 100.0, 1.0, steps > 1000 ? 100 : 1);
-    all.wall_s += r.wall_s;
-    StressWorst& a = all.worst;
-    a.non_finite = std::max(a.non_finite, r.worst.non_finite);
-    a.below_surface = std::max(a.below_surface, r.worst.below_surface);
-    a.sphere_penetration = std::max(a.sphere_penetration, r.worst.sphere_penetration);
-    a.ground_penetration = std::max(a.ground_penetration, r.worst.ground_penetration);
-    a.energy_growth = std::max(a.energy_growth, r.worst.energy_growth);
-    a.steps += r.worst.steps;
-    for (const std::string& f : r.failures) all.failures.push_back(format("dt %.3g: ", dt) + f);
+    const StressResult r = watch(w, all.name, all.invariants, steps, dt, {}, 100.0, 1.0, steps > 1000 ? 100 : 1);
+    merge_into(all, r, format("dt %.3g: ", dt));
   }
   return all;
 }
@@ -234,18 +241,10 @@ StressResult materials_and_time_scale() {
     for (int k = 0; k < 27; ++k)
       w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f,
                     .mass = 1.0f, .restitution = v.e, .friction = v.mu});
-    StressResult r = watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 100.0);
-    all.wall_s += r.wall_s;
-    StressWorst& a = all.worst;
-    a.non_finite = std::max(a.non_finite, r.worst.non_finite);
-    a.below_surface = std::max(a.below_surface, r.worst.below_surface);
-    a.sphere_penetration = std::max(a.sphere_penetration, r.worst.sphere_penetration);
-    a.ground_penetration = std::max(a.ground_penetration, r.worst.ground_penetration);
-    a.energy_growth = std::max(a.energy_growth, r.worst.energy_growth);
-    a.steps += r.worst.steps;
+    const StressResult r = watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 100.0);
     char label[64];
     std::snprintf(label, sizeof label, "e %g, mu %g, time scale %g: ", v.e, v.mu, v.scale);
-    for (const std::string& f : r.failures) all.failures.push_back(label + f);
+    merge_into(all, r, label);
   }
   return all;
 }

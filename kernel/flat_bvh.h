@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kernel/aabb.h"
@@ -114,26 +115,10 @@ struct RayHit {
 /// of primitive k (BVH order), or anything negative, NaN or >= the best so far for a miss (a
 /// tie keeps the first hit found). Stackless; nodes whose entry distance exceeds the best hit
 /// so far are skipped. `dir` need not be unit; t is in units of |dir|.
-template <class Intersect, class Count = NoNodeCount>
-[[nodiscard]] RayHit query_ray(const FlatBvh& bvh, const float origin[3], const float dir[3], float t_max,
-                               Intersect&& intersect, Count&& count = {}) {
-  const float inv_dir[3] = {1.0f / dir[0], 1.0f / dir[1], 1.0f / dir[2]};  // +-inf for 0: see ray_overlaps
-  RayHit best{t_max, kNoPrimitive};
-  walk_stackless(
-      bvh.nodes, [&](const FlatNode& n) { return ray_overlaps(n, origin, inv_dir, best.t); },
-      [&](std::uint32_t first, std::uint32_t n) {
-        for (std::uint32_t k = first; k < first + n; ++k) {
-          const float t = intersect(k);
-          if (t >= 0.0f && t < best.t) best = RayHit{t, k};
-        }
-      },
-      count);
-  return best;
-}
-
-/// Earliest hit of a sphere of radius r swept along o + t d, t in [0, t_max): query_ray's walk
-/// with every node box grown by r, so the path's whole width is covered; intersect(k) returns
-/// the sphere's time of impact with primitive k, with query_ray's rules. Only the leaves along
+/// Earliest hit of a sphere of radius r swept along o + t d, t in [0, t_max): the stackless ray
+/// walk with every node box grown by r, so the path's whole width is covered; intersect(k)
+/// returns the sphere's time of impact with primitive k, or anything negative, NaN or >= the
+/// best so far for a miss (a tie keeps the first hit found). Only the leaves along
 /// the path are visited, and those entered after the earliest hit so far are skipped, where a
 /// box around the whole path (query_aabb) would visit every leaf it spans.
 template <class Intersect, class Count = NoNodeCount>
@@ -151,6 +136,17 @@ template <class Intersect, class Count = NoNodeCount>
       },
       count);
   return best;
+}
+
+/// Nearest-hit ray query over o + t d, t in [0, t_max): intersect(k) returns the hit distance
+/// of primitive k (BVH order), or anything negative, NaN or >= the best so far for a miss (a
+/// tie keeps the first hit found). Stackless; nodes whose entry distance exceeds the best hit
+/// so far are skipped. `dir` need not be unit; t is in units of |dir|. (A swept sphere of
+/// radius 0: the node boxes are not grown.)
+template <class Intersect, class Count = NoNodeCount>
+[[nodiscard]] RayHit query_ray(const FlatBvh& bvh, const float origin[3], const float dir[3], float t_max,
+                               Intersect&& intersect, Count&& count = {}) {
+  return query_swept_sphere(bvh, origin, dir, t_max, 0.0f, std::forward<Intersect>(intersect), std::forward<Count>(count));
 }
 
 /// Brute force beside the BVH (tests, benchmark): visit(i) for every box bounds[i] the sphere
