@@ -42,7 +42,9 @@ std::vector<Variant> variants() {
   v.push_back({"hail-uniform-accel", hail_with([](WorldSettings& s) { s.integrator = Integrator::UniformAcceleration; }), 1});
   v.push_back({"hail-4-substeps", hail_with([](WorldSettings&) {}), 4});
   v.push_back({"hail-4+2-passes", hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
-  for (const PeerFactory& peer : peer_factories()) v.push_back({peer.name, peer.make, 1});
+  // Peers at their defaults, and with 4 substeps per frame (their usual accuracy knob).
+  for (const PeerFactory& peer : peer_factories())
+    v.push_back({peer.name, peer.make, peer.name.ends_with("-4-substeps") ? 4 : 1});
   return v;
 }
 

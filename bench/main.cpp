@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "accuracy_command.h"
+#include "compare_command.h"
 #include "kernel/errors.h"
 #include "pairs_command.h"
 #include "query_command.h"
@@ -35,6 +36,10 @@ void print_help() {
       "      error against wall time: the known-answer cases (bounce, slide-to-roll, head-on, cradle, slope roll)\n"
       "      for hail's knobs (integrator, substeps, solver passes) and the peers found at build time, at each dt;\n"
       "      terrain-rain and bowl-pile (N spheres) against a dt/16 reference; table, CSV, JSON, gnuplot SVGs\n"
+      "  compare <scene> [--spheres N] [--threads T] [--steps S] [--repeat R] [--json FILE] [--quiet]\n"
+      "      hail and Bullet (libbullet-dev, if found at configure time; single-threaded) on the identical scene,\n"
+      "      R runs each (default 3) alternating ABBA, Bullet with sleeping on (its default) and off: one table of\n"
+      "      ms/step (median, mean, ratio) and error figures side by side; without Bullet, hail alone\n"
       "  stress [--case NAME] [--quick] [--json FILE]\n"
       "      the stability battery: each stiff or extreme case with its invariants and the worst values\n"
       "      measured over every step; exit status 1 if any case fails (--quick skips the slow ones)\n"
@@ -66,6 +71,7 @@ int main(int argc, char** argv) {
     if (args[0] == "run") return hail::bench::run_command(rest);
     if (args[0] == "accuracy") return hail::bench::accuracy_command(rest);
     if (args[0] == "stress") return hail::bench::stress_command(rest);
+    if (args[0] == "compare") return hail::bench::compare_command(rest);
     if (args[0] == "scale") return hail::bench::scale_command(rest);
     if (args[0] == "pairs") return hail::bench::pairs_command(rest);
     if (args[0] == "query") return hail::bench::query_command(rest);

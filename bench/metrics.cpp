@@ -7,12 +7,12 @@
 #include <vector>
 
 namespace hail::bench {
-namespace {
 
-double max_pair_overlap(const SphereSoA& s) {
-  const std::size_t n = s.size();
+double max_pair_overlap(std::span<const float> px, std::span<const float> py, std::span<const float> pz,
+                        std::span<const float> radius) {
+  const std::size_t n = radius.size();
   float max_radius = 0.0f;
-  for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, s.radius[i]);
+  for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, radius[i]);
   if (n < 2 || max_radius <= 0.0f) return 0.0;
   const double cell = 2.0 * max_radius;
   auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -23,15 +23,15 @@ double max_pair_overlap(const SphereSoA& s) {
   grid.reserve(n);
   std::vector<std::int64_t> cx(n), cy(n), cz(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(s.px[i]) || !std::isfinite(s.py[i]) || !std::isfinite(s.pz[i])) continue;
-    cx[i] = static_cast<std::int64_t>(std::floor(s.px[i] / cell));
-    cy[i] = static_cast<std::int64_t>(std::floor(s.py[i] / cell));
-    cz[i] = static_cast<std::int64_t>(std::floor(s.pz[i] / cell));
+    if (!std::isfinite(px[i]) || !std::isfinite(py[i]) || !std::isfinite(pz[i])) continue;
+    cx[i] = static_cast<std::int64_t>(std::floor(px[i] / cell));
+    cy[i] = static_cast<std::int64_t>(std::floor(py[i] / cell));
+    cz[i] = static_cast<std::int64_t>(std::floor(pz[i] / cell));
     grid[key(cx[i], cy[i], cz[i])].push_back(static_cast<std::uint32_t>(i));
   }
   double deepest = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(s.px[i]) || !std::isfinite(s.py[i]) || !std::isfinite(s.pz[i])) continue;
+    if (!std::isfinite(px[i]) || !std::isfinite(py[i]) || !std::isfinite(pz[i])) continue;
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
@@ -39,8 +39,8 @@ double max_pair_overlap(const SphereSoA& s) {
           if (it == grid.end()) continue;
           for (std::uint32_t j : it->second) {
             if (j <= i) continue;
-            const double ddx = double(s.px[j]) - s.px[i], ddy = double(s.py[j]) - s.py[i], ddz = double(s.pz[j]) - s.pz[i];
-            const double overlap = double(s.radius[i]) + s.radius[j] - std::sqrt(ddx * ddx + ddy * ddy + ddz * ddz);
+            const double ddx = double(px[j]) - px[i], ddy = double(py[j]) - py[i], ddz = double(pz[j]) - pz[i];
+            const double overlap = double(radius[i]) + radius[j] - std::sqrt(ddx * ddx + ddy * ddy + ddz * ddz);
             deepest = std::max(deepest, overlap);
           }
         }
@@ -48,15 +48,13 @@ double max_pair_overlap(const SphereSoA& s) {
   return deepest;
 }
 
-}  // namespace
-
 ErrorFigures measure_errors(const Scene& scene) {
   const World& world = *scene.world;
   const SphereSoA& s = world.soa();
   ErrorFigures e;
   e.nan_count = world.nan_count();
   e.kinetic_energy = world.kinetic_energy();
-  e.max_sphere_penetration = max_pair_overlap(s);
+  e.max_sphere_penetration = max_pair_overlap(s.px.span(), s.py.span(), s.pz.span(), s.radius.span());
   for (std::size_t i = 0; i < s.size(); ++i) {
     for (const Plane& p : world.planes())
       e.max_terrain_penetration = std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));

@@ -3,6 +3,7 @@
 // kernel's own contact lists (a grid hash here), so a kernel bug cannot hide its own overlap.
 
 #include <cstddef>
+#include <span>
 
 #include "scenes.h"
 
@@ -19,5 +20,10 @@ struct ErrorFigures {
 };
 
 ErrorFigures measure_errors(const Scene& scene);
+
+/// Deepest overlap (m, >= 0) of any two spheres given by centre coordinates and radii (equal
+/// lengths), by a grid hash; spheres with a non-finite centre are skipped.
+double max_pair_overlap(std::span<const float> px, std::span<const float> py, std::span<const float> pz,
+                        std::span<const float> radius);
 
 }  // namespace hail::bench
