@@ -13,6 +13,7 @@
 
 #include "accuracy_cases.h"
 #include "machine_info.h"
+#include "metrics.h"
 #include "peer_engine.h"
 #include "scenes.h"
 
@@ -128,6 +129,29 @@ std::pair<double, double> run_case(AccuracyCase& c, const Variant& v, double dt)
   return {c.error(), stepping};
 }
 
+/// What a scene run ends with besides its positions: deepest sphere and ground penetration (m)
+/// and kinetic energy (J, translational + rotational of solid spheres).
+struct SceneFigures {
+  double sphere_penetration = 0, ground_penetration = 0, kinetic_energy = 0;
+};
+
+SceneFigures scene_figures(const PeerScene& scene, const Terrain* terrain, const std::vector<PeerState>& state) {
+  SceneFigures f;
+  std::vector<float> px, py, pz, r;
+  for (std::size_t k = 0; k < state.size(); ++k) {
+    const PeerSphere& s = scene.spheres[k];
+    px.push_back(state[k].position.x()), py.push_back(state[k].position.y()), pz.push_back(state[k].position.z());
+    r.push_back(s.radius);
+    f.kinetic_energy += 0.5 * s.mass * double(state[k].velocity.squaredNorm()) +
+                        0.5 * 0.4 * s.mass * s.radius * s.radius * double(state[k].angular_velocity.squaredNorm());
+    if (terrain)
+      f.ground_penetration = std::max<double>(
+          f.ground_penetration, terrain->penetration(px.back(), py.back(), pz.back(), s.radius));
+  }
+  f.sphere_penetration = max_pair_overlap(px, py, pz, r);
+  return f;
+}
+
 /// Positions after `seconds` of a scene at dt, and the wall time of the stepping.
 std::pair<std::vector<PeerState>, double> run_scene_for(const PeerScene& scene, const Variant& v, double dt, double seconds) {
   std::unique_ptr<PeerEngine> engine = v.make(scene);
@@ -207,9 +231,11 @@ int accuracy_command(const std::vector<std::string>& args) {
     const std::pair<const char*, SceneBuilder> scenes[] = {{"terrain-rain", build_terrain_rain}, {"bowl-pile", build_bowl_pile}};
     for (const auto& [name, build] : scenes) {
       const PeerScene peer = peer_scene_from(build(params), name);
+      const Terrain terrain(*peer.heightmap);
       const double base = 1.0 / 60.0, seconds = 1.0;
       if (!o.quiet) std::fprintf(stderr, "  %s: reference run at dt = 1/960 ...\n", name);
       const std::vector<PeerState> reference = run_scene_for(peer, vs[0], base / 16.0, seconds).first;
+      const double reference_energy = scene_figures(peer, &terrain, reference).kinetic_energy;
       for (const Variant& v : vs) {
         for (double dt : {base, base / 4.0}) {
           std::vector<double> walls;
@@ -227,9 +253,15 @@ int accuracy_command(const std::vector<std::string>& args) {
           }
           const double rms = std::sqrt(sum / double(std::max<std::size_t>(state.size(), 1)));
           const std::string what = std::string(name) + "-" + std::to_string(o.scene_spheres);
-          rows.push_back({what, v.name, dt, rms, median(walls), nan ? std::to_string(nan) + " NaN" : ""});
-          std::printf("  %-20s %-22s %8s %12.3e %12.3f   (m, RMS position vs dt = 1/960 at t = 1 s)%s\n", what.c_str(),
-                      v.name.c_str(), dt_label(dt).c_str(), rms, rows.back().wall_ms, rows.back().note.c_str());
+          const SceneFigures fig = scene_figures(peer, &terrain, state);
+          char note[160];
+          std::snprintf(note, sizeof note, "penetration %.3g m spheres / %.3g m ground; KE %+.2f%% vs the reference%s",
+                        fig.sphere_penetration, fig.ground_penetration,
+                        100.0 * (fig.kinetic_energy - reference_energy) / std::max(reference_energy, 1e-9),
+                        nan ? (", " + std::to_string(nan) + " NaN").c_str() : "");
+          rows.push_back({what, v.name, dt, rms, median(walls), note});
+          std::printf("  %-20s %-22s %8s %12.3e %12.3f   (m, RMS position vs dt = 1/960 at t = 1 s; %s)\n", what.c_str(),
+                      v.name.c_str(), dt_label(dt).c_str(), rms, rows.back().wall_ms, note);
           std::fflush(stdout);
         }
       }
@@ -240,7 +272,7 @@ int accuracy_command(const std::vector<std::string>& args) {
   std::ofstream csv(o.out_dir + "/accuracy.csv");
   csv << "case,engine,dt,error,wall_ms,note\n";
   for (const Row& r : rows) {
-    csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ',' << r.note << '\n';
+    csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ",\"" << r.note << "\"\n";
     runs.push_back({{"case", r.what}, {"engine", r.variant}, {"dt", r.dt}, {"error", r.error}, {"wall_ms", r.wall_ms}, {"note", r.note}});
   }
   std::ofstream(o.out_dir + "/accuracy.json")
