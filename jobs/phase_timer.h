@@ -1,5 +1,6 @@
 #pragma once
-// Always-on per-phase wall-clock timing: one steady_clock read at each end of a phase.
+// Always-on per-phase wall-clock timing: one steady_clock read at each end of a phase. Adds to
+// its counter, so the substeps of one step sum up.
 
 #include <chrono>
 
@@ -9,7 +10,7 @@ class ScopedPhaseTimer {
  public:
   explicit ScopedPhaseTimer(double& milliseconds) : out_(milliseconds), start_(std::chrono::steady_clock::now()) {}
   ~ScopedPhaseTimer() {
-    out_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+    out_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
   }
   ScopedPhaseTimer(const ScopedPhaseTimer&) = delete;
   ScopedPhaseTimer& operator=(const ScopedPhaseTimer&) = delete;

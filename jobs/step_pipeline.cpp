@@ -369,6 +369,12 @@ void World::step(float dt) {
   const float scaled = dt * settings_.time_scale;
   times_ = {};
   if (scaled <= 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
+  // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
+  const int substeps = std::max(1, static_cast<int>(std::ceil(double(scaled) / double(settings_.max_substep))));
+  for (int k = 0; k < substeps; ++k) substep(scaled / static_cast<float>(substeps));
+}
+
+void World::substep(float scaled) {
   StepPipeline pipeline{*this, {}};
   pipeline.params.integrator = settings_.integrator;
   pipeline.params.gravity[0] = settings_.gravity.x();

@@ -32,6 +32,8 @@ void World::validate(const WorldSettings& s) {
   require_finite(s.gravity, "WorldSettings::gravity");
   require(std::isfinite(s.time_scale) && s.time_scale >= 0.0f,
           "WorldSettings::time_scale must be finite and >= 0, got " + std::to_string(s.time_scale));
+  require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
+          describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
   require(s.threads >= 0, "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
   require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
