@@ -1,0 +1,35 @@
+// libFuzzer target: the heightmap loaders (PGM, PNG, raw float32 / uint16) on arbitrary bytes.
+// The first byte picks the loader (and for raw files the size), the rest is the file. A bad
+// file must end in hail::FileError or hail::InvalidArgument, never a crash, a hang, a huge
+// allocation or a sanitizer report. Run through scripts/fuzz.sh.
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "kernel/errors.h"
+#include "kernel/heightmap.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 1) return 0;
+  static const std::string path = "/tmp/hail_fuzz_heightmap_" + std::to_string(getpid());
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
+  }
+  const std::uint8_t pick = data[0];
+  const std::uint32_t cols = 2 + (pick >> 4), rows = 2 + ((pick >> 2) & 3);
+  try {
+    switch (pick & 3) {
+      case 0: (void)hail::Heightmap::load_pgm(path, {}); break;
+      case 1: (void)hail::Heightmap::load_png(path, {}); break;
+      case 2: (void)hail::Heightmap::load_raw_f32(path, cols, rows, {}); break;
+      default: (void)hail::Heightmap::load_raw_u16(path, cols, rows, {}, (pick & 0x80) != 0); break;
+    }
+  } catch (const hail::FileError&) {
+  } catch (const hail::InvalidArgument&) {
+  }
+  return 0;
+}
