@@ -27,22 +27,10 @@ struct SplitMix64 {
 }  // namespace
 
 Scene build_bullets(const SceneParams& p) {
-  const WorldSettings settings = world_settings(p);
-  Scene scene;
-  scene.world = std::make_unique<World>(settings);
-  scene.has_terrain = true;
+  Scene scene = scene_on_terrain(p, Heightmap::from_function(256, 256, {}, terrain_rain_height),
+                                 "bullets: terrain-rain's terrain, spheres r 0.25 fired downwards at 100..1000 m/s");
   scene.default_steps = 120;
   scene.track_tunnelling = true;
-  scene.dt = p.dt;
-  Heightmap heightmap = Heightmap::from_function(256, 256, {}, terrain_rain_height);
-  scene.min_x = heightmap.x_of(0);
-  scene.max_x = heightmap.max_x();
-  scene.min_z = heightmap.z_of(0);
-  scene.max_z = heightmap.max_z();
-  auto terrain = std::make_shared<const Terrain>(std::move(heightmap));
-  scene.ground_height = [terrain](float x, float z) { return terrain->heightmap().surface_height(x, z); };
-  scene.world->set_terrain(terrain, 0.5f, 0.5f);
-  scene.description = "bullets: terrain-rain's terrain, spheres r 0.25 fired downwards at 100..1000 m/s";
   // Per sphere, six draws in this order: x, y, z, azimuth, dip below the horizon, speed.
   SplitMix64 rng{2026};
   constexpr float kPi = 3.14159265358979f;

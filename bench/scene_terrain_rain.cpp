@@ -13,19 +13,7 @@ namespace {
 
 Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_y, std::size_t max_side,
                    float spacing, float centre_x, float centre_z, const char* description) {
-  const WorldSettings settings = world_settings(p);
-  Scene scene;
-  scene.world = std::make_unique<World>(settings);
-  scene.has_terrain = true;
-  scene.min_x = heightmap.x_of(0);
-  scene.max_x = heightmap.max_x();
-  scene.min_z = heightmap.z_of(0);
-  scene.max_z = heightmap.max_z();
-  auto terrain = std::make_shared<const Terrain>(std::move(heightmap));
-  scene.ground_height = [terrain](float x, float z) { return terrain->heightmap().surface_height(x, z); };
-  scene.world->set_terrain(terrain, 0.5f, 0.5f);
-  scene.description = description;
-  scene.dt = p.dt;
+  Scene scene = scene_on_terrain(p, std::move(heightmap), description);
   // Layer side s = min(max_side, ceil(sqrt(N))); s/2 is a real division.
   const std::size_t s = std::min<std::size_t>(max_side, static_cast<std::size_t>(std::ceil(std::sqrt(double(p.spheres)))));
   const float half = static_cast<float>(s) / 2.0f;
@@ -42,6 +30,22 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
 }
 
 }  // namespace
+
+Scene scene_on_terrain(const SceneParams& p, Heightmap heightmap, const std::string& description) {
+  Scene scene;
+  scene.world = std::make_unique<World>(world_settings(p));
+  scene.has_terrain = true;
+  scene.min_x = heightmap.x_of(0);
+  scene.max_x = heightmap.max_x();
+  scene.min_z = heightmap.z_of(0);
+  scene.max_z = heightmap.max_z();
+  auto terrain = std::make_shared<const Terrain>(std::move(heightmap));
+  scene.ground_height = [terrain](float x, float z) { return terrain->heightmap().surface_height(x, z); };
+  scene.world->set_terrain(terrain, 0.5f, 0.5f);
+  scene.description = description;
+  scene.dt = p.dt;
+  return scene;
+}
 
 Scene build_terrain_rain(const SceneParams& p) {
   Heightmap heightmap = Heightmap::from_function(256, 256, {}, terrain_rain_height);

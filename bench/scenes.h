@@ -69,6 +69,10 @@ const std::vector<SceneEntry>& scene_registry();
 /// terrain-rain's height field, h(x, z) = 8 sin(0.05 x) cos(0.07 z) + 3 sin(0.21 x + 0.13 z).
 float terrain_rain_height(float x, float z);
 
+/// A scene on this heightmap (terrain material 0.5 / 0.5) with no spheres yet: the World from
+/// world_settings(p), the terrain, its extent and ground height, dt.
+Scene scene_on_terrain(const SceneParams& p, Heightmap heightmap, const std::string& description);
+
 Scene build_implosion(const SceneParams& params);
 Scene build_terrain_rain(const SceneParams& params);
 Scene build_terrain_rain_dem(const SceneParams& params);
