@@ -114,6 +114,20 @@ struct ContactBatchAccess {
     const float* const n[3] = {&c.nx_[o], &c.ny_[o], &c.nz_[o]};
     return Lanes(&c.ima_[o], &c.iia_[o], &c.ra_[o], &c.imb_[o], &c.iib_[o], &c.rb_[o], n, &c.a_[o], &c.b_[o], bodies);
   }
+  /// Runs f(o, lanes) over batches [first, last) and scatters each batch's velocities back: the
+  /// loop every pass that touches all its batches shares.
+  template <class F>
+  static void for_each_batch(const ContactBatches& c, std::size_t first, std::size_t last, std::span<SolverBody> bodies,
+                             F&& f) {
+    const float* base = reinterpret_cast<const float*>(bodies.data());
+    const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
+    for (std::size_t k = first; k < last; ++k) {
+      const std::size_t o = k * W;
+      Lanes L = lanes(c, o, base);
+      f(o, L);
+      L.scatter(&c.a_[o], &c.b_[o], static_slot, bodies.data());
+    }
+  }
 };
 
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
@@ -241,12 +255,8 @@ bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::s
 }
 
 void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt) {
-  const float* base = reinterpret_cast<const float*>(bodies.data());
-  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const batch zero(0.0f);
-  for (std::size_t k = first; k < last; ++k) {
-    const std::size_t o = k * W;
-    Lanes L = ContactBatchAccess::lanes(*this, o, base);
+  ContactBatchAccess::for_each_batch(*this, first, last, bodies, [&](std::size_t o, Lanes& L) {
     batch v[3];
     L.relative_velocity(v);
     const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
@@ -265,24 +275,18 @@ void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::spa
     L.apply_friction(batch::load_aligned(&friction_[o]) * new_impulse, accumulated, active);
     new_impulse.store_aligned(&normal_impulse_[o]);
     accumulated[0].store_aligned(&tx_[o]), accumulated[1].store_aligned(&ty_[o]), accumulated[2].store_aligned(&tz_[o]);
-    L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
-  }
+  });
 }
 
 void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies) {
-  const float* base = reinterpret_cast<const float*>(bodies.data());
-  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const batch zero(0.0f);
-  for (std::size_t k = first; k < last; ++k) {
-    const std::size_t o = k * W;
-    Lanes L = ContactBatchAccess::lanes(*this, o, base);
+  ContactBatchAccess::for_each_batch(*this, first, last, bodies, [&](std::size_t o, Lanes& L) {
     const lane_mask active = !((L.ima + L.imb) <= zero);
     const batch impulse = batch::load_aligned(&normal_impulse_[o]);
     const batch p[3] = {impulse * L.n[0] + batch::load_aligned(&tx_[o]), impulse * L.n[1] + batch::load_aligned(&ty_[o]),
                         impulse * L.n[2] + batch::load_aligned(&tz_[o])};
     L.apply_impulse(p, active);
-    L.scatter(&a_[o], &b_[o], static_slot, bodies.data());
-  }
+  });
 }
 
 void ContactBatches::store_impulses(std::span<Contact> contacts) const {
