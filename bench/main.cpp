@@ -9,6 +9,7 @@
 #include "accuracy_command.h"
 #include "compare_command.h"
 #include "kernel/errors.h"
+#include "kernel/simd_dispatch.h"
 #include "pairs_command.h"
 #include "query_command.h"
 #include "run_command.h"
@@ -20,7 +21,10 @@ namespace {
 
 void print_help() {
   std::puts(
-      "usage: hail-bench <command> [options]\n"
+      "usage: hail-bench <command> [options] [--simd sse4.2|avx2|avx512]\n"
+      "\n"
+      "  --simd PATH  (any command) run the SIMD kernels of PATH instead of the widest this CPU supports;\n"
+      "               overrides the HAIL_SIMD environment variable; a path this CPU lacks is an error\n"
       "\n"
       "commands:\n"
       "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--pairs auto|brute|grid|sweep|bvh] [--warm-start on|off|FACTOR] [--resting N] [--ccd on|off|both] [--repeat R] [--json FILE] [--trace FILE] [--quiet]\n"
@@ -48,7 +52,8 @@ void print_help() {
       "      table, DIR/scale.csv, DIR/scale.json, and gnuplot SVGs of ns per sphere-step and speed-up\n"
       "  query [--queries N] [--leaf L] [--repeats R]\n"
       "      terrain query microbenchmark, random and Morton order: stackless and fixed-stack BVH walks,\n"
-      "      packet walk (8 spheres per node test, with and without SIMD leaf boxes), grid-cell lookup, brute force\n"
+      "      packet walk (4, 8 or 16 spheres per node test by SIMD path, with and without SIMD leaf boxes), grid-cell lookup,\n"
+      "      brute force\n"
       "  pairs [--max N] [--repeats R]\n"
       "      sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix\n"
       "  bvh-build [--max-side 4096]\n"
@@ -58,15 +63,35 @@ void print_help() {
   for (const auto& s : hail::bench::scene_registry()) std::printf("  %-14s %s\n", s.name, s.summary);
 }
 
+/// Takes `--simd PATH` out of the arguments (before or after the command) and makes PATH the
+/// active SIMD path; hail::InvalidArgument if it is unknown or this CPU lacks it.
+void apply_simd_option(std::vector<std::string>& args) {
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (args[k] != "--simd") continue;
+    if (k + 1 >= args.size()) throw hail::InvalidArgument("--simd needs a value: sse4.2, avx2 or avx512");
+    hail::set_simd_path(hail::parse_simd_path(args[k + 1]));
+    args.erase(args.begin() + static_cast<std::ptrdiff_t>(k), args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
+    --k;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::vector<std::string> args(argv + 1, argv + argc);
+  std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     print_help();
     return args.empty() ? 2 : 0;
   }
   try {
+    apply_simd_option(args);
+    if (args.empty()) {
+      print_help();
+      return 2;
+    }
+    // Resolves HAIL_SIMD now (when --simd did not choose), so that a bad value stops the run
+    // before it starts, with the message of hail::InvalidArgument.
+    (void)hail::active_simd_path();
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "run") return hail::bench::run_command(rest);
     if (args[0] == "accuracy") return hail::bench::accuracy_command(rest);

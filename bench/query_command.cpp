@@ -8,10 +8,10 @@
 #include <stdexcept>
 
 #include "kernel/bvh_build.h"
-#include "kernel/bvh_packet_walk.h"
 #include "kernel/flat_bvh.h"
 #include "kernel/heightmap.h"
 #include "kernel/morton.h"
+#include "kernel/simd_kernels.h"
 #include "kernel/terrain_triangles.h"
 #include "machine_info.h"
 
@@ -57,10 +57,22 @@ std::pair<double, std::uint64_t> time_queries(const std::vector<Sphere>& spheres
   return time_groups(spheres, 1, repeats, [&](std::span<const Sphere> one) { return query(one[0]); });
 }
 
-/// time_groups a packet at a time.
-template <class Query>
-std::pair<double, std::uint64_t> time_packets(const std::vector<Sphere>& spheres, int repeats, Query&& query) {
-  return time_groups(spheres, kSpherePacketWidth, repeats, query);
+/// The packet walk of the active SIMD path (SimdKernels::count_packet_hits) over all spheres,
+/// `repeats` times: ns per sphere (median) and the hits, as time_groups gives them.
+std::pair<double, std::uint64_t> time_packets(const std::vector<Sphere>& spheres, int repeats, const FlatBvh& bvh,
+                                              const std::vector<Aabb>& bounds, PacketLeafTest test) {
+  std::vector<float> x, y, z, r;
+  for (const Sphere& s : spheres) x.push_back(s.x), y.push_back(s.y), z.push_back(s.z), r.push_back(s.r);
+  const SimdKernels& kernels = simd_kernels();
+  std::vector<double> ns;
+  std::uint64_t hits = 0;
+  for (int k = 0; k < repeats; ++k) {
+    const auto t0 = clock_type::now();
+    hits = kernels.count_packet_hits(bvh, bounds.data(), x.data(), y.data(), z.data(), r.data(), spheres.size(), test, nullptr);
+    ns.push_back(std::chrono::duration<double, std::nano>(clock_type::now() - t0).count() / double(spheres.size()));
+  }
+  std::sort(ns.begin(), ns.end());
+  return {ns[ns.size() / 2], hits};
 }
 
 /// The spheres sorted by the Morton code of their centres over the terrain's bounds.
@@ -113,8 +125,8 @@ int query_command(const std::vector<std::string>& args) {
 
   std::printf("hail-bench query: %zu spheres (r 0.5) against terrain-rain's %zu triangles, leaf size %d, median of %d\n",
               spheres.size(), bounds.size(), leaf, repeats);
-  std::printf("  machine %s, SIMD %s; %zu BVH nodes; packet width %u (lanes per node test)\n", cpu_model().c_str(), simd_path().c_str(),
-              bvh.nodes.size(), kSpherePacketWidth);
+  std::printf("  machine %s, SIMD %s; %zu BVH nodes; packet width %zu (lanes per node test)\n", cpu_model().c_str(),
+              simd_description().c_str(), bvh.nodes.size(), simd_kernels().width);
   std::printf("  %-28s %-8s %12s %14s %12s %12s\n", "method", "order", "ns/query", "queries/s", "hits", "nodes/query");
 
   auto box_hit = [](const Aabb& b, const Sphere& s) { return sphere_overlaps(b, s.x, s.y, s.z, s.r); };
@@ -126,23 +138,6 @@ int query_command(const std::vector<std::string>& args) {
   auto stack = [&](const Sphere& s) {
     std::uint32_t hits = 0;
     query_sphere_stack(bvh, s.x, s.y, s.z, s.r, [&](std::uint32_t k) { hits += box_hit(bvh_bounds[k], s); });
-    return hits;
-  };
-  SpherePacket packet;
-  auto packet_walk = [&](std::span<const Sphere> group) {
-    packet.clear();
-    for (const Sphere& s : group) packet.add(s.x, s.y, s.z, s.r);
-    std::uint32_t hits = 0;
-    query_sphere_packet(bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { hits += box_hit(bvh_bounds[k], group[lane]); });
-    return hits;
-  };
-  // The leaf's triangle boxes tested by the walk itself, all lanes per instruction: what it
-  // visits already passed the box test.
-  auto packet_exact = [&](std::span<const Sphere> group) {
-    packet.clear();
-    for (const Sphere& s : group) packet.add(s.x, s.y, s.z, s.r);
-    std::uint32_t hits = 0;
-    query_sphere_packet_exact(bvh, bvh_bounds, packet, [&](std::uint32_t, std::uint32_t) { ++hits; });
     return hits;
   };
   // The lookup a heightmap allows: the cells under the sphere's x/z footprint, two triangles each.
@@ -159,17 +154,16 @@ int query_command(const std::vector<std::string>& args) {
     return hits;
   };
   auto nodes_per_query = [&](const std::vector<Sphere>& order, bool packets) {
-    NodeVisitCount visits;
     if (packets) {
-      for (std::size_t first = 0; first < order.size(); first += kSpherePacketWidth) {
-        packet.clear();
-        for (std::size_t k = first; k < std::min(order.size(), first + kSpherePacketWidth); ++k)
-          packet.add(order[k].x, order[k].y, order[k].z, order[k].r);
-        query_sphere_packet(bvh, packet, [](std::uint32_t, std::uint32_t) {}, visits);
-      }
-    } else {
-      for (const Sphere& s : order) query_sphere(bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
+      std::vector<float> x, y, z, r;
+      for (const Sphere& s : order) x.push_back(s.x), y.push_back(s.y), z.push_back(s.z), r.push_back(s.r);
+      std::uint64_t nodes = 0;
+      (void)simd_kernels().count_packet_hits(bvh, bvh_bounds.data(), x.data(), y.data(), z.data(), r.data(), order.size(),
+                                             PacketLeafTest::LeafCandidates, &nodes);
+      return double(nodes) / double(order.size());
     }
+    NodeVisitCount visits;
+    for (const Sphere& s : order) query_sphere(bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
     return double(visits.visited) / double(order.size());
   };
 
@@ -184,8 +178,10 @@ int query_command(const std::vector<std::string>& args) {
   for (const auto& [order_name, order] : orders) {
     rows.push_back({"bvh stackless", order_name, time_queries(*order, repeats, stackless), nodes_per_query(*order, false)});
     rows.push_back({"bvh fixed stack", order_name, time_queries(*order, repeats, stack), rows.back().nodes});
-    rows.push_back({"bvh packet", order_name, time_packets(*order, repeats, packet_walk), nodes_per_query(*order, true)});
-    rows.push_back({"bvh packet, SIMD leaf boxes", order_name, time_packets(*order, repeats, packet_exact), rows.back().nodes});
+    rows.push_back({"bvh packet", order_name, time_packets(*order, repeats, bvh, bvh_bounds, PacketLeafTest::LeafCandidates),
+                    nodes_per_query(*order, true)});
+    rows.push_back({"bvh packet, SIMD leaf boxes", order_name,
+                    time_packets(*order, repeats, bvh, bvh_bounds, PacketLeafTest::LeafBoxes), rows.back().nodes});
     rows.push_back({"grid-cell lookup", order_name, time_queries(*order, repeats, grid), -1.0});
   }
   const std::vector<Sphere> few(spheres.begin(), spheres.begin() + std::min<std::size_t>(spheres.size(), 200));

@@ -156,7 +156,7 @@ void print_report(const RunResult& r) {
   const ErrorFigures& e = r.errors;
   const PhaseTimes& p = r.phase_ms;
   std::printf("hail-bench run %s  (%s)\n", r.scene.c_str(), r.description.c_str());
-  std::printf("  machine   %s, %d threads, SIMD %s\n", cpu_model().c_str(), r.threads, simd_path().c_str());
+  std::printf("  machine   %s, %d threads, SIMD %s\n", cpu_model().c_str(), r.threads, simd_description().c_str());
   std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps, continuous collision %s\n",
               r.spheres, r.steps, r.dt, r.reorder_interval, r.continuous_collision ? "on" : "off");
   std::printf("  time      %.3f ms/step mean, %.3f median (steps %d..%d), total %.3f s, set-up %.3f s\n", r.mean_ms,
@@ -198,7 +198,7 @@ int run_both(const CommandOptions& o) {
   const RunResult& b = off.back();
   std::printf("hail-bench run %s --ccd both  (%s)\n", a.scene.c_str(), a.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s; %zu spheres, %d steps of dt = %.6g s; %d runs each, ABBA order\n",
-              cpu_model().c_str(), a.threads, simd_path().c_str(), a.spheres, a.steps, a.dt, repeat);
+              cpu_model().c_str(), a.threads, simd_description().c_str(), a.spheres, a.steps, a.dt, repeat);
   std::printf("  %-4s %10s %10s %9s %9s %10s %10s %9s %9s %9s %5s  %s\n", "ccd", "ms/step", "(runs)", "swept", "impacts",
               "pen. sph", "pen. gnd", "tunnelled", "ever", "fell off", "NaN", "hash");
   for (const auto* runs : {&on, &off}) {

@@ -204,7 +204,8 @@ nlohmann::json to_json(const RunResult& r) {
                            {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
       {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept},
                                 {"impacts_per_step", r.sweep_events}, {"capped_total", r.sweep_capped}}},
-      {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}},
+      {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"simd_chosen_by", simd_origin()},
+                   {"simd_supported", simd_supported()}, {"simd_flags", simd_flags()}, {"flags", build_flags()}}},
   };
 }
 

@@ -11,3 +11,7 @@ target_compile_options(hail_compile_options INTERFACE
   $<BUILD_INTERFACE:-ffp-contract=off>
   $<BUILD_INTERFACE:-fno-math-errno>
   $<BUILD_INTERFACE:-Wall> $<BUILD_INTERFACE:-Wextra> $<BUILD_INTERFACE:-Wno-unused-parameter>)
+
+# HAIL_ARCH (or -march=native) is the base level of everything above; the SIMD kernels are
+# compiled once more per SIMD path, each with its own level, and chosen at start-up.
+include(HailSimdPaths)

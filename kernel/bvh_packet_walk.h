@@ -1,6 +1,6 @@
 #pragma once
 // The stackless walk for a packet of spheres at once: one node load and one SIMD box test
-// serve a whole batch of queries (8 lanes under AVX2). A node is entered when any lane touches
+// serve a whole batch of queries (4 lanes under SSE4.2, 8 under AVX2, 16 under AVX-512). A node is entered when any lane touches
 // it; a leaf is handed to each lane that touches it. Because a child's box lies inside its
 // parent's, a lane that missed a node misses everything below it, so no per-lane mask has to
 // be carried down: each lane sees exactly the leaves, in exactly the order, that its own
@@ -9,19 +9,22 @@
 // It pays when the packet's spheres are near each other (sorted by Morton code, say): their
 // walks then share most nodes, and the tree's top is tested once per packet instead of once per
 // sphere. `hail-bench query` measures it against the single walks and the grid lookup.
+//
+// Everything here is compiled for the including translation unit's SIMD path, in its own
+// namespace (kernel/simd_arch.h): the terrain's contact search runs the copies of
+// kernel/simd/terrain_contacts.cpp, chosen at start-up (kernel/simd_dispatch.h).
 
-#include <bit>
 #include <cstdint>
 #include <span>
-#include <type_traits>
-#include <xsimd/xsimd.hpp>
 
 #include "kernel/flat_bvh.h"
+#include "kernel/simd_arch.h"
 
 namespace hail {
+inline namespace HAIL_SIMD_NS {
 
-/// Lanes in a sphere packet: one xsimd float batch of the build's instruction set.
-inline constexpr std::uint32_t kSpherePacketWidth = static_cast<std::uint32_t>(xsimd::batch<float>::size);
+/// Lanes in a sphere packet: one xsimd float batch of this translation unit's SIMD path.
+inline constexpr std::uint32_t kSpherePacketWidth = static_cast<std::uint32_t>(xsimd::batch<float, simd_arch>::size);
 
 /// Up to kSpherePacketWidth query spheres, SoA. Unused lanes hold radius_sq = -1, which no
 /// squared distance (>= 0) can be below, so they never enter a node.
@@ -52,28 +55,11 @@ struct SpherePacket {
 
 namespace detail {
 
-/// Bit l set for each lane l of `hit` that is true. AVX/AVX2 batches use movemask; other
-/// instruction sets go through memory (same bits, a few instructions more).
-template <class Arch>
-[[nodiscard]] inline std::uint32_t lane_bits(const xsimd::batch_bool<float, Arch>& hit) {
-#if XSIMD_WITH_AVX
-  if constexpr (std::is_base_of_v<xsimd::avx, Arch>) return static_cast<std::uint32_t>(_mm256_movemask_ps(hit));
-#endif
-  alignas(64) bool lanes[xsimd::batch_bool<float, Arch>::size];
-  hit.store_aligned(lanes);
-  std::uint32_t bits = 0;
-  for (std::size_t l = 0; l < xsimd::batch_bool<float, Arch>::size; ++l) bits |= std::uint32_t(lanes[l]) << l;
-  return bits;
-}
-
-/// Lowest set bit's index; bits != 0.
-[[nodiscard]] inline std::uint32_t lowest_lane(std::uint32_t bits) { return static_cast<std::uint32_t>(std::countr_zero(bits)); }
-
 /// The packet's spheres against one box, all lanes at once. Per axis the excess
 /// max(lo - c, c - hi, 0) and the sum's order are those of sphere_overlaps (kernel/aabb.h), so
 /// every lane decides exactly as the scalar test would.
 struct PacketBoxTest {
-  using batch = xsimd::batch<float>;
+  using batch = xsimd::batch<float, simd_arch>;
   batch cx, cy, cz, radius_sq;
   explicit PacketBoxTest(const SpherePacket& p)
       : cx(batch::load_aligned(p.cx)), cy(batch::load_aligned(p.cy)), cz(batch::load_aligned(p.cz)),
@@ -121,7 +107,7 @@ void query_sphere_packet(const FlatBvh& bvh, const SpherePacket& packet, Visit&&
       bvh, touches,
       [&](std::uint32_t lanes, std::uint32_t first, std::uint32_t n) {
         for (; lanes != 0; lanes &= lanes - 1) {
-          const std::uint32_t lane = detail::lowest_lane(lanes);
+          const std::uint32_t lane = lowest_lane(lanes);
           for (std::uint32_t k = first; k < first + n; ++k) visit(lane, k);
         }
       },
@@ -144,9 +130,10 @@ void query_sphere_packet_exact(const FlatBvh& bvh, std::span<const Aabb> bounds,
         for (std::uint32_t k = first; k < first + n; ++k)
           // A primitive's box lies inside its leaf's, so only the leaf's lanes can touch it.
           for (std::uint32_t lanes = touches(bounds[k]) & leaf_lanes; lanes != 0; lanes &= lanes - 1)
-            visit(detail::lowest_lane(lanes), k);
+            visit(lowest_lane(lanes), k);
       },
       count);
 }
 
+}  // namespace HAIL_SIMD_NS
 }  // namespace hail

@@ -1,18 +1,22 @@
 #pragma once
 // The collision and resting passes of kernel/contact_impulse.h, a batch of contacts per
-// instruction (8 under AVX2), over contacts that share no sphere (one colour).
+// instruction (4 under SSE4.2, 8 under AVX2, 16 under AVX-512: the active SIMD path of
+// kernel/simd_dispatch.h), over contacts that share no sphere (one colour).
 //
 // Once per step ContactBatches::stage copies each colour's contacts into SoA batches: normal,
 // gap, material, the bodies' slots and mass properties, and the accumulated impulses. A pass
-// then only gathers the bodies' velocities (AVX2 gathers from the 64-byte SolverBody lines),
-// runs the rule on all lanes and scatters the velocities back; what never changes within a step
-// is not re-read from the contacts on every pass. A colour's last size % W contacts (its tail)
-// stay with the scalar rules.
+// then only gathers the bodies' velocities (AVX2/AVX-512 gathers from the 64-byte SolverBody
+// lines), runs the rule on all lanes and scatters the velocities back; what never changes
+// within a step is not re-read from the contacts on every pass. A colour's last size % W
+// contacts (its tail) stay with the scalar rules. The passes themselves are in
+// kernel/simd/contact_solve.cpp, compiled once per SIMD path.
 //
 // Each lane performs the scalar rule's float operations in the scalar rule's order, and a lane
 // the scalar code would skip (an early return) keeps its values through a select, so the result
 // is bitwise the scalar result: the scalar functions stay the reference, and
-// tests/test_contact_solve_simd.cpp compares the two on random contacts.
+// tests/test_contact_solve_simd.cpp and tests/test_simd_dispatch.cpp compare the two on random
+// contacts. Since the contacts of a colour share no sphere, which of them run in batches and
+// which in the tail changes nothing either: the result does not depend on W.
 
 #include <cstdint>
 #include <span>
@@ -24,8 +28,20 @@
 
 namespace hail {
 
-/// Contacts per SIMD batch: one xsimd float batch of the build's instruction set.
+struct SimdKernels;
+
+/// Contacts per SIMD batch on the active SIMD path (kernel/simd_dispatch.h).
 std::size_t contact_batch_width();
+
+/// The staged batches as plain arrays, lane k * width + l for lane l of batch k: what the SIMD
+/// passes (kernel/simd/contact_solve.cpp) read, and the impulses they accumulate.
+struct ContactBatchArrays {
+  std::size_t width;
+  const std::int32_t *a, *b;  ///< body slots (b: the static body for static contacts)
+  const float *nx, *ny, *nz, *gap, *restitution, *friction;
+  const float *ima, *iia, *ra, *imb, *iib, *rb;
+  float *normal_impulse, *tx, *ty, *tz;
+};
 
 class ContactBatches {
  public:
@@ -37,9 +53,13 @@ class ContactBatches {
              std::span<const SolverBody> bodies);
   /// stage() in two parts, so that the copying can run in parallel: plan() lays out the
   /// batches (serial, cheap), fill() copies batches [first, last) (disjoint ranges in parallel).
+  /// plan() takes the active SIMD path's width and kernels; the passes until the next plan()
+  /// use those, whatever path is made active meanwhile.
   void plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours);
   void fill(std::size_t first, std::size_t last, std::span<const Contact> contacts, std::span<const SolverBody> bodies);
   [[nodiscard]] std::size_t batch_count() const { return first_contact_.size(); }
+  /// Contacts per batch, as the last plan() laid them out.
+  [[nodiscard]] std::size_t width() const { return width_; }
 
   /// Batches of colour c: [batch_begin(c), batch_end(c)). Its scalar tail is contacts
   /// [tail_begin(c), colour_begin[c + 1]).
@@ -62,7 +82,8 @@ class ContactBatches {
   void store_impulses(std::span<Contact> contacts) const;
 
  private:
-  friend struct ContactBatchAccess;  // kernel/contact_solve_simd.cpp: a batch's lanes
+  [[nodiscard]] ContactBatchArrays arrays();
+  const SimdKernels* kernels_ = nullptr;  // of the last plan()
   std::size_t width_ = 1;
   std::vector<std::size_t> colour_batches_, tail_begin_;
   std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact

@@ -5,6 +5,7 @@
 
 #include "kernel/contact_impulse.h"
 #include "kernel/path_box_scan.h"
+#include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/swept_sphere.h"
 
@@ -185,9 +186,11 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   }
   // Every sphere's SoA position and velocity describe its current straight path (for swept
   // ones, as set by sync_path), so one scan covers swept and unswept spheres alike.
-  scan_path_boxes_simd(s, box, static_cast<float>(mo.t0), static_cast<float>(dt_), [&](std::uint32_t j) {
+  // The SIMD scan of the active path (kernel/simd_kernels.h); it visits the slots in order.
+  auto visit = [&](std::uint32_t j) {
     if (j != slot) try_sphere(j);
-  });
+  };
+  simd_kernels().scan_path_boxes(s, box, static_cast<float>(mo.t0), static_cast<float>(dt_), slot_sink(visit));
   return best;
 }
 

@@ -8,6 +8,11 @@
 //
 // Factories validate everything before allocating and either return a whole map or throw:
 // InvalidArgument for bad values passed in, FileError ("hail: <path>: <problem>") for bad files.
+//
+// A Heightmap is a value: it owns its heights (one float per vertex, allocated by the factory;
+// copying copies them, moving does not) and has no mutating members, so its const members may
+// be called from any number of threads at once. None of them allocates. Terrain takes one by
+// value (move it in).
 
 #include <cstdint>
 #include <span>

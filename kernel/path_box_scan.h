@@ -5,14 +5,18 @@
 // by r_j. visit(j) is called, in slot order, for every j whose grown box overlaps `box`
 // (closed boxes). Candidates only: the caller runs the exact time-of-impact test.
 //
-// One fast sphere scans every slot, so the scan is SIMD (8 spheres per AVX2 instruction) with
-// the scalar reference beside it; both visit exactly the same slots (tests/test_continuous_collision.cpp).
+// One fast sphere scans every slot, so the scan is SIMD (4, 8 or 16 spheres per instruction
+// under SSE4.2, AVX2, AVX-512) with the scalar reference beside it; both visit exactly the same
+// slots (tests/test_continuous_collision.cpp, tests/test_simd_dispatch.cpp).
+//
+// The templates are compiled for the including translation unit's SIMD path, in its own
+// namespace (kernel/simd_arch.h). The step runs the copies of kernel/simd/path_box_scan.cpp,
+// chosen at start-up: SimdKernels::scan_path_boxes (kernel/simd_kernels.h).
 
 #include <algorithm>
 #include <cstdint>
 
-#include <xsimd/xsimd.hpp>
-
+#include "kernel/simd_arch.h"
 #include "soa/sphere_soa.h"
 
 namespace hail {
@@ -20,6 +24,8 @@ namespace hail {
 struct PathBox {
   float min[3], max[3];
 };
+
+inline namespace HAIL_SIMD_NS {
 
 template <class Visit>
 void scan_path_boxes_scalar(const SphereSoA& s, const PathBox& box, float t0, float t1, Visit&& visit) {
@@ -38,13 +44,12 @@ void scan_path_boxes_scalar(const SphereSoA& s, const PathBox& box, float t0, fl
 
 template <class Visit>
 void scan_path_boxes_simd(const SphereSoA& s, const PathBox& box, float t0, float t1, Visit&& visit) {
-  using batch = xsimd::batch<float>;
+  using batch = xsimd::batch<float, simd_arch>;
   constexpr std::size_t W = batch::size;
   static_assert(kSimdPadding % W == 0, "SoA padding must cover the widest batch");
   const float* p[3] = {s.px.data(), s.py.data(), s.pz.data()};
   const float* v[3] = {s.vx.data(), s.vy.data(), s.vz.data()};
   const batch bt0(t0), bt1(t1);
-  alignas(64) bool lanes[W];
   // Padding lanes are inert (radius 0, parked far away), so no scalar tail is needed; slots at
   // or past size() are still dropped below.
   for (std::size_t j0 = 0; j0 < s.padded_size(); j0 += W) {
@@ -56,11 +61,12 @@ void scan_path_boxes_simd(const SphereSoA& s, const PathBox& box, float t0, floa
       const batch lo = xsimd::min(a, b) - r, hi = xsimd::max(a, b) + r;
       overlaps = overlaps && (lo <= batch(box.max[d])) && (hi >= batch(box.min[d]));
     }
-    if (!xsimd::any(overlaps)) continue;
-    overlaps.store_aligned(lanes);
-    for (std::size_t lane = 0; lane < W; ++lane)
-      if (lanes[lane] && j0 + lane < s.size()) visit(static_cast<std::uint32_t>(j0 + lane));
+    for (std::uint32_t lanes = lane_bits(overlaps); lanes != 0; lanes &= lanes - 1) {
+      const std::size_t j = j0 + lowest_lane(lanes);
+      if (j < s.size()) visit(static_cast<std::uint32_t>(j));
+    }
   }
 }
 
+}  // namespace HAIL_SIMD_NS
 }  // namespace hail

@@ -1,7 +1,8 @@
 #include "kernel/sphere_pairs.h"
 
 #include <cmath>
-#include <xsimd/xsimd.hpp>
+
+#include "kernel/simd_kernels.h"
 
 namespace hail {
 
@@ -19,32 +20,8 @@ void find_sphere_pairs_scalar(const SphereSoA& s, std::size_t first, std::size_t
 
 void find_sphere_pairs_simd(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
                             std::vector<SpherePair>& out) {
-  using batch = xsimd::batch<float>;
-  constexpr std::size_t W = batch::size;
-  static_assert(kSimdPadding % W == 0, "SoA padding must cover the widest batch");
-  const std::size_t n = s.size();
-  const std::size_t padded = s.padded_size();
-  alignas(64) bool hit_lanes[W];
-  for (std::size_t i = first; i < last; ++i) {
-    const batch xi(s.px[i]), yi(s.py[i]), zi(s.pz[i]), ri_margin(s.radius[i] + margin);
-    // Start at the batch holding i + 1; lanes j <= i are dropped below. Padding lanes are inert
-    // (zero radius, parked at 1e18), so the loop runs to padded_size with no scalar tail.
-    for (std::size_t j0 = (i + 1) / W * W; j0 < padded; j0 += W) {
-      const batch dx = batch::load_aligned(&s.px[j0]) - xi;
-      const batch dy = batch::load_aligned(&s.py[j0]) - yi;
-      const batch dz = batch::load_aligned(&s.pz[j0]) - zi;
-      const batch reach = batch::load_aligned(&s.radius[j0]) + ri_margin;
-      const batch d2 = dx * dx + dy * dy + dz * dz;
-      const auto hit = d2 < reach * reach;
-      if (!xsimd::any(hit)) continue;
-      hit.store_aligned(hit_lanes);
-      for (std::size_t lane = 0; lane < W; ++lane) {
-        const std::size_t j = j0 + lane;
-        if (hit_lanes[lane] && j > i && j < n)
-          out.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
-      }
-    }
-  }
+  if (first >= last) return;
+  simd_kernels().find_sphere_pairs(s, first, last, margin, out);
 }
 
 float combine_friction(float a, float b) { return std::sqrt(a * b); }

@@ -1,7 +1,7 @@
 #pragma once
 // Brute-force sphere-sphere pair detection over the SoA: every pair (i, j), i < j, whose
 // surfaces are closer than `margin` (speculative contacts). A SIMD kernel tests one sphere i
-// against a batch of j at a time; the scalar reference evaluates the same predicate in the same
+// against a batch of j at a time (4, 8 or 16: SSE4.2, AVX2, AVX-512); the scalar reference evaluates the same predicate in the same
 // float operations, so both return exactly the same pairs (tests compare them).
 
 #include <cstdint>
@@ -30,7 +30,8 @@ inline bool spheres_within(float dx, float dy, float dz, float reach) {
 void find_sphere_pairs_scalar(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                               std::vector<SpherePair>& out);
 
-/// Same result as find_sphere_pairs_scalar, testing a batch of j per instruction (xsimd).
+/// Same result as find_sphere_pairs_scalar, testing a batch of j per instruction on the active
+/// SIMD path (kernel/simd_dispatch.h; the kernel is kernel/simd/sphere_pairs.cpp).
 void find_sphere_pairs_simd(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                             std::vector<SpherePair>& out);
 

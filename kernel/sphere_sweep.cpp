@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <xsimd/xsimd.hpp>
 
+#include "kernel/simd_kernels.h"
 #include "kernel/sphere_pair_bounds.h"
 
 namespace hail {
 namespace {
 
-using batch = xsimd::batch<float>;
-constexpr std::size_t kLanes = batch::size;
+// Padding after the sorted arrays: the widest batch of any SIMD path.
+constexpr std::size_t kLanes = kSimdPadding;
 constexpr std::uint8_t kExcluded = 0xFF;
 
 // Axis of the largest variance of the centres that can pair (lowest axis on ties). Double
@@ -112,44 +112,16 @@ void SphereSweep::build(const SphereSoA& s, float /*margin: the sort does not de
   }
 }
 
+SphereSweepView SphereSweep::view() const {
+  return {axis_, x_.data(), y_.data(), z_.data(), radius_.data(), index_.data(), class_begin_.data(),
+          class_max_radius_.data(), class_count()};
+}
+
 void SphereSweep::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
                              std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const {
-  const float* sweep = axis_ == 0 ? x_.data() : axis_ == 1 ? y_.data() : z_.data();
-  const float* centre_axis = axis_ == 0 ? s.px.data() : axis_ == 1 ? s.py.data() : s.pz.data();
-  alignas(64) bool hit_lanes[kLanes];
-  for (std::size_t i = first; i < last; ++i) {
-    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri_margin = s.radius[i] + margin;  // brute force's order
-    if (!can_pair(xi, yi, zi, ri_margin)) continue;
-    row.clear();
-    const batch bx(xi), by(yi), bz(zi), b_ri_margin(ri_margin);
-    const float ci = centre_axis[i];
-    for (std::size_t c = 0; c + 1 < class_begin_.size(); ++c) {
-      // Every partner in this class has its centre within `reach` of ci (sphere_pair_bounds.h).
-      const float reach = axis_reach_bound(ri_margin, class_max_radius_[c]);
-      const float* run_begin = sweep + class_begin_[c];
-      const float* run_end = sweep + class_begin_[c + 1];
-      const float* lo = std::lower_bound(run_begin, run_end, ci - reach);
-      const float* hi = std::upper_bound(lo, run_end, ci + reach);
-      const std::size_t begin = static_cast<std::size_t>(lo - sweep), end = static_cast<std::size_t>(hi - sweep);
-      // The brute-force predicate, batch by batch over the window, in its float operations.
-      for (std::size_t k0 = begin; k0 < end; k0 += kLanes) {
-        const batch dx = batch::load_unaligned(&x_[k0]) - bx;
-        const batch dy = batch::load_unaligned(&y_[k0]) - by;
-        const batch dz = batch::load_unaligned(&z_[k0]) - bz;
-        const batch reach_j = batch::load_unaligned(&radius_[k0]) + b_ri_margin;
-        const batch d2 = dx * dx + dy * dy + dz * dz;
-        const auto hit = d2 < reach_j * reach_j;
-        if (!xsimd::any(hit)) continue;
-        hit.store_aligned(hit_lanes);
-        const std::size_t lanes = std::min(kLanes, end - k0);
-        for (std::size_t lane = 0; lane < lanes; ++lane)
-          if (hit_lanes[lane] && index_[k0 + lane] > i) row.push_back(index_[k0 + lane]);
-      }
-    }
-    // Classes and centres scramble the indices: sort to get brute force's row.
-    std::sort(row.begin(), row.end());
-    for (std::uint32_t j : row) out.push_back({static_cast<std::uint32_t>(i), j});
-  }
+  if (first >= last || class_count() == 0) return;
+  row.clear();
+  simd_kernels().sweep_find_pairs(view(), s, first, last, margin, out, row);
 }
 
 }  // namespace hail

@@ -21,6 +21,17 @@
 
 namespace hail {
 
+/// A built SphereSweep as plain arrays: what the SIMD search (kernel/simd/sphere_sweep.cpp,
+/// one copy per SIMD path) reads. Each array is followed by kSimdPadding inert slots.
+struct SphereSweepView {
+  int axis;
+  const float *x, *y, *z, *radius;      ///< sorted slots
+  const std::uint32_t* index;           ///< sphere index of each sorted slot
+  const std::uint32_t* class_begin;     ///< class c: sorted slots [class_begin[c], class_begin[c + 1])
+  const float* class_max_radius;        ///< largest |radius| in each class
+  std::size_t classes;
+};
+
 class SphereSweep {
  public:
   /// Sorts the spheres along the axis of greatest centre variance (lowest axis on ties).
@@ -29,13 +40,15 @@ class SphereSweep {
   void build(const SphereSoA& spheres, float margin);
   /// Appends the pairs (i, j), i in [first, last), i < j, within `margin`, of the spheres as
   /// they were at the last build. `row` is caller-owned scratch so that disjoint row blocks can
-  /// run in parallel.
+  /// run in parallel. Runs the active SIMD path's kernel (kernel/simd_dispatch.h).
   void find_pairs(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                   std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const;
   /// The sweep axis chosen by the last build (0 = x, 1 = y, 2 = z).
   [[nodiscard]] int axis() const { return axis_; }
   /// Number of non-empty radius classes after the last build.
   [[nodiscard]] std::size_t class_count() const { return class_begin_.empty() ? 0 : class_begin_.size() - 1; }
+  /// The sorted arrays, for the SIMD kernels.
+  [[nodiscard]] SphereSweepView view() const;
 
  private:
   /// Most radius classes: radii beyond 4^(kMaxRadiusClasses - 1) times the smallest share the last.
@@ -43,7 +56,8 @@ class SphereSweep {
 
   int axis_ = 0;
   // Spheres in sorted order (class, then centre on axis_, then index), SoA, each array
-  // followed by one SIMD batch of inert padding so that a window's last batch may read past it.
+  // followed by kSimdPadding (the widest batch) inert slots, so that a window's last batch may
+  // read past it on any SIMD path.
   std::vector<float> x_, y_, z_, radius_;
   std::vector<std::uint32_t> index_;       // sphere index of each sorted slot
   std::vector<std::uint32_t> class_begin_; // class c holds sorted slots [class_begin_[c], class_begin_[c + 1])

@@ -4,6 +4,8 @@
 #include <cstring>
 #include <string>
 
+#include "kernel/simd_dispatch.h"
+
 namespace hail {
 namespace {
 
@@ -53,6 +55,9 @@ void World::validate(const WorldSettings& s) {
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
+  // Chooses the SIMD path now if nothing has yet, so that a bad HAIL_SIMD is reported here, at
+  // the API boundary, and not from inside a step's parallel loop.
+  (void)active_simd_path();
 }
 
 World::World(const WorldSettings& settings) : settings_(settings) {

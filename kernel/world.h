@@ -3,9 +3,21 @@
 // integrator and World, the object users create. How a step's work is spread over threads lives
 // in jobs/; kernel/ only provides the range-based functions the phases call.
 //
-// World owns sphere state (SoA), static planes, settings and the per-step scratch buffers.
-// It is not thread-safe: call its methods from one thread at a time. step() itself runs in
-// parallel inside a tbb::task_arena (the caller's, or one the World makes of `threads` slots).
+// World owns sphere state (SoA), static planes, settings and the per-step scratch buffers. It
+// shares the terrain (a shared_ptr<const Terrain>, immutable) and uses, without owning, the
+// caller's tbb::task_arena when given one.
+//
+// Threads: a World is not thread-safe: call its methods from one thread at a time (const
+// methods may run at the same time as each other, never with a non-const one). step() itself
+// runs in parallel inside a tbb::task_arena (the caller's, or one the World makes of `threads`
+// slots); the calling thread joins in and returns when the step is done. hail never starts
+// threads of its own. Separate Worlds share nothing mutable and may step at the same time.
+//
+// Allocation: add_sphere allocates only when the sphere arrays outgrow their capacity (reserve()
+// prevents it). step() reuses its scratch buffers, so a steady-state step allocates nothing:
+// they grow only when a step needs more contacts or pairs than every step before it. The
+// accessors return views or values and never allocate. The constructors, add_plane,
+// set_terrain and enable_trace allocate, and while a trace records it grows every step.
 
 #include <cstdint>
 #include <memory>
@@ -171,18 +183,25 @@ struct StepStats {
   SweepStats sweep;              ///< continuous collision: fast spheres, impacts, capped spheres
 };
 
-/// Read-only views of the dense sphere state (slot order; use World::slot_of for a handle).
-/// Valid until the next call that adds or removes spheres.
+/// Read-only views of the dense sphere state, in slot order (World::slot_of maps a handle to
+/// its slot, World::id_at a slot to its handle). No copy: the spans point into the World's SoA
+/// arrays, so reading them costs nothing and they see every later step. They stay valid until
+/// a call adds or removes spheres (or reserve() grows the arrays); a step keeps them valid but
+/// may move spheres to other slots (the Morton re-sort, every reorder_interval steps), so look
+/// a handle's slot up again after each step. Units: m, m/s, rad/s, m, 1/kg (0: static).
 struct SphereState {
   std::span<const float> px, py, pz, vx, vy, vz, wx, wy, wz, radius, inv_mass;
 };
 
 class World {
  public:
-  /// Creates its own task_arena of settings.threads slots.
+  /// Creates its own task_arena of settings.threads slots. Throws InvalidArgument for a bad
+  /// setting (the message names it).
   explicit World(const WorldSettings& settings = {});
-  /// Runs every step inside the caller's arena (the host owns the threads). The arena must
-  /// outlive the World.
+  /// Runs every step inside the caller's arena (host_arena.execute): the host owns the threads
+  /// and decides how many step() may use (its max_concurrency; settings.threads is ignored).
+  /// The result is bitwise the same for any arena size. The arena must outlive the World; several
+  /// Worlds may share one. Throws InvalidArgument for a bad setting.
   World(const WorldSettings& settings, tbb::task_arena& host_arena);
   ~World();
   World(const World&) = delete;
@@ -203,13 +222,20 @@ class World {
   /// Reserves room for n spheres so that adding them does not reallocate.
   void reserve(std::size_t spheres);
 
-  /// Advances the world by dt * time_scale seconds. dt must be finite and > 0.
+  /// Advances the world by dt * time_scale seconds (split into substeps no longer than
+  /// max_substep). dt must be finite and > 0 (InvalidArgument, world unchanged). Blocks until
+  /// done; runs in parallel inside the World's arena; allocates nothing in a steady state.
   void step(float dt);
 
   [[nodiscard]] std::size_t sphere_count() const { return spheres_.size(); }
+  /// Spans over positions, velocities, radii and inverse masses; no copy (see SphereState).
   [[nodiscard]] SphereState spheres() const;
+  /// All per-sphere arrays, including restitution, friction and flags, read-only.
   [[nodiscard]] const SphereSoA& soa() const { return spheres_; }
+  /// Dense slot of a handle (index into spheres()), or -1 for a stale handle.
   [[nodiscard]] std::int64_t slot_of(SphereId id) const { return spheres_.slot_of(id); }
+  /// Handle of the sphere in dense slot `slot` < sphere_count(), e.g. a Contact's a or b.
+  [[nodiscard]] SphereId id_at(std::size_t slot) const { return spheres_.id_at(slot); }
   /// Throws InvalidArgument for a stale handle.
   [[nodiscard]] Vec3 position(SphereId id) const;
   [[nodiscard]] Vec3 velocity(SphereId id) const;
@@ -235,8 +261,16 @@ class World {
   /// The trace recorded since enable_trace(true): one slice per phase per step per thread.
   [[nodiscard]] const PhaseTrace& trace() const { return trace_; }
   [[nodiscard]] const StepStats& last_step_stats() const { return stats_; }
-  /// Contacts of the last step, grouped by solver colour (after solving: normal_impulse holds
-  /// the resting impulse).
+  /// Contacts of the last step (of its last substep), grouped by solver colour: one array to
+  /// scan after step() for sounds or gameplay, no per-contact callback. a and b are dense slots
+  /// (id_at gives the handle) until the next step or add/remove; b is kStaticBody for terrain
+  /// (feature: the triangle in Terrain::triangles()) or a plane (feature: kPlaneFeature | index).
+  /// Contacts are speculative: gap (m) is measured before the step moves anything, and > 0
+  /// means the sphere could reach the surface within the step, not that it did (one that
+  /// bounced off it moves away along the normal afterwards: see examples/drop_spheres.cpp).
+  /// After solving, normal_impulse holds the resting impulse (N s); the bounce impulses of the
+  /// collision passes, and the impacts of continuous collision (StepStats::sweep), are not
+  /// kept. No copy, no allocation; valid until the next step.
   [[nodiscard]] std::span<const Contact> last_contacts() const { return contacts_; }
 
  private:

@@ -2,7 +2,8 @@
 // scalar reference (the per-contact rules of kernel/contact_impulse.h in a loop), on random runs
 // of contacts that share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
 // mass (lanes the rules skip), accumulated impulses carried over, and runs whose tail does not
-// fill a batch.
+// fill a batch. The cradle chain runs on every SIMD path this CPU supports (the rest on the
+// active one; tests/test_simd_dispatch.cpp compares every path).
 
 #include <cstring>
 #include <numeric>
@@ -12,6 +13,7 @@
 
 #include "catch.h"
 #include "kernel/contact_solve_simd.h"
+#include "simd_paths.h"
 
 using namespace hail;
 
@@ -103,52 +105,58 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
 }
 
 TEST_CASE("Skipping unchanged batches keeps a Newton's cradle chain exact across colours", "[solver][simd]") {
-  // 17 touching spheres on the x axis, the first moving at +1 m/s; 16 contacts in two colours
-  // of 8 (even and odd joints), so every colour is one full SIMD batch. An impulse crosses one
-  // joint per colour: the far sphere only leaves if no batch is skipped while its bodies change.
-  constexpr int kSpheres = 17;
-  auto make = [] {
-    Problem p;
-    p.bodies.resize(kSpheres + 1);  // + the static body
-    for (int i = 0; i < kSpheres; ++i) {
-      p.bodies[i].inv_mass = 1.0f;
-      p.bodies[i].radius = 0.5f;
-      p.bodies[i].inv_inertia = 1.0f / (0.4f * 0.25f);
-    }
-    p.bodies[0].v[0] = 1.0f;
-    for (int parity : {0, 1})
-      for (int k = parity; k < kSpheres - 1; k += 2) {
-        Contact c;
-        c.a = static_cast<std::uint32_t>(k), c.b = static_cast<std::uint32_t>(k + 1);
-        c.nx = 1, c.ny = 0, c.nz = 0, c.gap = 0, c.restitution = 1, c.friction = 0;
-        p.contacts.push_back(c);
+  // 2W + 1 touching spheres on the x axis, the first moving at +1 m/s; 2W contacts in two
+  // colours of W (even and odd joints), so every colour is one full SIMD batch of the path. An
+  // impulse crosses one joint per colour: the far sphere only leaves if no batch is skipped
+  // while its bodies change. On every SIMD path this CPU supports.
+  for (SimdPath path : hail::testing::supported_paths()) {
+    const hail::testing::ScopedSimdPath scoped(path);
+    const int W = static_cast<int>(contact_batch_width());
+    const int kSpheres = 2 * W + 1;
+    INFO("path " << simd_path_name(path) << ", " << kSpheres << " spheres");
+    auto make = [&] {
+      Problem p;
+      p.bodies.resize(kSpheres + 1);  // + the static body
+      for (int i = 0; i < kSpheres; ++i) {
+        p.bodies[i].inv_mass = 1.0f;
+        p.bodies[i].radius = 0.5f;
+        p.bodies[i].inv_inertia = 1.0f / (0.4f * 0.25f);
       }
-    return p;
-  };
-  Problem simd = make(), scalar = make();
-  const std::uint32_t colour_begin[3] = {0, 8, 16};
-  ContactBatches batches;
-  batches.stage(simd.contacts, colour_begin, 2, simd.bodies);
-  REQUIRE(batches.batch_end(1) == 2 * 8 / contact_batch_width());
-  std::uint32_t passes = 0;
-  for (std::uint32_t pass = 0; pass < 40; ++pass) {
-    bool simd_any = false, scalar_any = false;
-    for (std::size_t colour : {0, 1}) {
-      simd_any |= batches.solve_collision(batches.batch_begin(colour), batches.batch_end(colour), simd.bodies, 1.0f / 60.0f,
-                                          0.0f, pass);
-      simd_any |= solve_collision_run_scalar(std::span(simd.contacts).subspan(batches.tail_begin(colour),
-                                                                             colour_begin[colour + 1] - batches.tail_begin(colour)),
-                                             simd.bodies, 1.0f / 60.0f, 0.0f, pass);
-      scalar_any |= solve_collision_run_scalar(std::span(scalar.contacts).subspan(colour_begin[colour], 8), scalar.bodies,
-                                               1.0f / 60.0f, 0.0f, pass);
+      p.bodies[0].v[0] = 1.0f;
+      for (int parity : {0, 1})
+        for (int k = parity; k < kSpheres - 1; k += 2) {
+          Contact c;
+          c.a = static_cast<std::uint32_t>(k), c.b = static_cast<std::uint32_t>(k + 1);
+          c.nx = 1, c.ny = 0, c.nz = 0, c.gap = 0, c.restitution = 1, c.friction = 0;
+          p.contacts.push_back(c);
+        }
+      return p;
+    };
+    Problem simd = make(), scalar = make();
+    const std::uint32_t colour_begin[3] = {0, static_cast<std::uint32_t>(W), static_cast<std::uint32_t>(2 * W)};
+    ContactBatches batches;
+    batches.stage(simd.contacts, colour_begin, 2, simd.bodies);
+    REQUIRE(batches.batch_end(1) == 2);
+    std::uint32_t passes = 0;
+    for (std::uint32_t pass = 0; pass < 80; ++pass) {
+      bool simd_any = false, scalar_any = false;
+      for (std::size_t colour : {0, 1}) {
+        simd_any |= batches.solve_collision(batches.batch_begin(colour), batches.batch_end(colour), simd.bodies,
+                                            1.0f / 60.0f, 0.0f, pass);
+        simd_any |= solve_collision_run_scalar(std::span(simd.contacts).subspan(batches.tail_begin(colour),
+                                                                               colour_begin[colour + 1] - batches.tail_begin(colour)),
+                                               simd.bodies, 1.0f / 60.0f, 0.0f, pass);
+        scalar_any |= solve_collision_run_scalar(std::span(scalar.contacts).subspan(colour_begin[colour], W), scalar.bodies,
+                                                 1.0f / 60.0f, 0.0f, pass);
+      }
+      REQUIRE(simd_any == scalar_any);
+      if (!simd_any) break;
+      ++passes;
     }
-    REQUIRE(simd_any == scalar_any);
-    if (!simd_any) break;
-    ++passes;
+    batches.store_impulses(simd.contacts);
+    CHECK(same_bits(simd, scalar));
+    CHECK(passes >= static_cast<std::uint32_t>(W));  // the impulse needed many passes to cross the chain
+    CHECK(simd.bodies[kSpheres - 1].v[0] == Approx(1.0f).margin(1e-5));
+    for (int i = 0; i < kSpheres - 1; ++i) CHECK(std::abs(simd.bodies[i].v[0]) < 1e-5f);
   }
-  batches.store_impulses(simd.contacts);
-  CHECK(same_bits(simd, scalar));
-  CHECK(passes >= 8);  // the impulse needed many passes to cross the chain
-  CHECK(simd.bodies[kSpheres - 1].v[0] == Approx(1.0f).margin(1e-5));
-  for (int i = 0; i < kSpheres - 1; ++i) CHECK(std::abs(simd.bodies[i].v[0]) < 1e-5f);
 }

@@ -12,9 +12,9 @@
 
 #include "bench/machine_info.h"
 #include "bench/scenes.h"
-#include "kernel/bvh_packet_walk.h"
 #include "kernel/heightmap.h"
 #include "kernel/morton.h"
+#include "kernel/simd_kernels.h"
 
 namespace hail::micro {
 namespace {
@@ -23,8 +23,8 @@ namespace {
 // was measured on (machine, SIMD path, flags). Registered before Google Benchmark's main runs.
 const bool kContextAdded = [] {
   benchmark::AddCustomContext("hail_cpu", bench::cpu_model());
-  benchmark::AddCustomContext("hail_simd", bench::simd_path());
-  benchmark::AddCustomContext("hail_packet_width", std::to_string(kSpherePacketWidth));
+  benchmark::AddCustomContext("hail_simd", bench::simd_description());
+  benchmark::AddCustomContext("hail_packet_width", std::to_string(simd_kernels().width));
   benchmark::AddCustomContext("hail_flags", bench::build_flags());
   return true;
 }();

@@ -8,6 +8,7 @@
 
 #include "kernel/flat_bvh.h"
 #include "kernel/path_box_scan.h"
+#include "kernel/simd_kernels.h"
 #include "kernel/swept_sphere.h"
 #include "micro_data.h"
 
@@ -102,7 +103,7 @@ void path_scan(benchmark::State& state) {
     hits = 0;
     auto visit = [&](std::uint32_t) { ++hits; };
     if constexpr (Simd)
-      scan_path_boxes_simd(spheres, box, 0.0f, float(kDt), visit);
+      simd_kernels().scan_path_boxes(spheres, box, 0.0f, float(kDt), slot_sink(visit));  // the active SIMD path
     else
       scan_path_boxes_scalar(spheres, box, 0.0f, float(kDt), visit);
     benchmark::DoNotOptimize(hits);

@@ -1,14 +1,14 @@
 // The terrain BVH walks on terrain-rain's terrain (130k triangles), queries per second, in
 // random and Morton order: stackless vs fixed-stack sphere walk, box, ray and swept-sphere walks,
-// the 8-lane packet walk, and Terrain::find_contacts (the detect phase's terrain half) per sphere.
+// the packet walk (4, 8 or 16 lanes: the active SIMD path), and Terrain::find_contacts (the detect phase's terrain half) per sphere.
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/bvh_packet_walk.h"
 #include "kernel/flat_bvh.h"
 #include "kernel/ray_triangle.h"
+#include "kernel/simd_kernels.h"
 #include "kernel/spatial_order.h"
 #include "kernel/swept_sphere.h"
 #include "micro_data.h"
@@ -59,19 +59,17 @@ void sphere_stack(benchmark::State& state, Order order) {
 }
 
 void sphere_packet(benchmark::State& state, Order order) {
+  // The packet walk with SIMD leaf boxes of the active SIMD path (HAIL_SIMD chooses another).
   const FlatBvh& bvh = rain_terrain().bvh();
   const std::span<const Aabb> bounds = rain_triangle_bounds();
   const std::vector<Query> queries = resting_queries(kQueries, order, 41);
-  SpherePacket packet;
+  std::vector<float> x, y, z, r;
+  for (const Query& q : queries) x.push_back(q.x), y.push_back(q.y), z.push_back(q.z), r.push_back(q.r);
+  const SimdKernels& kernels = simd_kernels();
   std::uint64_t hits = 0;
   for (auto _ : state) {
-    hits = 0;
-    for (std::size_t first = 0; first < queries.size(); first += kSpherePacketWidth) {
-      packet.clear();
-      for (std::size_t k = first; k < std::min(queries.size(), first + kSpherePacketWidth); ++k)
-        packet.add(queries[k].x, queries[k].y, queries[k].z, queries[k].r);
-      query_sphere_packet_exact(bvh, bounds, packet, [&](std::uint32_t, std::uint32_t) { ++hits; });
-    }
+    hits = kernels.count_packet_hits(bvh, bounds.data(), x.data(), y.data(), z.data(), r.data(), queries.size(),
+                                     PacketLeafTest::LeafBoxes, nullptr);
     benchmark::DoNotOptimize(hits);
   }
   finish(state, hits);

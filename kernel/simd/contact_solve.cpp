@@ -1,0 +1,207 @@
+// The SIMD collision, warm-start and resting passes over staged contact batches
+// (kernel/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
+// path (kernel/simd_arch.h). Each lane performs the float operations of the scalar rules of
+// kernel/contact_impulse.h in their order, so every path gives their bits.
+
+#include "kernel/simd_arch.h"  // first: the path's namespace
+
+#include <cstddef>
+
+#include "kernel/contact_solve_simd.h"
+#include "kernel/simd/kernels.h"
+#include "kernel/solver_body.h"
+
+namespace hail {
+inline namespace HAIL_SIMD_NS {
+namespace {
+
+using batch = xsimd::batch<float, simd_arch>;
+using index_batch = xsimd::batch<std::int32_t, simd_arch>;
+using lane_mask = xsimd::batch_bool<float, simd_arch>;
+constexpr std::size_t W = batch::size;
+static_assert(index_batch::size == W);
+
+// SolverBody as floats, for gathers.
+constexpr std::int32_t kBodyFloats = sizeof(SolverBody) / sizeof(float);
+constexpr std::int32_t kVelocity = offsetof(SolverBody, v) / sizeof(float);
+constexpr std::int32_t kAngular = offsetof(SolverBody, w) / sizeof(float);
+constexpr std::int32_t kChangedInPass = offsetof(SolverBody, changed_in_pass) / sizeof(float);
+
+/// ContactBodies and the contact's normal, one lane per contact.
+struct Lanes {
+  batch ima, iia, ra, imb, iib, rb;
+  batch va[3], wa[3], vb[3], wb[3], n[3];
+
+  /// Lanes of the batch at lane offset o: staged data, velocities gathered from bodies.
+  Lanes(const ContactBatchArrays& c, std::size_t o, const float* bodies)
+      : ima(batch::load_aligned(c.ima + o)), iia(batch::load_aligned(c.iia + o)), ra(batch::load_aligned(c.ra + o)),
+        imb(batch::load_aligned(c.imb + o)), iib(batch::load_aligned(c.iib + o)), rb(batch::load_aligned(c.rb + o)) {
+    const index_batch stride(kBodyFloats);
+    const index_batch ia = index_batch::load_aligned(c.a + o) * stride, ib = index_batch::load_aligned(c.b + o) * stride;
+    const float* const normal[3] = {c.nx + o, c.ny + o, c.nz + o};
+    for (int d = 0; d < 3; ++d) {
+      va[d] = batch::gather(bodies + kVelocity + d, ia), wa[d] = batch::gather(bodies + kAngular + d, ia);
+      vb[d] = batch::gather(bodies + kVelocity + d, ib), wb[d] = batch::gather(bodies + kAngular + d, ib);
+      n[d] = batch::load_aligned(normal[d]);
+    }
+  }
+
+  /// Writes the velocities back: every a, and b where it is not the static body.
+  void scatter(const std::int32_t* a, const std::int32_t* b, std::int32_t static_slot, SolverBody* bodies) const {
+    alignas(64) float out[12][W];
+    for (int d = 0; d < 3; ++d) {
+      va[d].store_aligned(out[d]), wa[d].store_aligned(out[3 + d]);
+      vb[d].store_aligned(out[6 + d]), wb[d].store_aligned(out[9 + d]);
+    }
+    for (std::size_t l = 0; l < W; ++l) {
+      SolverBody& body_a = bodies[a[l]];
+      for (int d = 0; d < 3; ++d) body_a.v[d] = out[d][l], body_a.w[d] = out[3 + d][l];
+      if (b[l] == static_slot) continue;
+      SolverBody& body_b = bodies[b[l]];
+      for (int d = 0; d < 3; ++d) body_b.v[d] = out[6 + d][l], body_b.w[d] = out[9 + d][l];
+    }
+  }
+
+  // The functions below are relative_contact_velocity, apply_impulse and apply_friction of
+  // kernel/contact_impulse.h, operation for operation; `active` lanes change, others keep.
+
+  void relative_velocity(batch out[3]) const {
+    const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
+    const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
+    const batch wa_x_ra[3] = {wa[1] * r_a[2] - wa[2] * r_a[1], wa[2] * r_a[0] - wa[0] * r_a[2], wa[0] * r_a[1] - wa[1] * r_a[0]};
+    const batch wb_x_rb[3] = {wb[1] * r_b[2] - wb[2] * r_b[1], wb[2] * r_b[0] - wb[0] * r_b[2], wb[0] * r_b[1] - wb[1] * r_b[0]};
+    for (int d = 0; d < 3; ++d) out[d] = (vb[d] + wb_x_rb[d]) - (va[d] + wa_x_ra[d]);
+  }
+
+  void apply_impulse(const batch p[3], const lane_mask& active) {
+    const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
+    const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
+    const batch ra_x_p[3] = {r_a[1] * p[2] - r_a[2] * p[1], r_a[2] * p[0] - r_a[0] * p[2], r_a[0] * p[1] - r_a[1] * p[0]};
+    const batch rb_x_p[3] = {r_b[1] * p[2] - r_b[2] * p[1], r_b[2] * p[0] - r_b[0] * p[2], r_b[0] * p[1] - r_b[1] * p[0]};
+    for (int d = 0; d < 3; ++d) {
+      va[d] = xsimd::select(active, va[d] - p[d] * ima, va[d]);
+      wa[d] = xsimd::select(active, wa[d] - ra_x_p[d] * iia, wa[d]);
+      vb[d] = xsimd::select(active, vb[d] + p[d] * imb, vb[d]);
+      wb[d] = xsimd::select(active, wb[d] + rb_x_p[d] * iib, wb[d]);
+    }
+  }
+
+  void apply_friction(const batch& limit, batch accumulated[3], lane_mask active) {
+    batch v[3];
+    relative_velocity(v);
+    const batch vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+    const batch vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
+    const batch kt = ima + imb + ra * ra * iia + rb * rb * iib;
+    active = active & !(kt <= batch(0.0f));
+    batch target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
+    const batch len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
+    const lane_mask over = len2 > limit * limit;
+    const batch scale = limit / xsimd::sqrt(len2);
+    for (batch& t : target) t = xsimd::select(over, t * scale, t);
+    const batch delta[3] = {target[0] - accumulated[0], target[1] - accumulated[1], target[2] - accumulated[2]};
+    apply_impulse(delta, active);
+    for (int d = 0; d < 3; ++d) accumulated[d] = xsimd::select(active, target[d], accumulated[d]);
+  }
+};
+
+/// Runs f(o, lanes) over batches [first, last) and scatters each batch's velocities back: the
+/// loop of every pass that touches all its batches.
+template <class F>
+void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                    std::size_t body_count, F&& f) {
+  const float* base = reinterpret_cast<const float*>(bodies);
+  const auto static_slot = static_cast<std::int32_t>(body_count - 1);
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    Lanes L(c, o, base);
+    f(o, L);
+    L.scatter(c.a + o, c.b + o, static_slot, bodies);
+  }
+}
+
+}  // namespace
+
+bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
+  // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
+  const float* base = reinterpret_cast<const float*>(bodies);
+  const auto* stamps = reinterpret_cast<const std::int32_t*>(bodies) + kChangedInPass;
+  const auto static_slot = static_cast<std::int32_t>(body_count - 1);
+  const batch zero(0.0f), one(1.0f);
+  const index_batch stride(kBodyFloats), changed_since(static_cast<std::int32_t>(pass));
+  bool any = false;
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    if (pass > 0) {
+      // Skip when no body of the batch changed in the previous pass or since (stamp >= pass).
+      const index_batch sa = index_batch::gather(stamps, index_batch::load_aligned(c.a + o) * stride);
+      const index_batch sb = index_batch::gather(stamps, index_batch::load_aligned(c.b + o) * stride);
+      if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
+    }
+    Lanes L(c, o, base);
+    batch v[3];
+    L.relative_velocity(v);
+    const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
+    const batch gap = batch::load_aligned(c.gap + o);
+    const batch kn = L.ima + L.imb;
+    const lane_mask closing_fast = !(closing <= batch(restitution_threshold));
+    const lane_mask gap_stays_open = (gap > zero) & (closing * batch(dt) <= gap);
+    const lane_mask movable = !(kn <= zero);
+    const lane_mask active = closing_fast & !gap_stays_open & movable;
+    const std::uint32_t lanes = lane_bits(active);
+    if (lanes == 0) continue;  // nothing changes: no scatter needed
+    any = true;
+    const batch j = (one + batch::load_aligned(c.restitution + o)) * closing / kn;
+    const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
+    L.apply_impulse(p, active);
+    batch fresh[3] = {zero, zero, zero};
+    L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
+    L.scatter(c.a + o, c.b + o, static_slot, bodies);
+    for (std::uint32_t rest = lanes; rest != 0; rest &= rest - 1) {
+      const std::size_t l = lowest_lane(rest);
+      bodies[c.a[o + l]].changed_in_pass = pass + 1;
+      if (c.b[o + l] != static_slot) bodies[c.b[o + l]].changed_in_pass = pass + 1;
+    }
+  }
+  return any;
+}
+
+void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                     std::size_t body_count, float inv_dt) {
+  const batch zero(0.0f);
+  for_each_batch(c, first, last, bodies, body_count, [&](std::size_t o, Lanes& L) {
+    batch v[3];
+    L.relative_velocity(v);
+    const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
+    const batch gap = batch::load_aligned(c.gap + o);
+    const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
+    const batch kn = L.ima + L.imb;
+    const lane_mask active = !(kn <= zero);
+    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch lambda = impulse - (vn + allowed_closing) / kn;
+    const batch clamped = xsimd::select(lambda > zero, lambda, zero);
+    const batch dj = clamped - impulse;
+    const batch new_impulse = xsimd::select(active, clamped, impulse);
+    const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
+    L.apply_impulse(p, active);
+    batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+    L.apply_friction(batch::load_aligned(c.friction + o) * new_impulse, accumulated, active);
+    new_impulse.store_aligned(c.normal_impulse + o);
+    accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
+  });
+}
+
+void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                        std::size_t body_count) {
+  const batch zero(0.0f);
+  for_each_batch(c, first, last, bodies, body_count, [&](std::size_t o, Lanes& L) {
+    const lane_mask active = !((L.ima + L.imb) <= zero);
+    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch p[3] = {impulse * L.n[0] + batch::load_aligned(c.tx + o), impulse * L.n[1] + batch::load_aligned(c.ty + o),
+                        impulse * L.n[2] + batch::load_aligned(c.tz + o)};
+    L.apply_impulse(p, active);
+  });
+}
+
+}  // namespace HAIL_SIMD_NS
+}  // namespace hail

@@ -1,0 +1,34 @@
+#pragma once
+// The kernels of one SIMD path, declared in that path's namespace (kernel/simd_arch.h), which
+// kernel/simd/kernel_table.cpp collects into its SimdKernels table. Only the translation units
+// of kernel/simd/, compiled once per path by kernel/CMakeLists.txt (HAIL_SIMD_PATH_* defined),
+// include this; elsewhere it declares functions of namespace simd_base that nothing defines.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "kernel/simd_arch.h"
+#include "kernel/simd_kernels.h"
+
+namespace hail {
+inline namespace HAIL_SIMD_NS {
+
+void find_sphere_pairs(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
+                       std::vector<SpherePair>& out);
+void sweep_find_pairs(const SphereSweepView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
+                      float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
+bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
+                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass);
+void contact_warm_start(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
+                        std::size_t body_count);
+void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
+                     std::size_t body_count, float inv_dt);
+void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
+                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
+void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
+std::uint64_t count_packet_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x, const float* y, const float* z,
+                                const float* r, std::size_t count, PacketLeafTest test, std::uint64_t* nodes_tested);
+
+}  // namespace HAIL_SIMD_NS
+}  // namespace hail

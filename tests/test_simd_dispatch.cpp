@@ -1,0 +1,291 @@
+// SIMD dispatch (kernel/simd_dispatch.h): every kernel of every SIMD path this CPU supports
+// against its scalar reference, bit for bit, and a small scene's state hash on every path.
+// Paths the CPU lacks are skipped (run the suite under `qemu-x86_64 -cpu Nehalem` or
+// `-cpu Haswell` to exercise the narrower ones alone; README, "SIMD paths").
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "catch.h"
+#include "kernel/contact_solve_simd.h"
+#include "kernel/errors.h"
+#include "kernel/path_box_scan.h"
+#include "kernel/simd_kernels.h"
+#include "kernel/sphere_pairs.h"
+#include "kernel/sphere_sweep.h"
+#include "kernel/terrain.h"
+#include "kernel/world.h"
+#include "simd_paths.h"
+
+using namespace hail;
+using hail::testing::ScopedSimdPath;
+using hail::testing::supported_paths;
+
+namespace {
+
+float hills(float x, float z) { return 3.0f * std::sin(0.15f * x) * std::cos(0.11f * z) + 1.5f * std::sin(0.4f * x + 0.3f * z); }
+
+/// n spheres in a box of side `side`, radii 0.2..0.7 (three sweep classes with `giants`),
+/// random velocities up to `speed`.
+SphereSoA random_spheres(std::size_t n, float side, float speed, std::uint32_t seed, bool giants = false) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f), v(-1.0f, 1.0f);
+  SphereSoA s;
+  for (std::size_t k = 0; k < n; ++k) {
+    const float r = giants && k % 50 == 0 ? 3.0f : 0.2f + 0.5f * u(rng);
+    s.add({.px = side * u(rng), .py = side * u(rng), .pz = side * u(rng), .vx = speed * v(rng), .vy = speed * v(rng),
+           .vz = speed * v(rng), .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = 1.0f, .inv_inertia = 1.0f,
+           .restitution = 0.5f, .friction = 0.5f, .flags = 0});
+  }
+  return s;
+}
+
+bool same_contacts(const std::vector<Contact>& a, const std::vector<Contact>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Contact)) == 0);
+}
+
+struct SolverProblem {
+  std::vector<SolverBody> bodies;
+  std::vector<Contact> contacts;
+};
+
+/// `count` contacts sharing no sphere (one colour), 30% static, 10% immovable bodies.
+SolverProblem random_contacts(std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
+  SolverProblem p;
+  p.bodies.resize(2 * count + 1);  // + the static body
+  for (SolverBody& b : std::span(p.bodies).first(2 * count)) {
+    for (int d = 0; d < 3; ++d) b.v[d] = 5.0f * u(rng), b.w[d] = 3.0f * u(rng);
+    b.radius = 0.1f + unit(rng);
+    const bool fixed = unit(rng) < 0.1f;
+    b.inv_mass = fixed ? 0.0f : 0.2f + 2.0f * unit(rng);
+    b.inv_inertia = fixed ? 0.0f : b.inv_mass / (0.4f * b.radius * b.radius);
+  }
+  std::vector<std::uint32_t> slot(2 * count);
+  std::iota(slot.begin(), slot.end(), 0u);
+  std::shuffle(slot.begin(), slot.end(), rng);
+  for (std::size_t k = 0; k < count; ++k) {
+    Contact c;
+    c.a = slot[2 * k];
+    c.b = unit(rng) < 0.3f ? kStaticBody : slot[2 * k + 1];
+    const float n[3] = {u(rng), u(rng), u(rng)};
+    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-3f;
+    c.nx = n[0] / len, c.ny = n[1] / len, c.nz = n[2] / len;
+    c.gap = 0.2f * u(rng);
+    c.restitution = unit(rng);
+    c.friction = unit(rng) < 0.2f ? 0.0f : unit(rng);
+    c.normal_impulse = unit(rng) < 0.5f ? 0.0f : unit(rng);
+    c.tx = 0.1f * u(rng), c.ty = 0.1f * u(rng), c.tz = 0.1f * u(rng);
+    p.contacts.push_back(c);
+  }
+  return p;
+}
+
+bool same_bits(const SolverProblem& a, const SolverProblem& b) {
+  return std::memcmp(a.bodies.data(), b.bodies.data(), a.bodies.size() * sizeof(SolverBody)) == 0 &&
+         std::memcmp(a.contacts.data(), b.contacts.data(), a.contacts.size() * sizeof(Contact)) == 0;
+}
+
+/// A hilly terrain with spheres raining onto it and a few fast ones shot through the pile.
+std::uint64_t small_scene_hash(PairSearch search, int threads) {
+  static const auto terrain = std::make_shared<const Terrain>(Heightmap::from_function(48, 48, {}, hills));
+  WorldSettings settings;
+  settings.threads = threads;
+  settings.pair_search = search;
+  World world(settings);
+  world.set_terrain(terrain, 0.4f, 0.6f);
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int k = 0; k < 700; ++k) {
+    const bool fast = k % 97 == 0;
+    world.add_sphere({.position = {8.0f + 30.0f * u(rng), 6.0f + 0.9f * float(k / 60), 8.0f + 30.0f * u(rng)},
+                      .velocity = {fast ? 400.0f * (u(rng) - 0.5f) : 0.0f, fast ? -300.0f : 0.0f, 0.0f},
+                      .radius = 0.3f + 0.2f * u(rng),
+                      .mass = 1.0f + u(rng),
+                      .restitution = 0.4f,
+                      .friction = 0.5f});
+  }
+  for (int k = 0; k < 120; ++k) world.step(1.0f / 60.0f);
+  REQUIRE(world.nan_count() == 0);
+  return world.state_hash();
+}
+
+}  // namespace
+
+TEST_CASE("SIMD paths: names, widths, support and errors", "[simd][dispatch]") {
+  for (SimdPath p : kSimdPaths) {
+    CHECK(parse_simd_path(simd_path_name(p)) == p);
+    if (!simd_path_supported(p)) {
+      CHECK_THROWS_AS(set_simd_path(p), InvalidArgument);
+      CHECK_THROWS_AS(simd_kernels(p), InvalidArgument);
+      continue;
+    }
+    const SimdKernels& k = simd_kernels(p);
+    CHECK(k.path == p);
+    CHECK(k.width == simd_path_width(p));
+    CHECK(k.width <= kSimdPadding);
+  }
+  CHECK_THROWS_AS(parse_simd_path("avx9"), InvalidArgument);
+  CHECK_THROWS_AS(parse_simd_path(""), InvalidArgument);
+  CHECK_THROWS_AS(parse_simd_path("AVX2"), InvalidArgument);  // names are exact
+  // Every CPU that runs the base code (x86-64-v2) has the SSE4.2 path, and the widest is chosen.
+  CHECK(simd_path_supported(SimdPath::Sse42));
+  CHECK(simd_path_supported(best_simd_path()));
+  for (SimdPath p : kSimdPaths)
+    if (simd_path_supported(p)) CHECK(static_cast<int>(p) <= static_cast<int>(best_simd_path()));
+  const SimdPath before = active_simd_path();
+  {
+    const ScopedSimdPath narrow(SimdPath::Sse42);
+    CHECK(active_simd_path() == SimdPath::Sse42);
+    CHECK(&simd_kernels() == &simd_kernels(SimdPath::Sse42));
+    CHECK(contact_batch_width() == 4);
+  }
+  CHECK(active_simd_path() == before);
+  INFO("supported: " << supported_simd_paths());
+  CHECK(!supported_simd_paths().empty());
+}
+
+TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference", "[simd][dispatch][pairs]") {
+  for (const std::size_t n : {std::size_t{1}, std::size_t{5}, std::size_t{17}, std::size_t{100}, std::size_t{1003}}) {
+    const SphereSoA s = random_spheres(n, 12.0f, 0.0f, static_cast<std::uint32_t>(n), n == 1003);
+    const float margin = 0.05f;
+    std::vector<SpherePair> reference;
+    find_sphere_pairs_scalar(s, 0, n, margin, reference);
+    SphereSweep sweep;
+    sweep.build(s, margin);
+    for (SimdPath p : supported_paths()) {
+      INFO(n << " spheres, path " << simd_path_name(p));
+      const SimdKernels& k = simd_kernels(p);
+      std::vector<SpherePair> brute, swept;
+      std::vector<std::uint32_t> row;
+      // In two row blocks whose boundary is not a multiple of any width.
+      const std::size_t mid = n / 3;
+      k.find_sphere_pairs(s, 0, mid, margin, brute);
+      k.find_sphere_pairs(s, mid, n, margin, brute);
+      CHECK(brute == reference);
+      k.sweep_find_pairs(sweep.view(), s, 0, mid, margin, swept, row);
+      k.sweep_find_pairs(sweep.view(), s, mid, n, margin, swept, row);
+      CHECK(swept == reference);
+      CHECK(row.empty());
+    }
+  }
+}
+
+TEST_CASE("Every SIMD path's contact passes equal the scalar rules bit for bit", "[simd][dispatch][solver]") {
+  for (SimdPath p : supported_paths()) {
+    const ScopedSimdPath path(p);
+    for (const std::size_t count : {std::size_t{3}, std::size_t{16}, std::size_t{37}, std::size_t{500}}) {
+      INFO(count << " contacts, path " << simd_path_name(p));
+      SolverProblem simd = random_contacts(count, static_cast<std::uint32_t>(count));
+      SolverProblem scalar = simd;
+      const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
+      ContactBatches batches;
+      batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
+      REQUIRE(batches.width() == simd_path_width(p));
+      REQUIRE(batches.batch_end(0) == count / batches.width());
+      const std::span<Contact> tail = std::span(simd.contacts).subspan(batches.tail_begin(0));
+      for (std::uint32_t pass = 0; pass < 3; ++pass) {
+        const bool a = batches.solve_collision(0, batches.batch_end(0), simd.bodies, 1.0f / 60.0f, 0.5f, pass);
+        const bool b = solve_collision_run_scalar(tail, simd.bodies, 1.0f / 60.0f, 0.5f, pass);
+        CHECK((a || b) == solve_collision_run_scalar(scalar.contacts, scalar.bodies, 1.0f / 60.0f, 0.5f, pass));
+      }
+      batches.warm_start(0, batches.batch_end(0), simd.bodies);
+      warm_start_run_scalar(tail, simd.bodies);
+      warm_start_run_scalar(scalar.contacts, scalar.bodies);
+      for (int pass = 0; pass < 3; ++pass) {
+        batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f);
+        solve_resting_run_scalar(tail, simd.bodies, 60.0f);
+        solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f);
+      }
+      batches.store_impulses(simd.contacts);
+      CHECK(same_bits(simd, scalar));
+    }
+  }
+}
+
+TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single scalar walks", "[simd][dispatch][terrain]") {
+  const Terrain terrain(Heightmap::from_function(40, 40, {}, hills), 4);
+  // Spheres resting on, hovering over and sunk into the surface, some fast.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  SphereSoA s;
+  for (int k = 0; k < 301; ++k) {
+    const float x = 1.0f + 37.0f * u(rng), z = 1.0f + 37.0f * u(rng), r = 0.2f + 0.6f * u(rng);
+    const float fall = k % 23 == 0 ? -200.0f : -6.0f * u(rng);
+    s.add({.px = x, .py = hills(x, z) + r * (2.0f * u(rng) - 0.3f), .pz = z, .vx = 2.0f * u(rng), .vy = fall,
+           .vz = 0.0f, .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
+           .inv_inertia = 1.0f, .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+  }
+  std::vector<float> x(s.size()), y(s.size()), z(s.size()), r(s.size());
+  std::uint64_t scalar_hits = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    x[i] = s.px[i], y[i] = s.py[i], z[i] = s.pz[i], r[i] = s.radius[i] + 0.25f;
+    query_sphere(terrain.bvh(), x[i], y[i], z[i], r[i],
+                 [&](std::uint32_t k) { scalar_hits += sphere_overlaps(terrain.triangle_bounds()[k], x[i], y[i], z[i], r[i]); });
+  }
+  REQUIRE(scalar_hits > 0);
+  for (const bool sweep_fast : {false, true}) {
+    std::vector<Contact> reference;
+    terrain.find_contacts_scalar(s, 0, 150, 1.0f / 60.0f, 0.5f, 0.5f, reference, 1.0f, sweep_fast);
+    terrain.find_contacts_scalar(s, 150, s.size(), 1.0f / 60.0f, 0.5f, 0.5f, reference, 1.0f, sweep_fast);
+    REQUIRE(reference.size() > 100);
+    for (SimdPath p : supported_paths()) {
+      INFO("path " << simd_path_name(p) << ", sweep_fast " << sweep_fast);
+      const SimdKernels& k = simd_kernels(p);
+      std::vector<Contact> found;
+      k.terrain_contacts(terrain, s, 0, 150, 1.0f / 60.0f, 0.5f, 0.5f, found, 1.0f, sweep_fast);
+      k.terrain_contacts(terrain, s, 150, s.size(), 1.0f / 60.0f, 0.5f, 0.5f, found, 1.0f, sweep_fast);
+      CHECK(same_contacts(found, reference));
+    }
+  }
+  for (SimdPath p : supported_paths()) {
+    INFO("path " << simd_path_name(p));
+    const SimdKernels& k = simd_kernels(p);
+    std::uint64_t nodes = 0;
+    CHECK(k.count_packet_hits(terrain.bvh(), terrain.triangle_bounds().data(), x.data(), y.data(), z.data(), r.data(),
+                              s.size(), PacketLeafTest::LeafCandidates, &nodes) == scalar_hits);
+    CHECK(k.count_packet_hits(terrain.bvh(), terrain.triangle_bounds().data(), x.data(), y.data(), z.data(), r.data(),
+                              s.size(), PacketLeafTest::LeafBoxes, nullptr) == scalar_hits);
+    CHECK(nodes > 0);
+  }
+}
+
+TEST_CASE("Every SIMD path's path-box scan visits exactly the scalar reference's spheres", "[simd][dispatch][ccd]") {
+  const SphereSoA s = random_spheres(1003, 40.0f, 300.0f, 11);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.0f, 40.0f);
+  for (int trial = 0; trial < 40; ++trial) {
+    PathBox box;
+    for (int d = 0; d < 3; ++d) box.min[d] = u(rng), box.max[d] = box.min[d] + 0.2f * u(rng);
+    std::vector<std::uint32_t> reference;
+    scan_path_boxes_scalar(s, box, 0.001f, 1.0f / 60.0f, [&](std::uint32_t j) { reference.push_back(j); });
+    for (SimdPath p : supported_paths()) {
+      INFO("path " << simd_path_name(p) << ", trial " << trial);
+      std::vector<std::uint32_t> found;
+      auto visit = [&](std::uint32_t j) { found.push_back(j); };
+      simd_kernels(p).scan_path_boxes(s, box, 0.001f, 1.0f / 60.0f, slot_sink(visit));
+      CHECK(found == reference);
+    }
+  }
+}
+
+TEST_CASE("A small terrain scene has the same state hash on every SIMD path", "[simd][dispatch][determinism]") {
+  // Brute force and sweep and prune (the two SIMD pair searches), contacts batched by the path's
+  // width, the packet walk, the path-box scan of the fast spheres: bitwise the same state.
+  for (const PairSearch search : {PairSearch::BruteForce, PairSearch::SweepAndPrune}) {
+    std::uint64_t first = 0;
+    for (SimdPath p : supported_paths()) {
+      const ScopedSimdPath path(p);
+      const std::uint64_t hash = small_scene_hash(search, 2);
+      INFO("path " << simd_path_name(p) << ", pair search " << static_cast<int>(search) << ", hash " << std::hex << hash);
+      if (first == 0) first = hash;
+      CHECK(hash == first);
+    }
+  }
+}
