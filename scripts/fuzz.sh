@@ -66,6 +66,11 @@ if [ "$mode" = ci ]; then
     fi
     # The last progress line and the final stats; the whole log stays in $log.
     { grep -E '^#[0-9]+' "$log" | tail -n 1; grep -E '^(stat::|Done )' "$log"; } | sed 's/^/    /'
+    done_runs=$(sed -n 's/^Done \([0-9]*\) runs.*/\1/p' "$log")
+    if [ "${done_runs:-0}" -lt "$runs" ]; then
+      echo "fuzz.sh: note: fuzz-$target stopped at the ${ci_cap} s safety cap after ${done_runs:-0} of $runs inputs" \
+        "(the same inputs as the reference run, fewer of them)"
+    fi
     echo "fuzz.sh: fuzz-$target took $((SECONDS - t0)) s"
   done
 else
