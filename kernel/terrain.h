@@ -41,6 +41,12 @@ class Terrain {
   /// Deepest penetration (m, >= 0) of a sphere into the terrain: for error reports.
   [[nodiscard]] float penetration(float x, float y, float z, float r) const;
 
+  /// Moves the centre of a sphere of radius r out of the terrain: the deepest overlapping
+  /// triangle first, along its contact normal by its overlap, then again for what still
+  /// overlaps, at most `rounds` times. Returns whether it moved. For spheres that travelled
+  /// further in a step than their contacts reached (kernel/terrain_push_out.cpp).
+  bool push_out(float& x, float& y, float& z, float r, int rounds = 4) const;
+
  private:
   Heightmap heightmap_;
   TerrainTriangles triangles_;

@@ -50,6 +50,8 @@ void World::validate(const WorldSettings& s) {
                                        std::to_string(s.reorder_interval));
   require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
           describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
+  require(s.shock_mass_ratio >= 1.0f,  // false for NaN
+          describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
