@@ -79,16 +79,34 @@ struct StepPipeline {
   }
 
   /// Terrain guard, part 1: where each sphere starts and how far its terrain contacts reach
-  /// (the same reach as Terrain::find_contacts; swept spheres need no guard).
+  /// (the reach of Terrain::find_contacts; swept spheres need no guard), plus the overlap the
+  /// depenetration tolerates anyway (slop): a sphere that moved no further than that cannot
+  /// have entered ground outside its contacts by more than the slop. Without that allowance
+  /// rounding flags every falling sphere (its move is exactly its reach): terrain-rain 4k
+  /// spent 11% more instructions on queries that moved nothing (callgrind).
   void remember_reach(std::size_t first, std::size_t last) {
     const SphereSoA& s = w.spheres_;
-    const float dt2 = params.dt * params.dt;
+    const float slop = w.settings_.depenetration.slop_fraction;
+    const float swept_reach = sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
+    // Selects, no branches, and unaliased pointers, so that it vectorises: it runs for every sphere.
+    float* __restrict x0 = w.start_x_.data();
+    float* __restrict y0 = w.start_y_.data();
+    float* __restrict z0 = w.start_z_.data();
+    float* __restrict reach2_out = w.reach2_.data();
+    const float* __restrict px = s.px.data();
+    const float* __restrict py = s.py.data();
+    const float* __restrict pz = s.pz.data();
+    const float* __restrict vx = s.vx.data();
+    const float* __restrict vy = s.vy.data();
+    const float* __restrict vz = s.vz.data();
+    const float* __restrict radius = s.radius.data();
     for (std::size_t i = first; i < last; ++i) {
-      w.start_x_[i] = s.px[i], w.start_y_[i] = s.py[i], w.start_z_[i] = s.pz[i];
-      const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-      const bool fast = is_fast(v2, params.dt, s.radius[i], fast_fraction);
-      const float capped = fast_fraction * s.radius[i];
-      w.reach2_[i] = !fast ? v2 * dt2 : sweeping ? std::numeric_limits<float>::infinity() : capped * capped;
+      x0[i] = px[i], y0[i] = py[i], z0[i] = pz[i];
+      const float v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
+      const bool fast = is_fast(v2, params.dt, radius[i], fast_fraction);
+      const float reach = (fast ? fast_fraction * radius[i] : std::sqrt(v2) * params.dt) + slop * radius[i];
+      const float reach2 = reach * reach;
+      reach2_out[i] = fast ? std::max(reach2, swept_reach) : reach2;
     }
   }
 
@@ -100,12 +118,18 @@ struct StepPipeline {
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      // Flags first, branch-free so that it vectorises; then the few flagged spheres' queries.
+      std::uint8_t beyond[kSphereBlock];
+      for (std::size_t i = first; i < last; ++i) {
+        const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
+        beyond[i - first] = (dx * dx + dy * dy + dz * dz > w.reach2_[i]) & (s.inv_mass[i] > 0.0f);
+      }
       std::size_t count = 0;
       for (std::size_t i = first; i < last; ++i) {
-        if (!(s.inv_mass[i] > 0.0f)) continue;
-        const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
-        if (!(dx * dx + dy * dy + dz * dz > w.reach2_[i])) continue;
+        if (!beyond[i - first]) continue;
+#if HAIL_WITH_TERRAIN
         count += w.terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+#endif
       }
       if (count) pushed += count;
     });
@@ -121,9 +145,11 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
       w.contact_blocks_[b].clear();
       find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
+#if HAIL_WITH_TERRAIN
       if (w.terrain_)
         w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
                                   w.contact_blocks_[b], fast_fraction, sweeping);
+#endif
     });
   }
 
@@ -172,6 +198,7 @@ struct StepPipeline {
   /// Continuous collision: the fast spheres' first impacts found in parallel, then all impacts
   /// taken in time order (serial, few), then the swept spheres placed at their end of step.
   void sweep() {
+#if HAIL_WITH_CONTINUOUS_COLLISION
     ContinuousCollision& ccd = w.sweep_motion_;
     SphereSoA& s = w.spheres_;
     ccd.begin(s, w.fast_, params.dt);
@@ -184,6 +211,7 @@ struct StepPipeline {
     });
     ccd.resolve(s, scene, params.restitution_threshold, w.settings_.max_sweep_events);
     ccd.finish(s);
+#endif
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block

@@ -23,6 +23,7 @@
 #include "kernel/continuous_collision.h"
 #include "kernel/depenetrate.h"
 #include "kernel/errors.h"
+#include "kernel/features.h"
 #include "kernel/integrate.h"
 #include "kernel/plane.h"
 #include "kernel/shock_propagation.h"
@@ -116,7 +117,8 @@ struct WorldSettings {
   /// so they neither tunnel nor bounce early. Off: they are left to the discrete step, whose
   /// terrain contacts then reach at most fast_travel_fraction radii (fast spheres tunnel; the
   /// benchmark shows what the sweep prevents). Spheres that are not fast step the same either way.
-  bool continuous_collision = true;
+  /// Default: on when compiled in (HAIL_WITH_CONTINUOUS_COLLISION); true is refused otherwise.
+  bool continuous_collision = HAIL_WITH_CONTINUOUS_COLLISION != 0;
   /// In (0, 1]. At 1 (one radius per step) the discrete step is still safe: a sphere's
   /// terrain contacts reach as far as it travels, and two spheres that are not fast close by at
   /// most ra + rb in a step, so they may overlap (the pair margin is capped at speculative_radii
@@ -221,7 +223,9 @@ class World {
   std::size_t add_plane(const PlaneDesc& desc);
   /// Sets (or with nullptr removes) the static terrain and its material. The terrain is
   /// immutable and may be shared by several worlds. Throws InvalidArgument on a bad material.
+#if HAIL_WITH_TERRAIN
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
+#endif
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
   [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
