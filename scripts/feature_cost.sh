@@ -13,13 +13,16 @@ cd "$(dirname "$0")/.."
 repeats="${1:-5}" spheres="${2:-4000}" threads="${3:-1}"
 jobs=$(nproc 2>/dev/null || echo 2)
 
-build() {  # build DIR CMAKE_OPTIONS...
+build() {  # build DIR CMAKE_OPTIONS...: configures DIR once, then builds hail-feature-cost there
   local dir="$1"; shift
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DHAIL_BUILD_TESTS=OFF "$@" > "$dir.configure.log"
+  [ -f "$dir/CMakeCache.txt" ] || cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DHAIL_BUILD_TESTS=OFF "$@" > "$dir.configure.log"
   cmake --build "$dir" -j "$jobs" --target hail-feature-cost > "$dir.build.log"
 }
 mkdir -p build
-build build/feature-full
+# The full build: build/release when there is one (any Release build of the defaults will do).
+full=build/feature-full
+[ -f build/release/CMakeCache.txt ] && full=build/release
+build "$full"
 build build/feature-spheres -DHAIL_WITH_TERRAIN=OFF -DHAIL_WITH_CONTINUOUS_COLLISION=OFF -DHAIL_WITH_REFERENCE_WALKS=OFF
 build build/feature-no-ccd -DHAIL_WITH_CONTINUOUS_COLLISION=OFF
 
@@ -44,5 +47,5 @@ compare() {
   [ "$ha" = "$hb" ]
 }
 echo "feature_cost.sh: $repeats runs each, $spheres spheres, $threads thread(s), medians of per-run medians"
-compare implosion build/feature-full build/feature-spheres
-compare terrain-rain build/feature-full build/feature-no-ccd
+compare implosion "$full" build/feature-spheres
+compare terrain-rain "$full" build/feature-no-ccd
