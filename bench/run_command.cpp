@@ -163,6 +163,7 @@ void print_report(const RunResult& r) {
               r.median_ms, r.warmup, r.steps - 1, r.total_s, r.setup_s);
   std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  sweep %.3f  integrate %.3f  depenetrate %.3f ms\n",
               p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.sweep, p.integrate, p.depenetrate);
+  std::printf("  parts     %s\n", describe_parts(r).c_str());
   std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
               r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
   if (r.continuous_collision)

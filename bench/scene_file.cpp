@@ -256,6 +256,9 @@ void read_settings(const Object& o, WorldSettings& s) {
   if (!(s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f))
     o.at("fast_travel_fraction").fail("must be in (0, 1], got " + got(o["fast_travel_fraction"]));
   s.max_sweep_events = static_cast<int>(o.integer("max_sweep_events", s.max_sweep_events, 1, big));
+  s.shock_mass_ratio = o.number("shock_mass_ratio", s.shock_mass_ratio);
+  if (!(s.shock_mass_ratio >= 1.0f))
+    o.at("shock_mass_ratio").fail("must be >= 1, got " + got(o["shock_mass_ratio"]));
 }
 
 // ---- terrain ---------------------------------------------------------------------------------
@@ -533,7 +536,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                                                  "depenetration_iterations", "depenetration", "restitution_threshold",
                                                  "sphere_collisions", "pair_search", "speculative_radii",
                                                  "reorder_interval", "warm_start", "warm_start_factor",
-                                                 "continuous_collision", "fast_travel_fraction", "max_sweep_events"}),
+                                                 "continuous_collision", "fast_travel_fraction", "max_sweep_events",
+                                                 "shock_mass_ratio"}),
                                          settings);
 
   std::shared_ptr<const Terrain> terrain;

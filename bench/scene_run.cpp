@@ -99,6 +99,40 @@ void write_state_csv(const Scene& scene, const std::string& path) {
   if (std::fclose(out) != 0 || failed) throw std::runtime_error("cannot write " + path);
 }
 
+namespace {
+
+void count_parts(const StepParts& ran, RunResult::PartCounts& count) {
+  count.reorder += ran.reorder, count.detect_static += ran.detect_static, count.detect_pairs += ran.detect_pairs;
+  count.solve += ran.solve, count.friction += ran.friction, count.shock += ran.shock, count.sweep += ran.sweep;
+  count.depenetrate += ran.depenetrate, count.terrain_guard += ran.terrain_guard;
+}
+
+/// (name, steps it ran in) for each optional part, in step order.
+std::vector<std::pair<const char*, int>> part_list(const RunResult::PartCounts& c) {
+  return {{"reorder", c.reorder}, {"detect-static", c.detect_static}, {"detect-pairs", c.detect_pairs},
+          {"solve", c.solve},     {"friction", c.friction},           {"shock", c.shock},
+          {"sweep", c.sweep},     {"depenetrate", c.depenetrate},     {"terrain-guard", c.terrain_guard}};
+}
+
+}  // namespace
+
+std::string describe_parts(const RunResult& r) {
+  std::string ran = "ran ", skipped;
+  for (const auto& [name, steps] : part_list(r.parts_ran)) {
+    if (std::string_view(name) == "detect-static") ran.append("predict, ");  // always runs, after reorder
+    if (steps == 0) {
+      if (!skipped.empty()) skipped.append(", ");
+      skipped.append(name);
+      continue;
+    }
+    ran.append(name);
+    if (steps < r.steps) ran.append(" (").append(std::to_string(steps)).append("/").append(std::to_string(r.steps)).append(" steps)");
+    ran.append(", ");
+  }
+  ran.append("integrate; skipped: ").append(skipped.empty() ? "nothing" : skipped);
+  return ran;
+}
+
 RunResult run_scene(const std::string& name, const std::function<Scene()>& build, const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   RunResult r;
@@ -144,6 +178,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.sweep_events += weight * double(stats.sweep.events);
     }
     r.sweep_capped += world.last_step_stats().sweep.capped;
+    count_parts(world.last_step_stats().ran, r.parts_ran);
     if (options.progress && clock::now() - last_progress > std::chrono::seconds(2)) {
       std::fprintf(stderr, "  %sstep %d/%d, %.2f ms/step so far\n", options.progress_label.c_str(), k + 1, r.steps,
                    std::accumulate(step_ms.begin(), step_ms.end(), 0.0) / static_cast<double>(step_ms.size()));
@@ -198,6 +233,11 @@ nlohmann::json to_json(const RunResult& r) {
       {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
                      {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"sweep", p.sweep}, {"integrate", p.integrate},
                      {"depenetrate", p.depenetrate}}},
+      {"phases_ran_steps", [&] {
+         nlohmann::json parts = nlohmann::json::object();
+         for (const auto& [part, steps] : part_list(r.parts_ran)) parts[part] = steps;
+         return parts;
+       }()},
       {"warm_start", r.warm_start},
       {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
                            {"warm_started", r.warm_started},

@@ -28,7 +28,14 @@ struct RunResult {
   bool tunnelled_tracked = false;  ///< errors.tunnelled_ever was counted (Scene::track_tunnelling)
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
   std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
+  /// Substeps in which each optional part of the step ran (StepStats::ran), over all steps.
+  struct PartCounts {
+    int reorder = 0, detect_static = 0, detect_pairs = 0, solve = 0, friction = 0, shock = 0, sweep = 0, depenetrate = 0, terrain_guard = 0;
+  } parts_ran;
 };
+
+/// "detect-pairs 600/600, solve 600/600, ..." and "skipped: ..." for the parts of RunResult::parts_ran.
+std::string describe_parts(const RunResult& r);
 
 struct RunOptions {
   int steps = -1;              ///< -1: the scene's default

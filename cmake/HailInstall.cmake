@@ -36,6 +36,8 @@ foreach(dir IN LISTS hail_install_header_dirs)
 endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/include/hail/hail.h ${PROJECT_BINARY_DIR}/include/hail/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail)
+# The generated feature switches (HAIL_WITH_*): a consumer sees the same World the library was built with.
+install(FILES ${PROJECT_BINARY_DIR}/include/kernel/features.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail/kernel)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 install(EXPORT hailTargets NAMESPACE hail:: DESTINATION ${hail_install_cmakedir})

@@ -5,7 +5,8 @@
 //   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
 //                time; per-block buffers merged in block order
 //   solve        contacts coloured so that a colour has no shared sphere; colours solved one
-//                after another, each in parallel and 8 contacts per SIMD instruction:
+//                after another, each in parallel and a SIMD batch of contacts (4, 8 or 16 by
+//                path) per instruction:
 //                collision passes, then resting passes
 //   sweep        fast spheres moved along their paths impact by impact (continuous collision)
 //   integrate    positions of the others, with exact time-of-impact bounces on planes
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 #include <oneapi/tbb/parallel_invoke.h>
 
@@ -44,6 +46,9 @@ struct StepPipeline {
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
   float fast_fraction = 1.0f;  // is_fast's threshold (WorldSettings::fast_travel_fraction)
   bool sweeping = true;        // continuous collision on: fast spheres are swept
+  bool shock = false;          // masses differ more than shock_mass_ratio: shock propagation
+  bool guarding = false;       // terrain guard on (there is a terrain)
+  bool friction_needed_ = true;  // some contact of this step has friction > 0 (merge_contacts)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres_;
@@ -55,6 +60,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace_, Phase::Predict);
       w.fast_blocks_[b].clear();
       w.block_max_speed_[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &w.fast_blocks_[b] : nullptr);
+      if (guarding) remember_reach(first, last);
     });
     float max_speed = 0.0f;
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
@@ -62,11 +68,73 @@ struct StepPipeline {
     for (std::size_t b = 0; b < blocks; ++b) w.fast_.insert(w.fast_.end(), w.fast_blocks_[b].begin(), w.fast_blocks_[b].end());
     max_radius = 0.0f;
     min_radius = n > 0 ? s.radius[0] : 0.0f;
+    float min_inv_mass = std::numeric_limits<float>::infinity(), max_inv_mass = 0.0f;  // of movable spheres
     for (std::size_t i = 0; i < n; ++i) {
       max_radius = std::max(max_radius, s.radius[i]);
       min_radius = std::min(min_radius, s.radius[i]);
+      if (s.inv_mass[i] > 0.0f) min_inv_mass = std::min(min_inv_mass, s.inv_mass[i]), max_inv_mass = std::max(max_inv_mass, s.inv_mass[i]);
     }
+    // Heaviest over lightest = largest inverse mass over smallest.
+    shock = max_inv_mass > w.settings_.shock_mass_ratio * min_inv_mass;
     margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
+  }
+
+  /// Terrain guard, part 1: where each sphere starts and how far its terrain contacts reach
+  /// (the reach of Terrain::find_contacts; swept spheres need no guard), plus the overlap the
+  /// depenetration tolerates anyway (slop): a sphere that moved no further than that cannot
+  /// have entered ground outside its contacts by more than the slop. Without that allowance
+  /// rounding flags every falling sphere (its move is exactly its reach): terrain-rain 4k
+  /// spent 11% more instructions on queries that moved nothing (callgrind).
+  void remember_reach(std::size_t first, std::size_t last) {
+    const SphereSoA& s = w.spheres_;
+    const float slop = w.settings_.depenetration.slop_fraction;
+    const float swept_reach = sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
+    // Selects, no branches, and unaliased pointers, so that it vectorises: it runs for every sphere.
+    float* __restrict x0 = w.start_x_.data();
+    float* __restrict y0 = w.start_y_.data();
+    float* __restrict z0 = w.start_z_.data();
+    float* __restrict reach2_out = w.reach2_.data();
+    const float* __restrict px = s.px.data();
+    const float* __restrict py = s.py.data();
+    const float* __restrict pz = s.pz.data();
+    const float* __restrict vx = s.vx.data();
+    const float* __restrict vy = s.vy.data();
+    const float* __restrict vz = s.vz.data();
+    const float* __restrict radius = s.radius.data();
+    for (std::size_t i = first; i < last; ++i) {
+      x0[i] = px[i], y0[i] = py[i], z0[i] = pz[i];
+      const float v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
+      const bool fast = is_fast(v2, params.dt, radius[i], fast_fraction);
+      const float reach = (fast ? fast_fraction * radius[i] : std::sqrt(v2) * params.dt) + slop * radius[i];
+      const float reach2 = reach * reach;
+      reach2_out[i] = fast ? std::max(reach2, swept_reach) : reach2;
+    }
+  }
+
+  /// Terrain guard, part 2: a sphere that ended the step further from where it started than
+  /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
+  /// (Terrain::push_out). Each sphere on its own, so blocks run in parallel.
+  void guard_terrain() {
+    SphereSoA& s = w.spheres_;
+    std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      // Flags first, branch-free so that it vectorises; then the few flagged spheres' queries.
+      std::uint8_t beyond[kSphereBlock];
+      for (std::size_t i = first; i < last; ++i) {
+        const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
+        beyond[i - first] = (dx * dx + dy * dy + dz * dz > w.reach2_[i]) & (s.inv_mass[i] > 0.0f);
+      }
+      std::size_t count = 0;
+      for (std::size_t i = first; i < last; ++i) {
+        if (!beyond[i - first]) continue;
+#if HAIL_WITH_TERRAIN
+        count += w.terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+#endif
+      }
+      if (count) pushed += count;
+    });
+    w.stats_.pushed_out = pushed.load();
   }
 
   void detect_static() {
@@ -78,9 +146,11 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
       w.contact_blocks_[b].clear();
       find_plane_contacts(s, w.planes_, first, last, w.contact_blocks_[b]);
+#if HAIL_WITH_TERRAIN
       if (w.terrain_)
         w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
                                   w.contact_blocks_[b], fast_fraction, sweeping);
+#endif
     });
   }
 
@@ -129,6 +199,7 @@ struct StepPipeline {
   /// Continuous collision: the fast spheres' first impacts found in parallel, then all impacts
   /// taken in time order (serial, few), then the swept spheres placed at their end of step.
   void sweep() {
+#if HAIL_WITH_CONTINUOUS_COLLISION
     ContinuousCollision& ccd = w.sweep_motion_;
     SphereSoA& s = w.spheres_;
     ccd.begin(s, w.fast_, params.dt);
@@ -141,6 +212,7 @@ struct StepPipeline {
     });
     ccd.resolve(s, scene, params.restitution_threshold, w.settings_.max_sweep_events);
     ccd.finish(s);
+#endif
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
@@ -156,15 +228,20 @@ struct StepPipeline {
     for (std::size_t b = 0; b < pair_blocks; ++b)
       offset[static_blocks + b + 1] = offset[static_blocks + b] + w.pair_blocks_[b].size();
     w.contacts_.resize(offset.back());
+    std::atomic<bool> friction{false};  // an OR: the order of stores cannot change the result
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
-      Contact* out = w.contacts_.data() + offset[b];
+      Contact* const first = w.contacts_.data() + offset[b];
+      Contact* out = first;
       if (b < static_blocks) {
-        std::copy(w.contact_blocks_[b].begin(), w.contact_blocks_[b].end(), out);
+        out = std::copy(w.contact_blocks_[b].begin(), w.contact_blocks_[b].end(), out);
       } else {
         for (const SpherePair& pair : w.pair_blocks_[b - static_blocks]) *out++ = make_sphere_contact(s, pair);
       }
+      if (std::any_of(first, out, [](const Contact& c) { return c.friction > 0.0f; }))
+        friction.store(true, std::memory_order_relaxed);
     });
+    friction_needed_ = friction.load();
     w.stats_.static_contacts = offset[static_blocks];
     w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
     w.stats_.warm_started = 0;
@@ -284,12 +361,14 @@ struct StepPipeline {
     w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
+    // No contact of this step has friction: no friction or angular work in any pass.
+    const bool friction = friction_needed_;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
         const auto number = static_cast<std::uint32_t>(pass);
-        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number);
-        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number);
+        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, friction);
+        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, friction);
         if (simd || rest) any.store(true, std::memory_order_relaxed);
       });
       if (!any.load()) break;
@@ -302,14 +381,20 @@ struct StepPipeline {
     // jitter that way, 1.4 J this way).
     if (w.settings_.warm_start && w.stats_.warm_started > 0)
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.warm_start(first, last, bodies);
-        warm_start_run_scalar(scalar, bodies);
+        batches.warm_start(first, last, bodies, friction);
+        warm_start_run_scalar(scalar, bodies, friction);
       });
     for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.solve_resting(first, last, bodies, inv_dt);
-        solve_resting_run_scalar(scalar, bodies, inv_dt);
+        batches.solve_resting(first, last, bodies, inv_dt, friction);
+        solve_resting_run_scalar(scalar, bodies, inv_dt, friction);
       });
+    }
+    if (shock) {
+      // Serial: it runs only in scenes of very different masses, and its order is its point.
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      w.shock_.plan(w.contacts_, bodies);
+      w.shock_.solve(w.contacts_, bodies, inv_dt);
     }
     batches.store_impulses(w.contacts_);
     remember_impulses();
@@ -334,24 +419,65 @@ struct StepPipeline {
   }
 
   /// Every reorder_interval steps: dense slots re-sorted by Morton code (kernel/spatial_order.h).
-  void reorder() {
+  [[nodiscard]] bool reorder_due() const {
     const int interval = w.settings_.reorder_interval;
-    if (interval <= 0 || w.steps_taken_ % static_cast<std::uint64_t>(interval) != 0) return;
+    return interval > 0 && w.steps_taken_ % static_cast<std::uint64_t>(interval) == 0;
+  }
+  void reorder() {
     morton_slot_order(w.spheres_, w.reorder_keys_, w.reorder_slots_);
     w.spheres_.permute(w.reorder_slots_);
   }
 
+  /// The step is assembled from what the scene has (StepParts): a phase with nothing to do is
+  /// not entered at all, so a scene pays only for the features it uses.
   void run() {
     PhaseTimes& t = w.times_;
-    { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace_, Phase::Reorder); reorder(); }
+    StepParts& ran = w.stats_.ran;
+    ran = {};
+    ran.reorder = reorder_due();
+    if (ran.reorder) { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace_, Phase::Reorder); reorder(); }
     float margin = 0.0f;
+    guarding = w.terrain_ != nullptr;
+    ran.terrain_guard = guarding;
+    w.stats_.pushed_out = 0;
+    if (guarding) {
+      const std::size_t n = w.spheres_.size();
+      for (std::vector<float>* v : {&w.start_x_, &w.start_y_, &w.start_z_, &w.reach2_})
+        if (v->size() < n) v->resize(n);
+    }
     // Each phase is also recorded on the thread that runs its serial parts (the trace's
     // per-block records cover the parallel parts).
     { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace_, Phase::Predict); predict(margin); }
-    tbb::parallel_invoke(
-        [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); },
-        [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); });
-    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); solve(); }
+    ran.detect_static = w.terrain_ != nullptr || !w.planes_.empty();
+    ran.detect_pairs = w.settings_.sphere_collisions && w.spheres_.size() > 1;
+    auto detect_static_timed = [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); };
+    auto detect_pairs_timed = [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); };
+    if (ran.detect_static && ran.detect_pairs) {
+      tbb::parallel_invoke(detect_static_timed, detect_pairs_timed);
+    } else if (ran.detect_static) {
+      detect_static_timed();
+      clear_pair_blocks();
+    } else if (ran.detect_pairs) {
+      clear_static_blocks();
+      detect_pairs_timed();
+    } else {
+      clear_static_blocks();
+      clear_pair_blocks();
+    }
+    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); }
+    ran.solve = !w.contacts_.empty();
+    if (ran.solve) {
+      ScopedPhaseTimer timer(t.solve);
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      solve();
+    } else {
+      w.stats_.colours = 0;
+      w.stats_.collision_passes = 0;
+      if (w.settings_.warm_start) w.contact_cache_.clear();  // nothing touched: nothing to carry over
+    }
+    ran.friction = ran.solve && friction_needed_;
+    ran.shock = ran.solve && shock;
+    ran.sweep = sweeping && !w.fast_.empty();
     if (sweeping) {
       ScopedPhaseTimer timer(t.sweep);
       ScopedTraceRecord record(w.trace_, Phase::Sweep);
@@ -359,7 +485,25 @@ struct StepPipeline {
       w.stats_.sweep = w.sweep_motion_.stats();
     }
     { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace_, Phase::Integrate); integrate(); }
-    { ScopedPhaseTimer timer(t.depenetrate); ScopedTraceRecord record(w.trace_, Phase::Depenetrate); depenetrate(); }
+    ran.depenetrate = ran.solve && w.settings_.depenetration_iterations > 0;
+    if (ran.depenetrate || guarding) {
+      ScopedPhaseTimer timer(t.depenetrate);
+      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      if (ran.depenetrate) depenetrate();
+      if (guarding) guard_terrain();
+    }
+  }
+
+  /// Phases that are skipped still leave their block buffers empty for merge_contacts.
+  void clear_static_blocks() {
+    const std::size_t blocks = block_count(w.spheres_.size(), kSphereBlock);
+    if (w.contact_blocks_.size() < blocks) w.contact_blocks_.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) w.contact_blocks_[b].clear();
+  }
+  void clear_pair_blocks() {
+    const std::size_t blocks = block_count(w.spheres_.size(), kPairRowBlock);
+    if (w.pair_blocks_.size() < blocks) w.pair_blocks_.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
   }
 };
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 
+#include "kernel/features.h"
 #include "kernel/flat_node.h"
 
 namespace hail {
@@ -49,6 +50,7 @@ void walk_stackless(std::span<const FlatNode> nodes, HitsNode&& hits_node, Visit
   }
 }
 
+#if HAIL_WITH_REFERENCE_WALKS  // kernel/features.h
 /// The same walk with a fixed stack of kMaxBvhDepth entries (the seed's alternative, for
 /// tests and the benchmark): on an inner-node hit it keeps the right child (nodes[i + 1].skip)
 /// and descends into the left (i + 1). The stack holds at most one entry per level, and the
@@ -75,5 +77,6 @@ void walk_stack(std::span<const FlatNode> nodes, HitsNode&& hits_node, VisitLeaf
     i = stack[--top];
   }
 }
+#endif  // HAIL_WITH_REFERENCE_WALKS
 
 }  // namespace hail

@@ -53,9 +53,21 @@ inline void scatter_bodies(SphereSoA& s, const Contact& c, const ContactBodies& 
   }
 }
 
+/// Whether a solver pass does friction work. Without friction (no contact of the step has any)
+/// nothing turns a sphere: a normal impulse passes through the centre (r x n = 0) and w x r is
+/// perpendicular to n, so those passes drop the angular terms altogether (kNoFriction). That is
+/// the exact answer; with the terms the float products of parallel vectors leave spins of
+/// rounding size.
+enum FrictionWork : bool { kNoFriction = false, kWithFriction = true };
+
 /// Velocity of b relative to a at the contact point. The contact point sits at +n ra from a's
 /// centre and -n rb from b's, so w x r contributes the rolling/spinning part.
+template <FrictionWork kFriction = kWithFriction>
 inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, float out[3]) {
+  if constexpr (!kFriction) {
+    for (int d = 0; d < 3; ++d) out[d] = k.vb[d] - k.va[d];
+    return;
+  }
   const float n[3] = {c.nx, c.ny, c.nz};
   const float ra[3] = {n[0] * k.ra, n[1] * k.ra, n[2] * k.ra};
   const float rb[3] = {-n[0] * k.rb, -n[1] * k.rb, -n[2] * k.rb};
@@ -67,7 +79,12 @@ inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, 
 }
 
 /// Applies impulse p (N s) to b at its contact point and -p to a at its contact point.
+template <FrictionWork kFriction = kWithFriction>
 inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
+  if constexpr (!kFriction) {  // p is along n: no torque
+    for (int d = 0; d < 3; ++d) k.va[d] -= p[d] * k.ima, k.vb[d] += p[d] * k.imb;
+    return;
+  }
   const float n[3] = {c.nx, c.ny, c.nz};
   const float ra[3] = {n[0] * k.ra, n[1] * k.ra, n[2] * k.ra};
   const float rb[3] = {-n[0] * k.rb, -n[1] * k.rb, -n[2] * k.rb};
@@ -126,17 +143,24 @@ inline void solve_impact(const Contact& c, ContactBodies& k, float restitution_t
 
 /// Warm start of one contact: applies the impulse it starts the step with (normal_impulse along
 /// n plus the friction impulse), which the resting passes then treat as already applied.
+template <FrictionWork kFriction = kWithFriction>
 inline void apply_warm_start(const Contact& c, ContactBodies& k) {
   if (normal_mass_denominator(k) <= 0.0f) return;
+  if constexpr (!kFriction) {
+    const float p[3] = {c.normal_impulse * c.nx, c.normal_impulse * c.ny, c.normal_impulse * c.nz};
+    apply_impulse<kNoFriction>(c, k, p);
+    return;
+  }
   const float p[3] = {c.normal_impulse * c.nx + c.tx, c.normal_impulse * c.ny + c.ty, c.normal_impulse * c.nz + c.tz};
   apply_impulse(c, k, p);
 }
 
 /// Collision pass on one contact. Returns true when it applied an impulse.
 /// A speculative contact (gap > 0) collides only if it closes the gap within dt.
+template <FrictionWork kFriction = kWithFriction>
 inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
   float v[3];
-  relative_contact_velocity(c, k, v);
+  relative_contact_velocity<kFriction>(c, k, v);
   const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
   if (closing <= restitution_threshold) return false;
   if (c.gap > 0.0f && closing * dt <= c.gap) return false;
@@ -144,17 +168,20 @@ inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float 
   if (kn <= 0.0f) return false;
   const float j = (1.0f + c.restitution) * closing / kn;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_impulse(c, k, p);
-  float fresh[3] = {0, 0, 0};
-  apply_friction(c, k, c.friction * j, fresh);
+  apply_impulse<kFriction>(c, k, p);
+  if constexpr (kFriction) {
+    float fresh[3] = {0, 0, 0};
+    apply_friction(c, k, c.friction * j, fresh);
+  }
   return true;
 }
 
 /// Resting pass on one contact: accumulated normal impulse >= 0 making the closing speed at
 /// most gap/dt (zero for overlapping contacts), then friction within mu * that impulse.
+template <FrictionWork kFriction = kWithFriction>
 inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
   float v[3];
-  relative_contact_velocity(c, k, v);
+  relative_contact_velocity<kFriction>(c, k, v);
   const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
   const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
   const float kn = normal_mass_denominator(k);
@@ -164,7 +191,8 @@ inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
   const float dj = clamped - c.normal_impulse;
   c.normal_impulse = clamped;
   const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
-  apply_impulse(c, k, p);
+  apply_impulse<kFriction>(c, k, p);
+  if constexpr (!kFriction) return;
   float accumulated[3] = {c.tx, c.ty, c.tz};
   apply_friction(c, k, c.friction * c.normal_impulse, accumulated);
   c.tx = accumulated[0];

@@ -7,12 +7,15 @@
 
 namespace hail {
 
-bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass) {
+namespace {
+
+template <FrictionWork kFriction>
+bool collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt, float restitution_threshold,
+                   std::uint32_t pass) {
   bool any = false;
   for (Contact& c : contacts) {
     ContactBodies k = gather_bodies(bodies, c);
-    if (solve_collision(c, k, dt, restitution_threshold)) {
+    if (solve_collision<kFriction>(c, k, dt, restitution_threshold)) {
       scatter_bodies(bodies, c, k);
       bodies[c.a].changed_in_pass = pass + 1;
       if (c.b != kStaticBody) bodies[c.b].changed_in_pass = pass + 1;
@@ -22,20 +25,40 @@ bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBod
   return any;
 }
 
-void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
+template <FrictionWork kFriction>
+void resting_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
   for (Contact& c : contacts) {
     ContactBodies k = gather_bodies(bodies, c);
-    solve_resting(c, k, inv_dt);
+    solve_resting<kFriction>(c, k, inv_dt);
     scatter_bodies(bodies, c, k);
   }
 }
 
-void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies) {
+template <FrictionWork kFriction>
+void warm_start_run(std::span<const Contact> contacts, std::span<SolverBody> bodies) {
   for (const Contact& c : contacts) {
     ContactBodies k = gather_bodies(bodies, c);
-    apply_warm_start(c, k);
+    apply_warm_start<kFriction>(c, k);
     scatter_bodies(bodies, c, k);
   }
+}
+
+}  // namespace
+
+bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
+                                float restitution_threshold, std::uint32_t pass, bool friction) {
+  return friction ? collision_run<kWithFriction>(contacts, bodies, dt, restitution_threshold, pass)
+                  : collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
+}
+
+void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt, bool friction) {
+  if (friction) resting_run<kWithFriction>(contacts, bodies, inv_dt);
+  else resting_run<kNoFriction>(contacts, bodies, inv_dt);
+}
+
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, bool friction) {
+  if (friction) warm_start_run<kWithFriction>(contacts, bodies);
+  else warm_start_run<kNoFriction>(contacts, bodies);
 }
 
 std::size_t contact_batch_width() { return simd_kernels().width; }
@@ -99,19 +122,21 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                                     float restitution_threshold, std::uint32_t pass) {
+                                     float restitution_threshold, std::uint32_t pass, bool friction) {
   if (first >= last) return false;
-  return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold, pass);
+  return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold, pass,
+                                     friction);
 }
 
-void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt) {
+void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
+                                   bool friction) {
   if (first >= last) return;
-  kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt);
+  kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt, friction);
 }
 
-void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies) {
+void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, bool friction) {
   if (first >= last) return;
-  kernels_->contact_warm_start(arrays(), first, last, bodies.data(), bodies.size());
+  kernels_->contact_warm_start(arrays(), first, last, bodies.data(), bodies.size(), friction);
 }
 
 void ContactBatches::store_impulses(std::span<Contact> contacts) const {

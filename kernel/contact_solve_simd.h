@@ -73,11 +73,12 @@ class ContactBatches {
   /// none of its contacts applied then, so none can now (SolverBody::changed_in_pass); the
   /// result is the same as evaluating it.
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                       float restitution_threshold, std::uint32_t pass);
+                       float restitution_threshold, std::uint32_t pass, bool friction = true);
   /// Warm start (apply_warm_start) of batches [first, last): their staged impulses applied.
-  void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies);
+  void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, bool friction = true);
   /// Resting pass (solve_resting) over batches [first, last).
-  void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt);
+  void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
+                     bool friction = true);
   /// Writes the batches' accumulated impulses back to the contacts they were staged from.
   void store_impulses(std::span<Contact> contacts) const;
 
@@ -96,10 +97,12 @@ class ContactBatches {
 /// The scalar rules over a run of contacts: the reference, and the path for tails and for the
 /// serial colour (whose contacts may share spheres).
 /// `pass` marks the bodies it changes (SolverBody::changed_in_pass = pass + 1); it evaluates
-/// every contact.
+/// every contact. `friction` false: no contact has friction, and the passes do no friction or
+/// angular work (kNoFriction in kernel/contact_impulse.h); the same holds for ContactBatches.
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass = 0);
-void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt);
-void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies);
+                                float restitution_threshold, std::uint32_t pass = 0, bool friction = true);
+void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
+                              bool friction = true);
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, bool friction = true);
 
 }  // namespace hail

@@ -69,11 +69,12 @@ struct SimdKernels {
   /// ContactBatches::solve_collision, warm_start, solve_resting (kernel/contact_solve_simd.h);
   /// `bodies` holds body_count bodies, the last of them the static one.
   bool (*contact_collision)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                            std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass);
+                            std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
+                            bool friction);
   void (*contact_warm_start)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                             std::size_t body_count);
+                             std::size_t body_count, bool friction);
   void (*contact_resting)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                          std::size_t body_count, float inv_dt);
+                          std::size_t body_count, float inv_dt, bool friction);
   /// Terrain::find_contacts (kernel/terrain.h): the packet walk and the sphere-triangle tests.
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                            float restitution, float friction, std::vector<Contact>& out, float fast_fraction,

@@ -83,6 +83,12 @@ class Terrain {
   [[nodiscard]] std::optional<TerrainRayHit> raycast(const Vec3& origin, const Vec3& dir,
                                                      float max_t = std::numeric_limits<float>::infinity()) const;
 
+  /// Moves the centre of a sphere of radius r out of the terrain: the deepest overlapping
+  /// triangle first, along its contact normal by its overlap, then again for what still
+  /// overlaps, at most `rounds` times. Returns whether it moved. For spheres that travelled
+  /// further in a step than their contacts reached (kernel/terrain_push_out.cpp).
+  bool push_out(float& x, float& y, float& z, float r, int rounds = 4) const;
+
  private:
   Heightmap heightmap_;
   TerrainTriangles triangles_;

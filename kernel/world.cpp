@@ -52,6 +52,11 @@ void World::validate(const WorldSettings& s) {
                                        std::to_string(s.reorder_interval));
   require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
           describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
+  require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
+          "WorldSettings::continuous_collision is true, but this hail was built without it "
+          "(HAIL_WITH_CONTINUOUS_COLLISION=OFF)");
+  require(s.shock_mass_ratio >= 1.0f,  // false for NaN
+          describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
@@ -113,6 +118,7 @@ std::size_t World::add_plane(const PlaneDesc& d) {
   return planes_.size() - 1;
 }
 
+#if HAIL_WITH_TERRAIN
 void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
   require_material(restitution, friction, "terrain");
   terrain_ = std::move(terrain);
@@ -120,6 +126,7 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
 }
+#endif
 
 void World::reserve(std::size_t n) { spheres_.reserve(n); }
 

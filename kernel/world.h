@@ -35,8 +35,10 @@
 #include "kernel/continuous_collision.h"
 #include "kernel/depenetrate.h"
 #include "kernel/errors.h"
+#include "kernel/features.h"
 #include "kernel/integrate.h"
 #include "kernel/plane.h"
+#include "kernel/shock_propagation.h"
 #include "kernel/solver_body.h"
 #include "kernel/sphere_bvh_pairs.h"
 #include "kernel/sphere_grid.h"
@@ -127,7 +129,8 @@ struct WorldSettings {
   /// so they neither tunnel nor bounce early. Off: they are left to the discrete step, whose
   /// terrain contacts then reach at most fast_travel_fraction radii (fast spheres tunnel; the
   /// benchmark shows what the sweep prevents). Spheres that are not fast step the same either way.
-  bool continuous_collision = true;
+  /// Default: on when compiled in (HAIL_WITH_CONTINUOUS_COLLISION); true is refused otherwise.
+  bool continuous_collision = HAIL_WITH_CONTINUOUS_COLLISION != 0;
   /// In (0, 1]. At 1 (one radius per step) the discrete step is still safe: a sphere's
   /// terrain contacts reach as far as it travels, and two spheres that are not fast close by at
   /// most ra + rb in a step, so they may overlap (the pair margin is capped at speculative_radii
@@ -141,6 +144,12 @@ struct WorldSettings {
   /// took 750 impacts with no sphere above 64; at a cap of 16, 23 spheres stopped early and
   /// the pile ended 9% of a radius inside itself (hail-bench stress).
   int max_sweep_events = 256;
+  /// Shock propagation (kernel/shock_propagation.h): one more resting pass from the ground up
+  /// with the lower body of each contact held still, run in steps where the heaviest movable
+  /// sphere weighs more than this many times the lightest. Without it a 1 : 100 : 1e4 kg stack
+  /// presses its 1 kg sphere through the ground. >= 1; infinity: never. The default leaves
+  /// scenes of equal (or nearly equal) masses exactly as they were, and costs them nothing.
+  float shock_mass_ratio = 10.0f;
 };
 
 /// A new sphere. Mass must be > 0 unless `is_static` (then it never moves).
@@ -172,6 +181,22 @@ struct PhaseTimes {
   }
 };
 
+/// Which optional parts of a step ran. A step runs only what its scene needs: no planes and no
+/// terrain, no static detection; sphere collisions off (or one sphere), no pair search; no
+/// contacts, no solve and no depenetration; no contact with friction, no friction work; no fast
+/// sphere, no sweep. Predict and integrate always run.
+struct StepParts {
+  bool reorder = false;         ///< Morton re-sort (every reorder_interval steps)
+  bool detect_static = false;   ///< sphere-plane and sphere-terrain contacts
+  bool detect_pairs = false;    ///< sphere-sphere pair search
+  bool solve = false;           ///< contact impulses
+  bool friction = false;        ///< friction within the solve (some contact has friction > 0)
+  bool sweep = false;           ///< continuous collision of fast spheres
+  bool shock = false;           ///< shock propagation (masses differ more than shock_mass_ratio)
+  bool depenetrate = false;     ///< position correction
+  bool terrain_guard = false;   ///< spheres that moved beyond their terrain contacts' reach checked (terrain only)
+};
+
 /// Counters of the last step.
 struct StepStats {
   std::size_t static_contacts = 0;
@@ -181,6 +206,8 @@ struct StepStats {
   PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
   std::size_t warm_started = 0;  ///< contacts that found their last-step impulses
   SweepStats sweep;              ///< continuous collision: fast spheres, impacts, capped spheres
+  StepParts ran;                 ///< the optional parts that ran (of the last substep)
+  std::size_t pushed_out = 0;    ///< spheres the terrain guard moved out of the terrain (Terrain::push_out)
 };
 
 /// Read-only views of the dense sphere state, in slot order (World::slot_of maps a handle to
@@ -215,7 +242,9 @@ class World {
   std::size_t add_plane(const PlaneDesc& desc);
   /// Sets (or with nullptr removes) the static terrain and its material. The terrain is
   /// immutable and may be shared by several worlds. Throws InvalidArgument on a bad material.
+#if HAIL_WITH_TERRAIN
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
+#endif
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
   [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
@@ -306,6 +335,10 @@ class World {
   std::vector<std::vector<std::uint32_t>> fast_blocks_;  ///< predict: fast spheres per block
   std::vector<std::uint32_t> fast_;                      ///< this step's fast spheres, slot order
   ContinuousCollision sweep_motion_;
+  // Terrain guard (predict -> end of step): where each sphere started and how far (squared) its
+  // terrain contacts reached.
+  std::vector<float> start_x_, start_y_, start_z_, reach2_;
+  ShockPropagation shock_;  ///< solve phase scratch: levels and contact order of the shock pass
   std::vector<std::uint64_t> reorder_keys_;   ///< Morton re-sort scratch
   std::vector<std::uint32_t> reorder_slots_;  ///< Morton re-sort: new slot k <- old slot
   std::uint64_t steps_taken_ = 0;

@@ -119,6 +119,8 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.fast_travel_fraction = kNaN; }), "fast_travel_fraction");
   rejected(with([](WorldSettings& s) { s.fast_travel_fraction = 2; }), "fast_travel_fraction");
   rejected(with([](WorldSettings& s) { s.max_sweep_events = 0; }), "max_sweep_events");
+  rejected(with([](WorldSettings& s) { s.shock_mass_ratio = 0.5f; }), "shock_mass_ratio");
+  rejected(with([](WorldSettings& s) { s.shock_mass_ratio = kNaN; }), "shock_mass_ratio");
   rejected(with([](WorldSettings& s) { s.max_substep = 0; }), "max_substep");
   rejected(with([](WorldSettings& s) { s.max_substep = kInf; }), "max_substep");
 }

@@ -27,7 +27,10 @@ constexpr std::int32_t kVelocity = offsetof(SolverBody, v) / sizeof(float);
 constexpr std::int32_t kAngular = offsetof(SolverBody, w) / sizeof(float);
 constexpr std::int32_t kChangedInPass = offsetof(SolverBody, changed_in_pass) / sizeof(float);
 
-/// ContactBodies and the contact's normal, one lane per contact.
+/// ContactBodies and the contact's normal, one lane per contact. Without friction
+/// (kFriction false) no angular velocity is gathered, changed or scattered (kNoFriction in
+/// kernel/contact_impulse.h).
+template <bool kFriction>
 struct Lanes {
   batch ima, iia, ra, imb, iib, rb;
   batch va[3], wa[3], vb[3], wb[3], n[3];
@@ -40,8 +43,9 @@ struct Lanes {
     const index_batch ia = index_batch::load_aligned(c.a + o) * stride, ib = index_batch::load_aligned(c.b + o) * stride;
     const float* const normal[3] = {c.nx + o, c.ny + o, c.nz + o};
     for (int d = 0; d < 3; ++d) {
-      va[d] = batch::gather(bodies + kVelocity + d, ia), wa[d] = batch::gather(bodies + kAngular + d, ia);
-      vb[d] = batch::gather(bodies + kVelocity + d, ib), wb[d] = batch::gather(bodies + kAngular + d, ib);
+      va[d] = batch::gather(bodies + kVelocity + d, ia), vb[d] = batch::gather(bodies + kVelocity + d, ib);
+      if constexpr (kFriction)
+        wa[d] = batch::gather(bodies + kAngular + d, ia), wb[d] = batch::gather(bodies + kAngular + d, ib);
       n[d] = batch::load_aligned(normal[d]);
     }
   }
@@ -50,15 +54,19 @@ struct Lanes {
   void scatter(const std::int32_t* a, const std::int32_t* b, std::int32_t static_slot, SolverBody* bodies) const {
     alignas(64) float out[12][W];
     for (int d = 0; d < 3; ++d) {
-      va[d].store_aligned(out[d]), wa[d].store_aligned(out[3 + d]);
-      vb[d].store_aligned(out[6 + d]), wb[d].store_aligned(out[9 + d]);
+      va[d].store_aligned(out[d]), vb[d].store_aligned(out[6 + d]);
+      if constexpr (kFriction) wa[d].store_aligned(out[3 + d]), wb[d].store_aligned(out[9 + d]);
     }
     for (std::size_t l = 0; l < W; ++l) {
       SolverBody& body_a = bodies[a[l]];
-      for (int d = 0; d < 3; ++d) body_a.v[d] = out[d][l], body_a.w[d] = out[3 + d][l];
+      for (int d = 0; d < 3; ++d) body_a.v[d] = out[d][l];
+      if constexpr (kFriction)
+        for (int d = 0; d < 3; ++d) body_a.w[d] = out[3 + d][l];
       if (b[l] == static_slot) continue;
       SolverBody& body_b = bodies[b[l]];
-      for (int d = 0; d < 3; ++d) body_b.v[d] = out[6 + d][l], body_b.w[d] = out[9 + d][l];
+      for (int d = 0; d < 3; ++d) body_b.v[d] = out[6 + d][l];
+      if constexpr (kFriction)
+        for (int d = 0; d < 3; ++d) body_b.w[d] = out[9 + d][l];
     }
   }
 
@@ -66,6 +74,10 @@ struct Lanes {
   // kernel/contact_impulse.h, operation for operation; `active` lanes change, others keep.
 
   void relative_velocity(batch out[3]) const {
+    if constexpr (!kFriction) {
+      for (int d = 0; d < 3; ++d) out[d] = vb[d] - va[d];
+      return;
+    }
     const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
     const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
     const batch wa_x_ra[3] = {wa[1] * r_a[2] - wa[2] * r_a[1], wa[2] * r_a[0] - wa[0] * r_a[2], wa[0] * r_a[1] - wa[1] * r_a[0]};
@@ -74,6 +86,13 @@ struct Lanes {
   }
 
   void apply_impulse(const batch p[3], const lane_mask& active) {
+    if constexpr (!kFriction) {  // p is along n: no torque
+      for (int d = 0; d < 3; ++d) {
+        va[d] = xsimd::select(active, va[d] - p[d] * ima, va[d]);
+        vb[d] = xsimd::select(active, vb[d] + p[d] * imb, vb[d]);
+      }
+      return;
+    }
     const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
     const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
     const batch ra_x_p[3] = {r_a[1] * p[2] - r_a[2] * p[1], r_a[2] * p[0] - r_a[0] * p[2], r_a[0] * p[1] - r_a[1] * p[0]};
@@ -106,14 +125,14 @@ struct Lanes {
 
 /// Runs f(o, lanes) over batches [first, last) and scatters each batch's velocities back: the
 /// loop of every pass that touches all its batches.
-template <class F>
+template <bool kFriction, class F>
 void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                     std::size_t body_count, F&& f) {
   const float* base = reinterpret_cast<const float*>(bodies);
   const auto static_slot = static_cast<std::int32_t>(body_count - 1);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    Lanes L(c, o, base);
+    Lanes<kFriction> L(c, o, base);
     f(o, L);
     L.scatter(c.a + o, c.b + o, static_slot, bodies);
   }
@@ -121,8 +140,11 @@ void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t 
 
 }  // namespace
 
-bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
+namespace {
+
+template <bool kFriction>
+bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                    std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
   // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
   const float* base = reinterpret_cast<const float*>(bodies);
   const auto* stamps = reinterpret_cast<const std::int32_t*>(bodies) + kChangedInPass;
@@ -138,7 +160,7 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
       const index_batch sb = index_batch::gather(stamps, index_batch::load_aligned(c.b + o) * stride);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
-    Lanes L(c, o, base);
+    Lanes<kFriction> L(c, o, base);
     batch v[3];
     L.relative_velocity(v);
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
@@ -154,8 +176,10 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
     const batch j = (one + batch::load_aligned(c.restitution + o)) * closing / kn;
     const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
     L.apply_impulse(p, active);
-    batch fresh[3] = {zero, zero, zero};
-    L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
+    if constexpr (kFriction) {
+      batch fresh[3] = {zero, zero, zero};
+      L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
+    }
     L.scatter(c.a + o, c.b + o, static_slot, bodies);
     for (std::uint32_t rest = lanes; rest != 0; rest &= rest - 1) {
       const std::size_t l = lowest_lane(rest);
@@ -166,10 +190,11 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
   return any;
 }
 
-void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                     std::size_t body_count, float inv_dt) {
+template <bool kFriction>
+void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                  std::size_t body_count, float inv_dt) {
   const batch zero(0.0f);
-  for_each_batch(c, first, last, bodies, body_count, [&](std::size_t o, Lanes& L) {
+  for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     batch v[3];
     L.relative_velocity(v);
     const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
@@ -184,23 +209,51 @@ void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t
     const batch new_impulse = xsimd::select(active, clamped, impulse);
     const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
     L.apply_impulse(p, active);
-    batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
-    L.apply_friction(batch::load_aligned(c.friction + o) * new_impulse, accumulated, active);
     new_impulse.store_aligned(c.normal_impulse + o);
-    accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
+    if constexpr (kFriction) {
+      batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+      L.apply_friction(batch::load_aligned(c.friction + o) * new_impulse, accumulated, active);
+      accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
+    }
   });
 }
 
-void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                        std::size_t body_count) {
+template <bool kFriction>
+void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                     std::size_t body_count) {
   const batch zero(0.0f);
-  for_each_batch(c, first, last, bodies, body_count, [&](std::size_t o, Lanes& L) {
+  for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     const lane_mask active = !((L.ima + L.imb) <= zero);
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
-    const batch p[3] = {impulse * L.n[0] + batch::load_aligned(c.tx + o), impulse * L.n[1] + batch::load_aligned(c.ty + o),
-                        impulse * L.n[2] + batch::load_aligned(c.tz + o)};
-    L.apply_impulse(p, active);
+    if constexpr (kFriction) {
+      const batch p[3] = {impulse * L.n[0] + batch::load_aligned(c.tx + o), impulse * L.n[1] + batch::load_aligned(c.ty + o),
+                          impulse * L.n[2] + batch::load_aligned(c.tz + o)};
+      L.apply_impulse(p, active);
+    } else {
+      const batch p[3] = {impulse * L.n[0], impulse * L.n[1], impulse * L.n[2]};
+      L.apply_impulse(p, active);
+    }
   });
+}
+
+}  // namespace
+
+bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass, bool friction) {
+  return friction ? collision_pass<true>(c, first, last, bodies, body_count, dt, restitution_threshold, pass)
+                  : collision_pass<false>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+}
+
+void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                     std::size_t body_count, float inv_dt, bool friction) {
+  if (friction) resting_pass<true>(c, first, last, bodies, body_count, inv_dt);
+  else resting_pass<false>(c, first, last, bodies, body_count, inv_dt);
+}
+
+void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
+                        std::size_t body_count, bool friction) {
+  if (friction) warm_start_pass<true>(c, first, last, bodies, body_count);
+  else warm_start_pass<false>(c, first, last, bodies, body_count);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -19,11 +19,12 @@ void find_sphere_pairs(const SphereSoA& spheres, std::size_t first, std::size_t 
 void sweep_find_pairs(const SphereSweepView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
                       float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass);
+                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
+                       bool friction);
 void contact_warm_start(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                        std::size_t body_count);
+                        std::size_t body_count, bool friction);
 void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                     std::size_t body_count, float inv_dt);
+                     std::size_t body_count, float inv_dt, bool friction);
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
 void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
