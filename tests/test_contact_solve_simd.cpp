@@ -15,54 +15,16 @@
 #include "catch.h"
 #include "kernel/contact_solve_simd.h"
 #include "simd_paths.h"
+#include "solver_problems.h"
 
 using namespace hail;
 
 namespace {
 
-struct Problem {
-  std::vector<SolverBody> bodies;
-  std::vector<Contact> contacts;
-};
+using Problem = hail::testing::SolverProblem;
+using hail::testing::same_bits;
 
-/// `count` contacts over 2 * count bodies, each body in at most one contact (one colour), and
-/// the static body the staged batches gather static contacts from.
-Problem random_run(std::size_t count, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
-  Problem p;
-  p.bodies.resize(2 * count + 1);
-  for (SolverBody& b : std::span(p.bodies).first(2 * count)) {
-    for (int d = 0; d < 3; ++d) b.v[d] = 5.0f * u(rng), b.w[d] = 3.0f * u(rng);
-    b.radius = 0.1f + unit(rng);
-    const bool fixed = unit(rng) < 0.1f;  // static spheres: the rules skip a pair of two
-    b.inv_mass = fixed ? 0.0f : 0.2f + 2.0f * unit(rng);
-    b.inv_inertia = fixed ? 0.0f : b.inv_mass / (0.4f * b.radius * b.radius);
-  }
-  std::vector<std::uint32_t> slot(2 * count);
-  std::iota(slot.begin(), slot.end(), 0u);
-  std::shuffle(slot.begin(), slot.end(), rng);
-  for (std::size_t k = 0; k < count; ++k) {
-    Contact c;
-    c.a = slot[2 * k];
-    c.b = unit(rng) < 0.3f ? kStaticBody : slot[2 * k + 1];
-    float n[3] = {u(rng), u(rng), u(rng)};
-    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-3f;
-    c.nx = n[0] / len, c.ny = n[1] / len, c.nz = n[2] / len;
-    c.gap = 0.2f * u(rng);  // half speculative
-    c.restitution = unit(rng);
-    c.friction = unit(rng) < 0.2f ? 0.0f : unit(rng);
-    c.normal_impulse = unit(rng) < 0.5f ? 0.0f : unit(rng);
-    c.tx = 0.1f * u(rng), c.ty = 0.1f * u(rng), c.tz = 0.1f * u(rng);
-    p.contacts.push_back(c);
-  }
-  return p;
-}
-
-bool same_bits(const Problem& a, const Problem& b) {
-  return std::memcmp(a.bodies.data(), b.bodies.data(), a.bodies.size() * sizeof(SolverBody)) == 0 &&
-         std::memcmp(a.contacts.data(), b.contacts.data(), a.contacts.size() * sizeof(Contact)) == 0;
-}
+Problem random_run(std::size_t count, std::uint32_t seed) { return hail::testing::random_contacts(count, seed); }
 
 }  // namespace
 
