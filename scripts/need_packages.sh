@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by scripts/sanitizers.sh and scripts/fuzz.sh: need_packages PKG... installs the Debian
 # packages among PKG that are not installed yet (as root: apt-get update, then apt-get install
 # --no-install-recommends); as another user it prints the exact sudo line and exits 1.
@@ -19,4 +20,5 @@ need_packages() {
 }
 
 # What every hail build and test run needs (the same list as scripts/quickstart.sh test).
+# shellcheck disable=SC2034  # used by the scripts that source this file
 hail_test_packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libstb-dev)
