@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "kernel/contact_solve_simd.h"
+#include "kernel/simd/body_rows.h"
 #include "kernel/simd/kernels.h"
 #include "kernel/solver_body.h"
 
@@ -21,12 +22,6 @@ using lane_mask = xsimd::batch_bool<float, simd_arch>;
 constexpr std::size_t W = batch::size;
 static_assert(index_batch::size == W);
 
-// SolverBody as floats, for gathers.
-constexpr std::int32_t kBodyFloats = sizeof(SolverBody) / sizeof(float);
-constexpr std::int32_t kVelocity = offsetof(SolverBody, v) / sizeof(float);
-constexpr std::int32_t kAngular = offsetof(SolverBody, w) / sizeof(float);
-constexpr std::int32_t kChangedInPass = offsetof(SolverBody, changed_in_pass) / sizeof(float);
-
 /// ContactBodies and the contact's normal, one lane per contact. Without friction
 /// (kFriction false) no angular velocity is gathered, changed or scattered (kNoFriction in
 /// kernel/contact_impulse.h).
@@ -35,39 +30,49 @@ struct Lanes {
   batch ima, iia, ra, imb, iib, rb;
   batch va[3], wa[3], vb[3], wb[3], n[3];
 
-  /// Lanes of the batch at lane offset o: staged data, velocities gathered from bodies.
-  Lanes(const ContactBatchArrays& c, std::size_t o, const float* bodies)
+  // The bodies of each lane, and the fourth float of each loaded body group (inv_mass,
+  // inv_inertia), which is stored back unchanged.
+  SolverBody* body_a[W];
+  SolverBody* body_b[W];
+  const SolverBody* static_body;
+  batch a_fourth[2], b_fourth[2];
+
+  /// Lanes of the batch at lane offset o: staged data, velocities loaded from bodies
+  /// (kernel/simd/body_rows.h). `bodies` ends with the static body.
+  [[gnu::always_inline]] Lanes(const ContactBatchArrays& c, std::size_t o, SolverBody* bodies, std::size_t body_count)
       : ima(batch::load_aligned(c.ima + o)), iia(batch::load_aligned(c.iia + o)), ra(batch::load_aligned(c.ra + o)),
-        imb(batch::load_aligned(c.imb + o)), iib(batch::load_aligned(c.iib + o)), rb(batch::load_aligned(c.rb + o)) {
-    const index_batch stride(kBodyFloats);
-    const index_batch ia = index_batch::load_aligned(c.a + o) * stride, ib = index_batch::load_aligned(c.b + o) * stride;
-    const float* const normal[3] = {c.nx + o, c.ny + o, c.nz + o};
-    for (int d = 0; d < 3; ++d) {
-      va[d] = batch::gather(bodies + kVelocity + d, ia), vb[d] = batch::gather(bodies + kVelocity + d, ib);
-      if constexpr (kFriction)
-        wa[d] = batch::gather(bodies + kAngular + d, ia), wb[d] = batch::gather(bodies + kAngular + d, ib);
-      n[d] = batch::load_aligned(normal[d]);
+        imb(batch::load_aligned(c.imb + o)), iib(batch::load_aligned(c.iib + o)), rb(batch::load_aligned(c.rb + o)),
+        static_body(bodies + body_count - 1) {
+    for (std::size_t l = 0; l < W; ++l) body_a[l] = bodies + c.a[o + l], body_b[l] = bodies + c.b[o + l];
+    load(body_a, kLinearGroup, va, a_fourth[0]);
+    load(body_b, kLinearGroup, vb, b_fourth[0]);
+    if constexpr (kFriction) {
+      load(body_a, kAngularGroup, wa, a_fourth[1]);
+      load(body_b, kAngularGroup, wb, b_fourth[1]);
+    }
+    for (int d = 0; d < 3; ++d) n[d] = batch::load_aligned((d == 0 ? c.nx : d == 1 ? c.ny : c.nz) + o);
+  }
+
+  /// Writes the velocities back: every a (never the static body), and b where it is not the
+  /// static body.
+  [[gnu::always_inline]] void scatter() const {
+    store(body_a, nullptr, kLinearGroup, va, a_fourth[0]);
+    store(body_b, static_body, kLinearGroup, vb, b_fourth[0]);
+    if constexpr (kFriction) {
+      store(body_a, nullptr, kAngularGroup, wa, a_fourth[1]);
+      store(body_b, static_body, kAngularGroup, wb, b_fourth[1]);
     }
   }
 
-  /// Writes the velocities back: every a, and b where it is not the static body.
-  void scatter(const std::int32_t* a, const std::int32_t* b, std::int32_t static_slot, SolverBody* bodies) const {
-    alignas(64) float out[12][W];
-    for (int d = 0; d < 3; ++d) {
-      va[d].store_aligned(out[d]), vb[d].store_aligned(out[6 + d]);
-      if constexpr (kFriction) wa[d].store_aligned(out[3 + d]), wb[d].store_aligned(out[9 + d]);
-    }
-    for (std::size_t l = 0; l < W; ++l) {
-      SolverBody& body_a = bodies[a[l]];
-      for (int d = 0; d < 3; ++d) body_a.v[d] = out[d][l];
-      if constexpr (kFriction)
-        for (int d = 0; d < 3; ++d) body_a.w[d] = out[3 + d][l];
-      if (b[l] == static_slot) continue;
-      SolverBody& body_b = bodies[b[l]];
-      for (int d = 0; d < 3; ++d) body_b.v[d] = out[6 + d][l];
-      if constexpr (kFriction)
-        for (int d = 0; d < 3; ++d) body_b.w[d] = out[9 + d][l];
-    }
+  [[gnu::always_inline]] static void load(SolverBody* const* body, std::size_t group, batch v[3], batch& fourth) {
+    batch rows[4];
+    load_body_group(body, group, rows);
+    v[0] = rows[0], v[1] = rows[1], v[2] = rows[2], fourth = rows[3];
+  }
+  [[gnu::always_inline]] static void store(SolverBody* const* body, const SolverBody* skip, std::size_t group,
+                                           const batch v[3], const batch& fourth) {
+    const batch rows[4] = {v[0], v[1], v[2], fourth};
+    store_body_group(body, skip, group, rows);
   }
 
   // The functions below are relative_contact_velocity, apply_impulse and apply_friction of
@@ -128,13 +133,11 @@ struct Lanes {
 template <bool kFriction, class F>
 void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                     std::size_t body_count, F&& f) {
-  const float* base = reinterpret_cast<const float*>(bodies);
-  const auto static_slot = static_cast<std::int32_t>(body_count - 1);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    Lanes<kFriction> L(c, o, base);
+    Lanes<kFriction> L(c, o, bodies, body_count);
     f(o, L);
-    L.scatter(c.a + o, c.b + o, static_slot, bodies);
+    L.scatter();
   }
 }
 
@@ -146,21 +149,17 @@ template <bool kFriction>
 bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                     std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
   // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
-  const float* base = reinterpret_cast<const float*>(bodies);
-  const auto* stamps = reinterpret_cast<const std::int32_t*>(bodies) + kChangedInPass;
-  const auto static_slot = static_cast<std::int32_t>(body_count - 1);
   const batch zero(0.0f), one(1.0f);
-  const index_batch stride(kBodyFloats), changed_since(static_cast<std::int32_t>(pass));
+  const index_batch changed_since(static_cast<std::int32_t>(pass));
   bool any = false;
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
     if (pass > 0) {
       // Skip when no body of the batch changed in the previous pass or since (stamp >= pass).
-      const index_batch sa = index_batch::gather(stamps, index_batch::load_aligned(c.a + o) * stride);
-      const index_batch sb = index_batch::gather(stamps, index_batch::load_aligned(c.b + o) * stride);
+      const index_batch sa = load_body_stamps(bodies, c.a + o), sb = load_body_stamps(bodies, c.b + o);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
-    Lanes<kFriction> L(c, o, base);
+    Lanes<kFriction> L(c, o, bodies, body_count);
     batch v[3];
     L.relative_velocity(v);
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
@@ -180,11 +179,11 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       batch fresh[3] = {zero, zero, zero};
       L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
     }
-    L.scatter(c.a + o, c.b + o, static_slot, bodies);
+    L.scatter();
     for (std::uint32_t rest = lanes; rest != 0; rest &= rest - 1) {
       const std::size_t l = lowest_lane(rest);
-      bodies[c.a[o + l]].changed_in_pass = pass + 1;
-      if (c.b[o + l] != static_slot) bodies[c.b[o + l]].changed_in_pass = pass + 1;
+      L.body_a[l]->changed_in_pass = pass + 1;
+      if (L.body_b[l] != L.static_body) L.body_b[l]->changed_in_pass = pass + 1;
     }
   }
   return any;
