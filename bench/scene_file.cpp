@@ -248,6 +248,7 @@ void read_settings(const Object& o, WorldSettings& s) {
                                                     {"bvh", PairSearch::Bvh}}))
     s.pair_search = *v;
   s.speculative_radii = non_negative(o, "speculative_radii", s.speculative_radii);
+  s.pair_margin_travel = non_negative(o, "pair_margin_travel", s.pair_margin_travel);
   s.reorder_interval = static_cast<int>(o.integer("reorder_interval", s.reorder_interval, 0, big));
   s.warm_start = o.boolean("warm_start", s.warm_start);
   s.warm_start_factor = unit_interval(o, "warm_start_factor", s.warm_start_factor);
@@ -534,7 +535,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (top.has("settings")) read_settings(Object(top["settings"], top.at("settings"),
                                                 {"time_scale", "integrator", "collision_iterations", "resting_iterations",
                                                  "depenetration_iterations", "depenetration", "restitution_threshold",
-                                                 "sphere_collisions", "pair_search", "speculative_radii",
+                                                 "sphere_collisions", "pair_search", "speculative_radii", "pair_margin_travel",
                                                  "reorder_interval", "warm_start", "warm_start_factor",
                                                  "continuous_collision", "fast_travel_fraction", "max_sweep_events",
                                                  "shock_mass_ratio"}),

@@ -49,6 +49,7 @@ struct StepPipeline {
   bool shock = false;          // masses differ more than shock_mass_ratio: shock propagation
   bool guarding = false;       // terrain guard on (there is a terrain)
   bool friction_needed_ = true;  // some contact of this step has friction > 0 (merge_contacts)
+  bool pair_margins = false;     // pairs filtered by their own margin (pair_margin_travel > 0)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres_;
@@ -61,6 +62,7 @@ struct StepPipeline {
       w.fast_blocks_[b].clear();
       w.block_max_speed_[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &w.fast_blocks_[b] : nullptr);
       if (guarding) remember_reach(first, last);
+      if (pair_margins) remember_travel(first, last);
     });
     float max_speed = 0.0f;
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
@@ -180,7 +182,32 @@ struct StepPipeline {
         default: find_sphere_pairs_simd(s, first, last, margin, out); break;
       }
       if (!w.fast_.empty()) drop_fast_speculative_pairs(out);
+      if (pair_margins) keep_pairs_within_their_margin(out, margin);
     });
+  }
+
+  /// Drops the pairs whose gap is beyond their own margin (WorldSettings::pair_margin_travel):
+  /// the search used the step's margin, which the fastest sphere sets for every pair. The
+  /// predicate is spheres_within's, with the pair's margin in place of the step's.
+  void keep_pairs_within_their_margin(std::vector<SpherePair>& pairs, float margin) const {
+    const SphereSoA& s = w.spheres_;
+    const float k = w.settings_.pair_margin_travel;
+    const float* travel = w.travel_.data();
+    std::erase_if(pairs, [&](const SpherePair& p) {
+      const float pair_margin = std::min(margin, k * (travel[p.a] + travel[p.b]));
+      const float reach = s.radius[p.b] + (s.radius[p.a] + pair_margin);
+      return !spheres_within(s.px[p.b] - s.px[p.a], s.py[p.b] - s.py[p.a], s.pz[p.b] - s.pz[p.a], reach);
+    });
+  }
+
+  /// |v| dt of spheres [first, last), for keep_pairs_within_their_margin.
+  void remember_travel(std::size_t first, std::size_t last) {
+    const SphereSoA& s = w.spheres_;
+    float* __restrict travel = w.travel_.data();
+    const float* __restrict vx = s.vx.data();
+    const float* __restrict vy = s.vy.data();
+    const float* __restrict vz = s.vz.data();
+    for (std::size_t i = first; i < last; ++i) travel[i] = std::sqrt(vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) * params.dt;
   }
 
   /// A fast sphere meets what it does not touch yet in the sweep, at the time it hits: a
@@ -440,6 +467,8 @@ struct StepPipeline {
     guarding = w.terrain_ != nullptr;
     ran.terrain_guard = guarding;
     w.stats_.pushed_out = 0;
+    pair_margins = w.settings_.pair_margin_travel > 0.0f && w.settings_.sphere_collisions;
+    if (pair_margins && w.travel_.size() < w.spheres_.size()) w.travel_.resize(w.spheres_.size());
     if (guarding) {
       const std::size_t n = w.spheres_.size();
       for (std::vector<float>* v : {&w.start_x_, &w.start_y_, &w.start_z_, &w.reach2_})

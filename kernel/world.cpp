@@ -60,6 +60,8 @@ void World::validate(const WorldSettings& s) {
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
+  require(std::isfinite(s.pair_margin_travel) && s.pair_margin_travel >= 0.0f,
+          describe("WorldSettings::pair_margin_travel must be >= 0, got", s.pair_margin_travel));
   // Chooses the SIMD path now if nothing has yet, so that a bad HAIL_SIMD is reported here, at
   // the API boundary, and not from inside a step's parallel loop.
   (void)active_simd_path();

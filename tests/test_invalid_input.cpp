@@ -113,6 +113,7 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.depenetration.fraction = 1.5f; }), "depenetration.fraction");
   rejected(with([](WorldSettings& s) { s.depenetration.slop_fraction = kNaN; }), "slop_fraction");
   rejected(with([](WorldSettings& s) { s.speculative_radii = -1; }), "speculative_radii");
+  rejected(with([](WorldSettings& s) { s.pair_margin_travel = -1; }), "pair_margin_travel");
   rejected(with([](WorldSettings& s) { s.reorder_interval = -1; }), "reorder_interval");
   rejected(with([](WorldSettings& s) { s.warm_start_factor = 1.5f; }), "warm_start_factor");
   rejected(with([](WorldSettings& s) { s.fast_travel_fraction = 0; }), "fast_travel_fraction");
