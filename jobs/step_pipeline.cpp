@@ -308,28 +308,24 @@ struct StepPipeline {
   /// passes need. Runs start at fixed offsets, so they do not depend on the thread count.
   template <class F>
   void for_each_run_by_colour(Phase phase, F&& f) {
-    const ContactColouring& col = w.colouring_;
-    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
-      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
-      const std::span<Contact> contacts(w.contacts_.data() + begin, end - begin);
-      if (col.is_serial(colour)) {
-        ScopedTraceRecord record(w.trace_, phase);
-        f(contacts, false);
-      } else {
-        for_each_block(end - begin, kContactChunk, [&](std::size_t, std::size_t first, std::size_t last) {
-          ScopedTraceRecord record(w.trace_, phase);
-          f(contacts.subspan(first, last - first), true);
-        });
-      }
-    }
+    for (std::size_t colour = 0; colour < w.colouring_.colour_count(); ++colour) for_each_run_of_colour(colour, phase, f);
   }
 
-  /// Runs f(contact) over every contact, colour after colour; contacts of one colour in parallel.
+  /// for_each_run_by_colour's runs of one colour.
   template <class F>
-  void for_each_contact_by_colour(Phase phase, F&& f) {
-    for_each_run_by_colour(phase, [&](std::span<Contact> run, bool) {
-      for (Contact& contact : run) f(contact);
-    });
+  void for_each_run_of_colour(std::size_t colour, Phase phase, F&& f) {
+    const ContactColouring& col = w.colouring_;
+    const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
+    const std::span<Contact> contacts(w.contacts_.data() + begin, end - begin);
+    if (col.is_serial(colour)) {
+      ScopedTraceRecord record(w.trace_, phase);
+      f(contacts, false);
+    } else {
+      for_each_block(end - begin, kContactChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+        ScopedTraceRecord record(w.trace_, phase);
+        f(contacts.subspan(first, last - first), true);
+      });
+    }
   }
 
   /// Runs f(first_batch, last_batch, scalar_contacts) over the staged contact batches, colour
@@ -439,10 +435,31 @@ struct StepPipeline {
     });
   }
 
+  /// Passes of push_apart, colour after colour. A contact whose spheres did not move since
+  /// its previous pass evaluated it (and then moved nothing, or moved them: stamp equal) finds
+  /// the same positions and would do nothing, so it is skipped: the same result for less work
+  /// (most contacts of a pile are within the slop and never move anything). moved_at_ holds,
+  /// per sphere, the number of the last (pass, colour) that moved it, 1-based.
   void depenetrate() {
     SphereSoA& s = w.spheres_;
-    for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass)
-      for_each_contact_by_colour(Phase::Depenetrate, [&](Contact& c) { push_apart(s, c, w.settings_.depenetration); });
+    const std::size_t colours = w.colouring_.colour_count();
+    w.moved_at_.assign(s.size(), 0);
+    std::uint32_t* const moved = w.moved_at_.data();
+    for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
+      for (std::size_t colour = 0; colour < colours; ++colour) {
+        const auto now = static_cast<std::uint32_t>(pass * colours + colour + 1);
+        const std::uint32_t previous = pass == 0 ? 0 : now - static_cast<std::uint32_t>(colours);
+        for_each_run_of_colour(colour, Phase::Depenetrate, [&](std::span<Contact> run, bool) {
+          for (const Contact& c : run) {
+            const bool dynamic_b = c.b != kStaticBody;
+            if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
+            if (!push_apart(s, c, w.settings_.depenetration)) continue;
+            moved[c.a] = now;
+            if (dynamic_b) moved[c.b] = now;
+          }
+        });
+      }
+    }
   }
 
   /// Every reorder_interval steps: dense slots re-sorted by Morton code (kernel/spatial_order.h).

@@ -23,15 +23,16 @@ inline float current_gap(const SphereSoA& s, const Contact& c) {
          s.radius[b];
 }
 
-inline void push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
+/// Moves the contact's spheres apart if they overlap beyond the slop; true if it moved them.
+inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
   const std::uint32_t a = c.a;
   const bool dynamic_b = c.b != kStaticBody;
   const float rmin = dynamic_b && s.radius[c.b] < s.radius[a] ? s.radius[c.b] : s.radius[a];
   const float excess = -current_gap(s, c) - p.slop_fraction * rmin;
-  if (excess <= 0.0f) return;
+  if (excess <= 0.0f) return false;
   const float ima = s.inv_mass[a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
   const float w = ima + imb;
-  if (w <= 0.0f) return;
+  if (w <= 0.0f) return false;
   const float move = p.fraction * excess / w;
   s.px[a] -= c.nx * move * ima;
   s.py[a] -= c.ny * move * ima;
@@ -42,6 +43,7 @@ inline void push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
     s.py[b] += c.ny * move * imb;
     s.pz[b] += c.nz * move * imb;
   }
+  return true;
 }
 
 }  // namespace hail

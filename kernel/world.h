@@ -347,6 +347,7 @@ class World {
   // terrain contacts reached.
   std::vector<float> start_x_, start_y_, start_z_, reach2_;
   std::vector<float> travel_;  // per sphere |v| dt this step (pair margins)
+  std::vector<std::uint32_t> moved_at_;  // per sphere: last depenetration (pass, colour) that moved it
   ShockPropagation shock_;  ///< solve phase scratch: levels and contact order of the shock pass
   std::vector<std::uint64_t> reorder_keys_;   ///< Morton re-sort scratch
   std::vector<std::uint32_t> reorder_slots_;  ///< Morton re-sort: new slot k <- old slot
