@@ -56,11 +56,13 @@ struct StepPipeline {
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kSphereBlock);
     w.block_max_speed_.assign(blocks, 0.0f);
+    w.block_extremes_.resize(blocks);
     if (w.fast_blocks_.size() < blocks) w.fast_blocks_.resize(blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Predict);
       w.fast_blocks_[b].clear();
       w.block_max_speed_[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &w.fast_blocks_[b] : nullptr);
+      w.block_extremes_[b] = block_extremes(first, last);
       if (guarding) remember_reach(first, last);
       if (pair_margins) remember_travel(first, last);
     });
@@ -68,17 +70,29 @@ struct StepPipeline {
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
     w.fast_.clear();
     for (std::size_t b = 0; b < blocks; ++b) w.fast_.insert(w.fast_.end(), w.fast_blocks_[b].begin(), w.fast_blocks_[b].end());
-    max_radius = 0.0f;
-    min_radius = n > 0 ? s.radius[0] : 0.0f;
-    float min_inv_mass = std::numeric_limits<float>::infinity(), max_inv_mass = 0.0f;  // of movable spheres
-    for (std::size_t i = 0; i < n; ++i) {
-      max_radius = std::max(max_radius, s.radius[i]);
-      min_radius = std::min(min_radius, s.radius[i]);
-      if (s.inv_mass[i] > 0.0f) min_inv_mass = std::min(min_inv_mass, s.inv_mass[i]), max_inv_mass = std::max(max_inv_mass, s.inv_mass[i]);
-    }
+    // Minima and maxima do not depend on the order they are combined in.
+    SphereExtremes all = block_extremes(0, 0);
+    for (const SphereExtremes& e : w.block_extremes_) all.combine(e);
+    max_radius = n > 0 ? all.max_radius : 0.0f;
+    min_radius = n > 0 ? all.min_radius : 0.0f;
+    const float min_inv_mass = all.min_inv_mass, max_inv_mass = all.max_inv_mass;
     // Heaviest over lightest = largest inverse mass over smallest.
     shock = max_inv_mass > w.settings_.shock_mass_ratio * min_inv_mass;
     margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
+  }
+
+  /// Radii and inverse masses (of movable spheres) of spheres [first, last), branch-free.
+  SphereExtremes block_extremes(std::size_t first, std::size_t last) const {
+    const SphereSoA& s = w.spheres_;
+    SphereExtremes e;
+    for (std::size_t i = first; i < last; ++i) {
+      const float r = s.radius[i], im = s.inv_mass[i];
+      e.max_radius = r > e.max_radius ? r : e.max_radius;
+      e.min_radius = r < e.min_radius ? r : e.min_radius;
+      e.min_inv_mass = im > 0.0f && im < e.min_inv_mass ? im : e.min_inv_mass;
+      e.max_inv_mass = im > e.max_inv_mass ? im : e.max_inv_mass;
+    }
+    return e;
   }
 
   /// Terrain guard, part 1: where each sphere starts and how far its terrain contacts reach

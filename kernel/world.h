@@ -31,6 +31,7 @@
 #include "kernel/contact.h"
 #include "kernel/contact_cache.h"
 #include "kernel/contact_colouring.h"
+#include "kernel/sphere_extremes.h"
 #include "kernel/contact_solve_simd.h"
 #include "kernel/continuous_collision.h"
 #include "kernel/depenetrate.h"
@@ -340,6 +341,7 @@ class World {
   ContactBatches contact_batches_;  ///< solve phase scratch: contacts staged for SIMD
   ContactImpulseCache contact_cache_;  ///< last step's impulses, for warm starting
   std::vector<float> block_max_speed_;
+  std::vector<SphereExtremes> block_extremes_;  ///< predict: radii and inverse masses per block
   std::vector<std::vector<std::uint32_t>> fast_blocks_;  ///< predict: fast spheres per block
   std::vector<std::uint32_t> fast_;                      ///< this step's fast spheres, slot order
   ContinuousCollision sweep_motion_;
