@@ -10,6 +10,7 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
 
 namespace hail {
 
@@ -21,6 +22,12 @@ void for_each_block_partitioned(std::size_t count, std::size_t block_size, const
   if (blocks == 0) return;
   if (blocks == 1) {
     f(std::size_t{0}, std::size_t{0}, count);
+    return;
+  }
+  // One thread in this arena: the blocks in order, without making a task per block (a step
+  // enters a few hundred of these loops). The same blocks, so the same result.
+  if (tbb::this_task_arena::max_concurrency() == 1) {
+    for (std::size_t b = 0; b < blocks; ++b) f(b, b * block_size, std::min(count, (b + 1) * block_size));
     return;
   }
   tbb::parallel_for(
