@@ -67,7 +67,7 @@ ContactBatchArrays ContactBatches::arrays() {
   return {width_,
           a_.data(), b_.data(),
           nx_.data(), ny_.data(), nz_.data(), gap_.data(), restitution_.data(), friction_.data(),
-          ima_.data(), iia_.data(), ra_.data(), imb_.data(), iib_.data(), rb_.data(),
+          ra_.data(), rb_.data(),
           normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data()};
 }
 
@@ -87,7 +87,7 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size
   }
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
-  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ima_, &iia_, &ra_, &imb_, &iib_, &rb_,
+  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_,
                   &normal_impulse_, &tx_, &ty_, &tz_})
     v->resize(lanes);
 }
@@ -104,10 +104,9 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
       const bool has_b = c.b != kStaticBody;
       a_[i] = static_cast<std::int32_t>(c.a);
       b_[i] = has_b ? static_cast<std::int32_t>(c.b) : static_slot;
-      ima_[i] = a.inv_mass, iia_[i] = a.inv_inertia, ra_[i] = a.radius;
-      // A static side has zero mass properties, as gather_bodies gives it (not the static body's).
-      imb_[i] = has_b ? bodies[c.b].inv_mass : 0.0f;
-      iib_[i] = has_b ? bodies[c.b].inv_inertia : 0.0f;
+      // Inverse masses and inertias come with the velocities from the bodies in each pass (the
+      // static body's are zero, as gather_bodies gives a static side); radii are staged here.
+      ra_[i] = a.radius;
       rb_[i] = has_b ? bodies[c.b].radius : 0.0f;
       nx_[i] = c.nx, ny_[i] = c.ny, nz_[i] = c.nz;
       gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;

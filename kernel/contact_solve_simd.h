@@ -39,7 +39,7 @@ struct ContactBatchArrays {
   std::size_t width;
   const std::int32_t *a, *b;  ///< body slots (b: the static body for static contacts)
   const float *nx, *ny, *nz, *gap, *restitution, *friction;
-  const float *ima, *iia, *ra, *imb, *iib, *rb;
+  const float *ra, *rb;  ///< radii (rb 0 for static contacts)
   float *normal_impulse, *tx, *ty, *tz;
 };
 
@@ -90,7 +90,7 @@ class ContactBatches {
   std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact
   AlignedArray<std::int32_t> a_, b_;          // body slots (b: the static body for static contacts)
   AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
-  AlignedArray<float> ima_, iia_, ra_, imb_, iib_, rb_;
+  AlignedArray<float> ra_, rb_;
   AlignedArray<float> normal_impulse_, tx_, ty_, tz_;
 };
 

@@ -30,25 +30,24 @@ struct Lanes {
   batch ima, iia, ra, imb, iib, rb;
   batch va[3], wa[3], vb[3], wb[3], n[3];
 
-  // The bodies of each lane, and the fourth float of each loaded body group (inv_mass,
-  // inv_inertia), which is stored back unchanged.
+  // The bodies of each lane.
   SolverBody* body_a[W];
   SolverBody* body_b[W];
   const SolverBody* static_body;
-  batch a_fourth[2], b_fourth[2];
 
   /// Lanes of the batch at lane offset o: staged data, velocities loaded from bodies
   /// (kernel/simd/body_rows.h). `bodies` ends with the static body.
   [[gnu::always_inline]] Lanes(const ContactBatchArrays& c, std::size_t o, SolverBody* bodies, std::size_t body_count)
-      : ima(batch::load_aligned(c.ima + o)), iia(batch::load_aligned(c.iia + o)), ra(batch::load_aligned(c.ra + o)),
-        imb(batch::load_aligned(c.imb + o)), iib(batch::load_aligned(c.iib + o)), rb(batch::load_aligned(c.rb + o)),
-        static_body(bodies + body_count - 1) {
+      : ra(batch::load_aligned(c.ra + o)), rb(batch::load_aligned(c.rb + o)), static_body(bodies + body_count - 1) {
     for (std::size_t l = 0; l < W; ++l) body_a[l] = bodies + c.a[o + l], body_b[l] = bodies + c.b[o + l];
-    load(body_a, kLinearGroup, va, a_fourth[0]);
-    load(body_b, kLinearGroup, vb, b_fourth[0]);
+    // The fourth float of each group is the inverse mass (inertia): the static body's are zero.
+    load(body_a, kLinearGroup, va, ima);
+    load(body_b, kLinearGroup, vb, imb);
     if constexpr (kFriction) {
-      load(body_a, kAngularGroup, wa, a_fourth[1]);
-      load(body_b, kAngularGroup, wb, b_fourth[1]);
+      load(body_a, kAngularGroup, wa, iia);
+      load(body_b, kAngularGroup, wb, iib);
+    } else {
+      iia = iib = batch(0.0f);  // no angular work reads them
     }
     for (int d = 0; d < 3; ++d) n[d] = batch::load_aligned((d == 0 ? c.nx : d == 1 ? c.ny : c.nz) + o);
   }
@@ -56,11 +55,11 @@ struct Lanes {
   /// Writes the velocities back: every a (never the static body), and b where it is not the
   /// static body.
   [[gnu::always_inline]] void scatter() const {
-    store(body_a, nullptr, kLinearGroup, va, a_fourth[0]);
-    store(body_b, static_body, kLinearGroup, vb, b_fourth[0]);
+    store(body_a, nullptr, kLinearGroup, va, ima);
+    store(body_b, static_body, kLinearGroup, vb, imb);
     if constexpr (kFriction) {
-      store(body_a, nullptr, kAngularGroup, wa, a_fourth[1]);
-      store(body_b, static_body, kAngularGroup, wb, b_fourth[1]);
+      store(body_a, nullptr, kAngularGroup, wa, iia);
+      store(body_b, static_body, kAngularGroup, wb, iib);
     }
   }
 
