@@ -404,12 +404,24 @@ struct StepPipeline {
     });
   }
 
+  /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):
+  /// the sweep's, then each block's plane impacts in block order (so in slot order).
   void integrate() {
     SphereSoA& s = w.spheres_;
-    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+    const bool planes = !w.planes_.empty();
+    const std::size_t blocks = block_count(s.size(), kSphereBlock);
+    if (planes && w.impact_blocks_.size() < blocks) w.impact_blocks_.resize(blocks);
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Integrate);
-      integrate_positions(s, first, last, w.planes_, params, w.sweep_motion_.moved());
+      std::vector<Impact>* impacts = planes ? &w.impact_blocks_[b] : nullptr;
+      if (impacts) impacts->clear();
+      integrate_positions(s, first, last, w.planes_, params, w.sweep_motion_.moved(), impacts);
     });
+    w.impacts_.clear();
+    if (sweeping) w.impacts_.insert(w.impacts_.end(), w.sweep_motion_.impacts().begin(), w.sweep_motion_.impacts().end());
+    if (planes)
+      for (std::size_t b = 0; b < blocks; ++b)
+        w.impacts_.insert(w.impacts_.end(), w.impact_blocks_[b].begin(), w.impact_blocks_[b].end());
   }
 
   void depenetrate() {
