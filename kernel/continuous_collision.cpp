@@ -8,6 +8,7 @@
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/swept_sphere.h"
+#include "soa/grow.h"
 
 namespace hail {
 namespace {
@@ -93,12 +94,12 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   if (motion_of_.size() < s.size()) motion_of_.resize(s.size(), -1);
   if (moved_.size() < s.size()) moved_.resize(s.size(), 0);
   for (std::uint32_t slot : fast) activate(s, slot);
-  first_events_.resize(fast.size());
+  resize_geometric(first_events_, fast.size());
   stats_.fast = fast.size();
   changed_.clear();
   use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
   if (!use_bvh_) return;
-  path_boxes_.resize(s.size());
+  resize_geometric(path_boxes_, s.size());
   for (std::size_t j = 0; j < s.size(); ++j) {
     const double lo[3] = {std::min<double>(s.px[j], double(s.px[j]) + double(s.vx[j]) * dt),
                           std::min<double>(s.py[j], double(s.py[j]) + double(s.vy[j]) * dt),

@@ -15,7 +15,9 @@
 //
 // Allocation: add_sphere allocates only when the sphere arrays outgrow their capacity (reserve()
 // prevents it). step() reuses its scratch buffers, so a steady-state step allocates nothing:
-// they grow only when a step needs more contacts or pairs than every step before it. The
+// they grow only when a step needs more contacts or pairs than every step before it, and then
+// to at least twice their capacity (soa/grow.h), so a scene whose counts keep rising
+// reallocates each buffer O(log n) times (tests/allocation/, hail-alloc-tests). The
 // accessors return views or values and never allocate. The constructors, add_plane,
 // set_terrain and enable_trace allocate, and while a trace records it grows every step.
 
