@@ -2,8 +2,9 @@
 //
 //  1. A terrain from a heightmap: a function h(x, z) (default) or a PGM file (argv[1]).
 //  2. A World that steps inside the program's own tbb::task_arena (the host owns the threads).
-//  3. 256 spheres dropped onto it, 4 s at 60 Hz; after every step the contacts of the step are
-//     scanned once for touch-downs and clacks, what a game would turn into sounds.
+//  3. 256 spheres dropped onto it, 4 s at 60 Hz; after every step the contacts and impacts of the
+//     step are scanned once for touch-downs, clacks and their bounce impulses, what a game would
+//     turn into sounds.
 //  4. Where they landed, read through the zero-copy spans, the ground under each found by a
 //     raycast, and the error figures. Exit status 1 if a figure is off, 2 on bad arguments.
 //
@@ -77,7 +78,8 @@ int run(int argc, char** argv) {
   // First touches are the events a game would play a sound for: a sphere's first touch of the
   // ground (touch-down) and its first touch of another sphere (clack).
   std::vector<float> touched_down_at(ids.size(), -1.0f), clacked_at(ids.size(), -1.0f);  // by SphereId::index
-  std::size_t touchdowns = 0, clacks = 0;
+  std::size_t touchdowns = 0, clacks = 0, bounces = 0;  // bounces: contacts and impacts with a bounce impulse
+  float loudest = 0.0f;                                 // the largest bounce impulse, N s
   double step_ms = 0.0;
   // Views of the World's own arrays: taken once, valid for as long as no sphere is added or
   // removed, and they see every step (indexed by dense slot, as the contacts are).
@@ -93,19 +95,25 @@ int run(int argc, char** argv) {
         ++count;
       }
     };
-    for (const hail::Contact& c : world.last_contacts()) {
-      // A contact is listed when its sphere could reach the surface within the step
-      // (speculative). It touched if the gap was (nearly) closed, the resting passes pressed on
-      // it, or the two now move apart along the normal: a bounce (its impulse is not kept).
-      float apart = -(state.vx[c.a] * c.nx + state.vy[c.a] * c.ny + state.vz[c.a] * c.nz);
-      if (c.b != hail::kStaticBody) apart += state.vx[c.b] * c.nx + state.vy[c.b] * c.ny + state.vz[c.b] * c.nz;
-      if (!(c.gap <= 0.01f || c.normal_impulse > 0.0f || apart > 0.05f)) continue;
-      if (c.b == hail::kStaticBody) {
-        if (!(c.feature & hail::kPlaneFeature)) first_touch(touched_down_at, c.a, touchdowns);  // terrain
+    // A contact is listed when its sphere could reach the surface within the step
+    // (speculative); it touched when an impulse acted on it: bounce_impulse (the collision
+    // passes: what a sound's loudness follows) or normal_impulse (resting on it). Impacts taken
+    // at their exact time (planes reached within the step, fast spheres) come separately.
+    auto touched = [&](std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
+      if (b == hail::kStaticBody) {
+        if (!(feature & hail::kPlaneFeature)) first_touch(touched_down_at, a, touchdowns);  // terrain
       } else {
-        first_touch(clacked_at, c.a, clacks);
-        first_touch(clacked_at, c.b, clacks);
+        first_touch(clacked_at, a, clacks);
+        first_touch(clacked_at, b, clacks);
       }
+    };
+    for (const hail::Contact& c : world.last_contacts()) {
+      if (c.bounce_impulse > 0.0f) loudest = std::max(loudest, c.bounce_impulse), ++bounces;
+      if (c.bounce_impulse > 0.0f || c.normal_impulse > 0.0f) touched(c.a, c.b, c.feature);
+    }
+    for (const hail::Impact& i : world.last_impacts()) {
+      loudest = std::max(loudest, i.impulse), ++bounces;
+      touched(i.a, i.b, i.feature);
     }
     if (step % 60 == 0)
       std::printf("t = %.1f s: %zu/%zu spheres have touched down, %zu contacts this step, KE %.1f J\n", t,
@@ -140,8 +148,9 @@ int run(int argc, char** argv) {
   std::printf("errors: max penetration %.4f m, mean clearance under centre %.4f m, raycast vs heightmap %.2e m, "
               "NaN %zu\n",
               max_penetration, mean_clearance, max_raycast_error, world.nan_count());
-  std::printf("sounds: %zu touch-downs, %zu first clacks; %.3f ms/step on %d threads; state hash %016llx\n",
-              touchdowns, clacks, step_ms / kSteps, world.thread_count(),
+  std::printf("sounds: %zu touch-downs, %zu first clacks, %zu bounces (loudest %.2f N s); %.3f ms/step on %d threads; "
+              "state hash %016llx\n",
+              touchdowns, clacks, bounces, loudest, step_ms / kSteps, world.thread_count(),
               static_cast<unsigned long long>(world.state_hash()));
 
   bool ok = true;
@@ -157,6 +166,8 @@ int run(int argc, char** argv) {
     touched_something += touched_down_at[ids[n].index] >= 0.0f || clacked_at[ids[n].index] >= 0.0f;
   require(touched_something == ids.size(), "every sphere touched the ground or another sphere");
   require(touchdowns >= ids.size() / 2, "at least half of the spheres touched the ground");
+  // Dropped 2 m and more (over 6 m/s at impact): the first bounces carry about (1 + e) m v.
+  require(bounces > 0 && loudest > 1.3f * 1.0f * 6.0f, "the landings bounced with (1 + e) m v");
   require(on_terrain >= ids.size() * 9 / 10, "at least 90% of the spheres are still over the terrain");
   return ok ? 0 : 1;
 }

@@ -30,6 +30,7 @@
 #include "kernel/solver_body.h"
 #include "kernel/spatial_order.h"
 #include "kernel/world.h"
+#include "soa/grow.h"
 
 namespace hail {
 
@@ -55,9 +56,9 @@ struct StepPipeline {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kSphereBlock);
-    w.block_max_speed_.assign(blocks, 0.0f);
-    w.block_extremes_.resize(blocks);
-    if (w.fast_blocks_.size() < blocks) w.fast_blocks_.resize(blocks);
+    assign_geometric(w.block_max_speed_, blocks, 0.0f);
+    if (w.block_extremes_.size() < blocks) resize_geometric(w.block_extremes_, blocks);
+    grow_block_lists(w.fast_blocks_, blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Predict);
       w.fast_blocks_[b].clear();
@@ -69,6 +70,9 @@ struct StepPipeline {
     float max_speed = 0.0f;
     for (float v : w.block_max_speed_) max_speed = std::max(max_speed, v);
     w.fast_.clear();
+    std::size_t fast_count = 0;
+    for (std::size_t b = 0; b < blocks; ++b) fast_count += w.fast_blocks_[b].size();
+    reserve_geometric(w.fast_, fast_count);
     for (std::size_t b = 0; b < blocks; ++b) w.fast_.insert(w.fast_.end(), w.fast_blocks_[b].begin(), w.fast_blocks_[b].end());
     // Minima and maxima do not depend on the order they are combined in.
     SphereExtremes all = block_extremes(0, 0);
@@ -157,7 +161,7 @@ struct StepPipeline {
     const SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kSphereBlock);
-    if (w.contact_blocks_.size() < blocks) w.contact_blocks_.resize(blocks);
+    grow_block_lists(w.contact_blocks_, blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
       w.contact_blocks_[b].clear();
@@ -174,8 +178,8 @@ struct StepPipeline {
     const SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kPairRowBlock);
-    if (w.pair_blocks_.size() < blocks) w.pair_blocks_.resize(blocks);
-    if (w.pair_row_scratch_.size() < blocks) w.pair_row_scratch_.resize(blocks);
+    grow_block_lists(w.pair_blocks_, blocks);
+    grow_block_lists(w.pair_row_scratch_, blocks);
     for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
     if (!w.settings_.sphere_collisions) return;
     PairSearch search = w.settings_.pair_search;
@@ -264,11 +268,11 @@ struct StepPipeline {
     const std::size_t n = s.size();
     const std::size_t static_blocks = block_count(n, kSphereBlock), pair_blocks = block_count(n, kPairRowBlock);
     std::vector<std::size_t>& offset = w.merge_offsets_;
-    offset.assign(static_blocks + pair_blocks + 1, 0);
+    assign_geometric(offset, static_blocks + pair_blocks + 1, std::size_t{0});
     for (std::size_t b = 0; b < static_blocks; ++b) offset[b + 1] = offset[b] + w.contact_blocks_[b].size();
     for (std::size_t b = 0; b < pair_blocks; ++b)
       offset[static_blocks + b + 1] = offset[static_blocks + b] + w.pair_blocks_[b].size();
-    w.contacts_.resize(offset.back());
+    resize_geometric(w.contacts_, offset.back());
     std::atomic<bool> friction{false};  // an OR: the order of stores cannot change the result
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
@@ -374,14 +378,14 @@ struct StepPipeline {
     colour_contacts(w.contacts_, n, w.colouring_);
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.
-    w.coloured_contacts_.resize(w.contacts_.size());
+    resize_geometric(w.coloured_contacts_, w.contacts_.size());
     for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       for (std::size_t k = first; k < last; ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
     });
     std::swap(w.contacts_, w.coloured_contacts_);
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
-    if (w.solver_bodies_.size() < n + 1) w.solver_bodies_.resize(n + 1);
+    if (w.solver_bodies_.size() < n + 1) resize_geometric(w.solver_bodies_, n + 1);
     const std::span<SolverBody> bodies(w.solver_bodies_.data(), n + 1);
     bodies[n] = SolverBody{};
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
@@ -441,12 +445,28 @@ struct StepPipeline {
     });
   }
 
+  /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):
+  /// the sweep's, then each block's plane impacts in block order (so in slot order).
   void integrate() {
     SphereSoA& s = w.spheres_;
-    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+    const bool planes = !w.planes_.empty();
+    const std::size_t blocks = block_count(s.size(), kSphereBlock);
+    if (planes) grow_block_lists(w.impact_blocks_, blocks);
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Integrate);
-      integrate_positions(s, first, last, w.planes_, params, w.sweep_motion_.moved());
+      std::vector<Impact>* impacts = planes ? &w.impact_blocks_[b] : nullptr;
+      if (impacts) impacts->clear();
+      integrate_positions(s, first, last, w.planes_, params, w.sweep_motion_.moved(), impacts);
     });
+    w.impacts_.clear();
+    std::size_t count = sweeping ? w.sweep_motion_.impacts().size() : 0;
+    if (planes)
+      for (std::size_t b = 0; b < blocks; ++b) count += w.impact_blocks_[b].size();
+    reserve_geometric(w.impacts_, count);
+    if (sweeping) w.impacts_.insert(w.impacts_.end(), w.sweep_motion_.impacts().begin(), w.sweep_motion_.impacts().end());
+    if (planes)
+      for (std::size_t b = 0; b < blocks; ++b)
+        w.impacts_.insert(w.impacts_.end(), w.impact_blocks_[b].begin(), w.impact_blocks_[b].end());
   }
 
   /// Passes of push_apart, colour after colour. A contact whose spheres did not move since
@@ -457,7 +477,7 @@ struct StepPipeline {
   void depenetrate() {
     SphereSoA& s = w.spheres_;
     const std::size_t colours = w.colouring_.colour_count();
-    w.moved_at_.assign(s.size(), 0);
+    assign_geometric(w.moved_at_, s.size(), std::uint32_t{0});
     std::uint32_t* const moved = w.moved_at_.data();
     for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
       for (std::size_t colour = 0; colour < colours; ++colour) {
@@ -499,11 +519,11 @@ struct StepPipeline {
     ran.terrain_guard = guarding;
     w.stats_.pushed_out = 0;
     pair_margins = w.settings_.pair_margin_travel > 0.0f && w.settings_.sphere_collisions;
-    if (pair_margins && w.travel_.size() < w.spheres_.size()) w.travel_.resize(w.spheres_.size());
+    if (pair_margins && w.travel_.size() < w.spheres_.size()) resize_geometric(w.travel_, w.spheres_.size());
     if (guarding) {
       const std::size_t n = w.spheres_.size();
       for (std::vector<float>* v : {&w.start_x_, &w.start_y_, &w.start_z_, &w.reach2_})
-        if (v->size() < n) v->resize(n);
+        if (v->size() < n) resize_geometric(*v, n);
     }
     // Each phase is also recorded on the thread that runs its serial parts (the trace's
     // per-block records cover the parallel parts).
@@ -557,12 +577,12 @@ struct StepPipeline {
   /// Phases that are skipped still leave their block buffers empty for merge_contacts.
   void clear_static_blocks() {
     const std::size_t blocks = block_count(w.spheres_.size(), kSphereBlock);
-    if (w.contact_blocks_.size() < blocks) w.contact_blocks_.resize(blocks);
+    grow_block_lists(w.contact_blocks_, blocks);
     for (std::size_t b = 0; b < blocks; ++b) w.contact_blocks_[b].clear();
   }
   void clear_pair_blocks() {
     const std::size_t blocks = block_count(w.spheres_.size(), kPairRowBlock);
-    if (w.pair_blocks_.size() < blocks) w.pair_blocks_.resize(blocks);
+    grow_block_lists(w.pair_blocks_, blocks);
     for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
   }
 };

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kernel/errors.h"
+#include "soa/grow.h"
 
 namespace hail {
 namespace {
@@ -56,7 +57,12 @@ class Builder {
     nodes_.clear();
     if (n == 0) return;
     // Exact for Median; a first guess for SAH (the vector grows if SAH makes smaller leaves).
-    nodes_.reserve(median_node_count(n, leaf_size_));
+    // The first build reserves exactly (a terrain's BVH is built once, and large); a rebuild
+    // that needs more (the per-step sphere and path BVHs of a growing world) grows
+    // geometrically, so that adding a sphere per step does not reallocate every step.
+    const std::size_t nodes = median_node_count(n, leaf_size_);
+    if (nodes_.capacity() == 0) nodes_.reserve(nodes);
+    else reserve_geometric(nodes_, nodes);
     emit_preorder(n);
     link_skips();
   }

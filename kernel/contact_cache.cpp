@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "soa/grow.h"
+
 namespace hail {
 
 void ContactImpulseCache::clear() {
@@ -13,9 +15,9 @@ void ContactImpulseCache::clear() {
 void ContactImpulseCache::prepare(std::size_t contact_count, const SphereSoA& s) {
   std::uint32_t ids = 0;
   for (std::size_t slot = 0; slot < s.size(); ++slot) ids = std::max(ids, s.id_at(slot).index + 1);
-  static_range_.assign(ids, Range{});
-  pair_range_.assign(ids, Range{});
-  entries_.resize(contact_count);
+  assign_geometric(static_range_, ids, Range{});
+  assign_geometric(pair_range_, ids, Range{});
+  resize_geometric(entries_, contact_count);
 }
 
 void ContactImpulseCache::store_range(std::span<const Contact> contacts, std::size_t static_count, std::size_t first,

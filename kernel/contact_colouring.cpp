@@ -2,11 +2,13 @@
 
 #include <bit>
 
+#include "soa/grow.h"
+
 namespace hail {
 
 void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out) {
-  out.body_mask.assign(sphere_count, 0);
-  out.colour_of.resize(contacts.size());
+  assign_geometric(out.body_mask, sphere_count, std::uint64_t{0});
+  resize_geometric(out.colour_of, contacts.size());
   std::uint32_t counts[kMaxParallelColours + 1] = {};
   std::uint32_t used_colours = 0;
   for (std::size_t k = 0; k < contacts.size(); ++k) {
@@ -22,9 +24,9 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
     ++counts[colour];
     if (colour + 1 > used_colours) used_colours = colour + 1;
   }
-  out.colour_begin.assign(used_colours + 1, 0);
+  assign_geometric(out.colour_begin, used_colours + 1, std::uint32_t{0});
   for (std::uint32_t k = 0; k < used_colours; ++k) out.colour_begin[k + 1] = out.colour_begin[k] + counts[k];
-  out.order.resize(contacts.size());
+  resize_geometric(out.order, contacts.size());
   std::vector<std::uint32_t>& begin = out.colour_begin;
   std::uint32_t cursor[kMaxParallelColours + 1];
   for (std::uint32_t k = 0; k < used_colours; ++k) cursor[k] = begin[k];

@@ -126,19 +126,21 @@ inline void apply_friction(const Contact& c, ContactBodies& k, float limit, floa
 }
 
 /// Impact found by the integrator at its exact time: bounce with restitution when closing
-/// faster than the threshold, else stop the closing motion; friction within mu * j.
-inline void solve_impact(const Contact& c, ContactBodies& k, float restitution_threshold) {
+/// faster than the threshold, else stop the closing motion; friction within mu * j. Returns the
+/// normal impulse j applied (N s), 0 when the bodies were not closing.
+inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_threshold) {
   float v[3];
   relative_contact_velocity(c, k, v);
   const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
   const float kn = normal_mass_denominator(k);
-  if (closing <= 0.0f || kn <= 0.0f) return;
+  if (closing <= 0.0f || kn <= 0.0f) return 0.0f;
   const float e = closing > restitution_threshold ? c.restitution : 0.0f;
   const float j = (1.0f + e) * closing / kn;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
   apply_impulse(c, k, p);
   float fresh[3] = {0, 0, 0};
   apply_friction(c, k, c.friction * j, fresh);
+  return j;
 }
 
 /// Warm start of one contact: applies the impulse it starts the step with (normal_impulse along
@@ -155,10 +157,11 @@ inline void apply_warm_start(const Contact& c, ContactBodies& k) {
   apply_impulse(c, k, p);
 }
 
-/// Collision pass on one contact. Returns true when it applied an impulse.
+/// Collision pass on one contact. Returns true when it applied an impulse, whose normal part j
+/// it adds to c.bounce_impulse (the bounce an embedder reads; nothing in the solve reads it).
 /// A speculative contact (gap > 0) collides only if it closes the gap within dt.
 template <FrictionWork kFriction = kWithFriction>
-inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
+inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
   float v[3];
   relative_contact_velocity<kFriction>(c, k, v);
   const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
@@ -167,6 +170,7 @@ inline bool solve_collision(const Contact& c, ContactBodies& k, float dt, float 
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f) return false;
   const float j = (1.0f + c.restitution) * closing / kn;
+  c.bounce_impulse += j;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
   apply_impulse<kFriction>(c, k, p);
   if constexpr (kFriction) {

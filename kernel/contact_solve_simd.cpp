@@ -68,7 +68,7 @@ ContactBatchArrays ContactBatches::arrays() {
           a_.data(), b_.data(),
           nx_.data(), ny_.data(), nz_.data(), gap_.data(), restitution_.data(), friction_.data(),
           ra_.data(), rb_.data(),
-          normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data()};
+          normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data(), bounce_impulse_.data()};
 }
 
 void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours) {
@@ -88,7 +88,7 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
   for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_,
-                  &normal_impulse_, &tx_, &ty_, &tz_})
+                  &normal_impulse_, &tx_, &ty_, &tz_, &bounce_impulse_})
     v->resize(lanes);
 }
 
@@ -111,6 +111,7 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
       nx_[i] = c.nx, ny_[i] = c.ny, nz_[i] = c.nz;
       gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
+      bounce_impulse_[i] = c.bounce_impulse;
     }
 }
 
@@ -145,6 +146,7 @@ void ContactBatches::store_impulses(std::span<Contact> contacts) const {
       Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
       c.normal_impulse = normal_impulse_[i], c.tx = tx_[i], c.ty = ty_[i], c.tz = tz_[i];
+      c.bounce_impulse = bounce_impulse_[i];
     }
 }
 

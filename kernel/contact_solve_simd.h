@@ -41,6 +41,7 @@ struct ContactBatchArrays {
   const float *nx, *ny, *nz, *gap, *restitution, *friction;
   const float *ra, *rb;  ///< radii (rb 0 for static contacts)
   float *normal_impulse, *tx, *ty, *tz;
+  float* bounce_impulse;  ///< the collision passes' normal impulses, summed (Contact::bounce_impulse)
 };
 
 class ContactBatches {
@@ -79,7 +80,8 @@ class ContactBatches {
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
                      bool friction = true);
-  /// Writes the batches' accumulated impulses back to the contacts they were staged from.
+  /// Writes the batches' accumulated impulses (resting, friction and bounce) back to the
+  /// contacts they were staged from.
   void store_impulses(std::span<Contact> contacts) const;
 
  private:
@@ -91,7 +93,7 @@ class ContactBatches {
   AlignedArray<std::int32_t> a_, b_;          // body slots (b: the static body for static contacts)
   AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
   AlignedArray<float> ra_, rb_;
-  AlignedArray<float> normal_impulse_, tx_, ty_, tz_;
+  AlignedArray<float> normal_impulse_, tx_, ty_, tz_, bounce_impulse_;
 };
 
 /// The scalar rules over a run of contacts: the reference, and the path for tails and for the

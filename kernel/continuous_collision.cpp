@@ -8,6 +8,7 @@
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/swept_sphere.h"
+#include "soa/grow.h"
 
 namespace hail {
 namespace {
@@ -84,6 +85,7 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   for (const Motion& m : motions_) moved_[m.slot] = 0;  // last step's marks
   motions_.clear();
   heap_.clear();
+  impacts_.clear();
   stats_ = {};
   dt_ = dt;
   fast_count_ = fast.size();
@@ -92,12 +94,12 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   if (motion_of_.size() < s.size()) motion_of_.resize(s.size(), -1);
   if (moved_.size() < s.size()) moved_.resize(s.size(), 0);
   for (std::uint32_t slot : fast) activate(s, slot);
-  first_events_.resize(fast.size());
+  resize_geometric(first_events_, fast.size());
   stats_.fast = fast.size();
   changed_.clear();
   use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
   if (!use_bvh_) return;
-  path_boxes_.resize(s.size());
+  resize_geometric(path_boxes_, s.size());
   for (std::size_t j = 0; j < s.size(); ++j) {
     const double lo[3] = {std::min<double>(s.px[j], double(s.px[j]) + double(s.vx[j]) * dt),
                           std::min<double>(s.py[j], double(s.py[j]) + double(s.vy[j]) * dt),
@@ -252,9 +254,17 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     for (int d = 0; d < 3; ++d) bodies.va[d] = static_cast<float>(motions_[ma].v[d]);
     if (mb != ma)
       for (int d = 0; d < 3; ++d) bodies.vb[d] = static_cast<float>(motions_[mb].v[d]);
-    solve_impact(contact, bodies, restitution_threshold);
+    const float j = solve_impact(contact, bodies, restitution_threshold);
     scatter_bodies(s, contact, bodies);  // angular velocities (linear ones: sync_path below)
     ++stats_.events;
+    if (j > 0.0f) {
+      const double r = s.radius[a];
+      const double* x = motions_[ma].x;  // a's centre at the time of impact
+      impacts_.push_back({.a = a, .b = contact.b, .feature = contact.feature, .time = static_cast<float>(e.t),
+                          .px = static_cast<float>(x[0] + n[0] * r), .py = static_cast<float>(x[1] + n[1] * r),
+                          .pz = static_cast<float>(x[2] + n[2] * r), .nx = contact.nx, .ny = contact.ny, .nz = contact.nz,
+                          .impulse = j});
+    }
     for (std::uint32_t m : {ma, mb}) {
       Motion& mo = motions_[m];
       const float* vnew = m == ma ? bodies.va : bodies.vb;

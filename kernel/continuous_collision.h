@@ -92,6 +92,8 @@ class ContinuousCollision {
   /// it). Empty when the step had no fast sphere.
   [[nodiscard]] std::span<const std::uint8_t> moved() const { return any_ ? std::span<const std::uint8_t>(moved_) : std::span<const std::uint8_t>(); }
   [[nodiscard]] const SweepStats& stats() const { return stats_; }
+  /// This step's impacts that applied an impulse, in the order resolve() took them (by time).
+  [[nodiscard]] std::span<const Impact> impacts() const { return impacts_; }
   [[nodiscard]] std::size_t fast_count() const { return fast_count_; }
 
  private:
@@ -139,6 +141,7 @@ class ContinuousCollision {
   FlatBvh path_bvh_;                 ///< over path_boxes_; stale for spheres whose path changed
   std::vector<std::uint32_t> changed_;  ///< motions whose path changed since begin (use_bvh_)
   SweepStats stats_;
+  std::vector<Impact> impacts_;  ///< this step's, for World::last_impacts
 };
 
 }  // namespace hail

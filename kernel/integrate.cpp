@@ -63,10 +63,63 @@ double earliest_root(double d0, double vn, double an, double limit) {
   return best;
 }
 
+/// The part of a sphere's step in which it meets planes: up to four impacts, each at its exact
+/// time, the motion x, u advanced to it and `remaining` shortened. Out of the loop that runs for
+/// every sphere, so that a scene without planes does not carry it there: inlined, it cost
+/// terrain-rain 4k 16 instructions per sphere and step (callgrind, 120 steps, one thread).
+[[gnu::noinline]] void bounce_off_planes(SphereSoA& s, std::size_t i, std::span<const Plane> planes,
+                                         const IntegrationParams& p, const float a[3], float x[3], float u[3],
+                                         float& remaining, std::vector<Impact>* impacts) {
+  for (int impact = 0; impact < 4; ++impact) {
+    double hit_t = -1.0;
+    std::size_t hit_plane = 0;
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      const Plane& pl = planes[k];
+      const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
+      if (d0 <= 0.0f) continue;  // touching: the solver already owns this contact
+      const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
+      const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
+      const double t = earliest_root(d0, vn, an, remaining);
+      if (t > 0.0 && (hit_t < 0.0 || t < hit_t)) {
+        hit_t = t;
+        hit_plane = k;
+      }
+    }
+    if (hit_t < 0.0) break;
+    const float t = static_cast<float>(hit_t);
+    for (int d = 0; d < 3; ++d) {
+      x[d] += u[d] * t + 0.5f * a[d] * t * t;
+      u[d] += a[d] * t;
+    }
+    remaining -= t;
+    const Plane& pl = planes[hit_plane];
+    Contact contact;
+    contact.a = static_cast<std::uint32_t>(i);
+    contact.nx = -pl.nx;
+    contact.ny = -pl.ny;
+    contact.nz = -pl.nz;
+    contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
+    contact.friction = combine_friction(s.friction[i], pl.friction);
+    ContactBodies bodies = gather_bodies(s, contact);
+    for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
+    const float j = solve_impact(contact, bodies, p.restitution_threshold);
+    if (impacts && j > 0.0f) {
+      const float r = s.radius[i];
+      impacts->push_back({.a = contact.a, .b = kStaticBody, .feature = kPlaneFeature | static_cast<std::uint32_t>(hit_plane),
+                          .time = p.dt - remaining, .px = x[0] + contact.nx * r, .py = x[1] + contact.ny * r,
+                          .pz = x[2] + contact.nz * r, .nx = contact.nx, .ny = contact.ny, .nz = contact.nz, .impulse = j});
+    }
+    for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
+    s.wx[i] = bodies.wa[0];
+    s.wy[i] = bodies.wa[1];
+    s.wz[i] = bodies.wa[2];
+  }
+}
+
 }  // namespace
 
 void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
-                         const IntegrationParams& p, std::span<const std::uint8_t> skip) {
+                         const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
   const bool uniform = p.integrator == Integrator::UniformAcceleration;
   const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
   for (std::size_t i = first; i < last; ++i) {
@@ -78,44 +131,7 @@ void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std:
     // uniform-acceleration integrator adds back along the parabola.
     float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
     float remaining = p.dt;
-    for (int impact = 0; impact < 4 && !planes.empty(); ++impact) {
-      double hit_t = -1.0;
-      std::size_t hit_plane = 0;
-      for (std::size_t k = 0; k < planes.size(); ++k) {
-        const Plane& pl = planes[k];
-        const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
-        if (d0 <= 0.0f) continue;  // touching: the solver already owns this contact
-        const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
-        const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
-        const double t = earliest_root(d0, vn, an, remaining);
-        if (t > 0.0 && (hit_t < 0.0 || t < hit_t)) {
-          hit_t = t;
-          hit_plane = k;
-        }
-      }
-      if (hit_t < 0.0) break;
-      const float t = static_cast<float>(hit_t);
-      for (int d = 0; d < 3; ++d) {
-        x[d] += u[d] * t + 0.5f * a[d] * t * t;
-        u[d] += a[d] * t;
-      }
-      remaining -= t;
-      const Plane& pl = planes[hit_plane];
-      Contact contact;
-      contact.a = static_cast<std::uint32_t>(i);
-      contact.nx = -pl.nx;
-      contact.ny = -pl.ny;
-      contact.nz = -pl.nz;
-      contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
-      contact.friction = combine_friction(s.friction[i], pl.friction);
-      ContactBodies bodies = gather_bodies(s, contact);
-      for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
-      solve_impact(contact, bodies, p.restitution_threshold);
-      for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
-      s.wx[i] = bodies.wa[0];
-      s.wy[i] = bodies.wa[1];
-      s.wz[i] = bodies.wa[2];
-    }
+    if (!planes.empty()) bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
     for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
     s.px[i] = x[0]; s.py[i] = x[1]; s.pz[i] = x[2];
     s.vx[i] = u[0] + a[0] * remaining;

@@ -39,8 +39,10 @@ float predict_velocities(SphereSoA& spheres, std::size_t first, std::size_t last
 
 /// Moves spheres in [first, last) over dt with their solved velocities, resolving impacts with
 /// the planes at their exact time (at most four per sphere per step). Spheres with skip[i] != 0
-/// were moved already (continuous collision); an empty `skip` skips none.
+/// were moved already (continuous collision); an empty `skip` skips none. With `impacts` given,
+/// each plane impact that applied an impulse is appended to it (in slot order).
 void integrate_positions(SphereSoA& spheres, std::size_t first, std::size_t last, std::span<const Plane> planes,
-                         const IntegrationParams& params, std::span<const std::uint8_t> skip = {});
+                         const IntegrationParams& params, std::span<const std::uint8_t> skip = {},
+                         std::vector<Impact>* impacts = nullptr);
 
 }  // namespace hail

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "kernel/contact_impulse.h"
+#include "soa/grow.h"
 
 namespace hail {
 
@@ -14,8 +15,8 @@ bool immovable(const SolverBody& b) { return b.inv_mass <= 0.0f; }
 
 void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const SolverBody> bodies) {
   const std::size_t n = bodies.size() - 1;  // the last body is the static one
-  level_.assign(n, kNone);
-  first_edge_.assign(n + 1, 0);
+  assign_geometric(level_, n, kNone);
+  assign_geometric(first_edge_, n + 1, std::uint32_t{0});
   queue_.clear();
   // Neighbour lists (compressed rows) of the sphere-sphere contacts; the ground seeds the search.
   for (const Contact& c : contacts) {
@@ -24,7 +25,7 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
     ++first_edge_[c.b + 1];
   }
   for (std::size_t i = 0; i < n; ++i) first_edge_[i + 1] += first_edge_[i];
-  edges_.resize(first_edge_[n]);
+  resize_geometric(edges_, first_edge_[n]);
   for (const Contact& c : contacts) {
     if (c.b == kStaticBody) continue;
     edges_[first_edge_[c.a]++] = c.b;
@@ -51,11 +52,11 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
   std::uint32_t top = 0;
   for (std::uint32_t l : level_)
     if (l != kNone) top = std::max(top, l);
-  level_count_.assign(top + 2, 0);
+  assign_geometric(level_count_, top + 2, std::uint32_t{0});
   for (const Contact& c : contacts)
     if (const std::uint32_t k = key(c); k != kNone) ++level_count_[k + 1];
   for (std::size_t l = 0; l + 1 < level_count_.size(); ++l) level_count_[l + 1] += level_count_[l];
-  order_.resize(level_count_.back());
+  resize_geometric(order_, level_count_.back());
   for (std::uint32_t k = 0; k < contacts.size(); ++k)
     if (const std::uint32_t l = key(contacts[k]); l != kNone) order_[level_count_[l]++] = k;
 }

@@ -9,6 +9,7 @@
 #include "kernel/errors.h"
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
+#include "soa/grow.h"
 
 namespace hail {
 namespace {
@@ -160,20 +161,26 @@ const SimdKernels& simd_kernels(SimdPath path) {
   return table_of(path);
 }
 
+// The per-block lists these fill are cleared every step: an insert past capacity would make
+// them exactly as long as this step needs (soa/grow.h), so they grow geometrically instead.
 void append_pairs(std::vector<SpherePair>& out, const SpherePair* pairs, std::size_t count) {
+  reserve_geometric(out, out.size() + count);
   out.insert(out.end(), pairs, pairs + count);
 }
 
 void append_slots(std::vector<std::uint32_t>& out, const std::uint32_t* slots, std::size_t count) {
+  reserve_geometric(out, out.size() + count);
   out.insert(out.end(), slots, slots + count);
 }
 
 void append_contacts(std::vector<Contact>& out, const Contact* contacts, std::size_t count) {
+  reserve_geometric(out, out.size() + count);
   out.insert(out.end(), contacts, contacts + count);
 }
 
 void append_sorted_row(std::uint32_t i, std::vector<std::uint32_t>& row, std::vector<SpherePair>& out) {
   std::sort(row.begin(), row.end());
+  reserve_geometric(out, out.size() + row.size());
   for (std::uint32_t j : row) out.push_back({i, j});
   row.clear();
 }

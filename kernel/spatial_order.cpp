@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "kernel/morton.h"
+#include "soa/grow.h"
 
 namespace hail {
 
@@ -15,11 +16,11 @@ void morton_slot_order(const SphereSoA& s, std::vector<std::uint64_t>& keys, std
     // A non-finite centre would stretch the box to infinity and put everyone in one cell.
     if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) grow(bounds, p);
   }
-  keys.resize(n);
+  resize_geometric(keys, n);
   for (std::size_t i = 0; i < n; ++i)
     keys[i] = (std::uint64_t{morton_code_3d(bounds, s.px[i], s.py[i], s.pz[i])} << 32) | i;
   std::sort(keys.begin(), keys.end());
-  order.resize(n);
+  resize_geometric(order, n);
   for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>(keys[k]);
 }
 

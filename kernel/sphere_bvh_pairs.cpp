@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "kernel/sphere_pair_bounds.h"
+#include "soa/grow.h"
 
 namespace hail {
 
@@ -11,7 +12,7 @@ void SphereBvhPairs::build(const SphereSoA& s, float /*margin: the boxes do not 
                            const BvhBuildOptions& options) {
   constexpr float kFinite = std::numeric_limits<float>::max();
   const std::size_t n = s.size();
-  bounds_.resize(n);
+  resize_geometric(bounds_, n);
   for (std::size_t i = 0; i < n; ++i) {
     Aabb& box = bounds_[i];
     const float c[3] = {s.px[i], s.py[i], s.pz[i]};
@@ -30,7 +31,7 @@ void SphereBvhPairs::build(const SphereSoA& s, float /*margin: the boxes do not 
     }
   }
   bvh_.build(bounds_, options);
-  leaf_.resize(n);
+  resize_geometric(leaf_, n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t i = bvh_.primitive_order[k];
     leaf_[k] = {s.px[i], s.py[i], s.pz[i], s.radius[i]};

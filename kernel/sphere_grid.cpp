@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 
+#include "soa/grow.h"
+
 namespace hail {
 namespace {
 
@@ -32,9 +34,9 @@ void SphereGrid::build(const SphereSoA& s, float margin) {
   inv_cell_ = 1.0f / cell;
   const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * n, 64));
   mask_ = static_cast<std::uint32_t>(buckets - 1);
-  cell_.resize(3 * n);
-  bucket_start_.assign(buckets + 1, 0);
-  sorted_.resize(n);
+  resize_geometric(cell_, 3 * n);
+  assign_geometric(bucket_start_, buckets + 1, std::uint32_t{0});
+  resize_geometric(sorted_, n);
   for (std::size_t i = 0; i < n; ++i) {
     cell_[3 * i] = cell_coordinate(s.px[i], inv_cell_);
     cell_[3 * i + 1] = cell_coordinate(s.py[i], inv_cell_);

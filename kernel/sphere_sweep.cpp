@@ -5,6 +5,7 @@
 
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pair_bounds.h"
+#include "soa/grow.h"
 
 namespace hail {
 namespace {
@@ -41,7 +42,7 @@ int widest_axis(const SphereSoA& s, const std::vector<std::uint8_t>& class_of) {
 
 void SphereSweep::build(const SphereSoA& s, float /*margin: the sort does not depend on it*/) {
   const std::size_t n = s.size();
-  class_of_.resize(n);
+  resize_geometric(class_of_, n);
 
   // Radius classes, a factor 4 apart from the smallest positive |radius|. Zero radii join
   // class 0. Powers of two scale exactly, so the class of a radius is repeatable.
@@ -80,7 +81,7 @@ void SphereSweep::build(const SphereSoA& s, float /*margin: the sort does not de
   // Counting sort by class (index order kept), then each class by (centre, index): the keys
   // are unique, so the order does not depend on the sort algorithm.
   const std::size_t sorted = class_begin_.back();
-  keys_.resize(sorted);
+  resize_geometric(keys_, sorted);
   const float* centre = axis_ == 0 ? s.px.data() : axis_ == 1 ? s.py.data() : s.pz.data();
   std::uint32_t cursor[kMaxRadiusClasses];
   for (int c = 0; c < kMaxRadiusClasses; ++c) cursor[c] = count[c] ? class_begin_[slot_of_class[c]] : 0;
@@ -92,11 +93,11 @@ void SphereSweep::build(const SphereSoA& s, float /*margin: the sort does not de
 
   // Copy into sorted SoA; the padding batch is far away and never reported (slots >= the
   // window's end are masked), it only keeps the last load inside the arrays.
-  x_.resize(sorted + kLanes);
-  y_.resize(sorted + kLanes);
-  z_.resize(sorted + kLanes);
-  radius_.resize(sorted + kLanes);
-  index_.resize(sorted + kLanes);
+  resize_geometric(x_, sorted + kLanes);
+  resize_geometric(y_, sorted + kLanes);
+  resize_geometric(z_, sorted + kLanes);
+  resize_geometric(radius_, sorted + kLanes);
+  resize_geometric(index_, sorted + kLanes);
   for (std::size_t k = 0; k < sorted; ++k) {
     const std::uint32_t i = keys_[k].index;
     x_[k] = s.px[i];

@@ -15,7 +15,9 @@
 //
 // Allocation: add_sphere allocates only when the sphere arrays outgrow their capacity (reserve()
 // prevents it). step() reuses its scratch buffers, so a steady-state step allocates nothing:
-// they grow only when a step needs more contacts or pairs than every step before it. The
+// they grow only when a step needs more contacts or pairs than every step before it, and then
+// to at least twice their capacity (soa/grow.h), so a scene whose counts keep rising
+// reallocates each buffer O(log n) times (tests/allocation/, hail-alloc-tests). The
 // accessors return views or values and never allocate. The constructors, add_plane,
 // set_terrain and enable_trace allocate, and while a trace records it grows every step.
 
@@ -306,10 +308,23 @@ class World {
   /// Contacts are speculative: gap (m) is measured before the step moves anything, and > 0
   /// means the sphere could reach the surface within the step, not that it did (one that
   /// bounced off it moves away along the normal afterwards: see examples/drop_spheres.cpp).
-  /// After solving, normal_impulse holds the resting impulse (N s); the bounce impulses of the
-  /// collision passes, and the impacts of continuous collision (StepStats::sweep), are not
-  /// kept. No copy, no allocation; valid until the next step.
+  /// After solving, a contact holds its impulses (N s): bounce_impulse, the sum of what the
+  /// collision passes gave it (the bounce: about (1 + e) m v_closing on static ground, 0 for a
+  /// contact that only rested), and normal_impulse, the resting impulse (about m g dt under a
+  /// sphere lying still); tx, ty, tz the resting friction. A sound wants bounce_impulse. Impacts
+  /// taken at their exact time outside the solve (planes met during the step, continuous
+  /// collision) are not contacts: last_impacts() lists them. No copy, no allocation; valid
+  /// until the next step.
   [[nodiscard]] std::span<const Contact> last_contacts() const { return contacts_; }
+  /// Impacts of the last step (of its last substep) resolved at their exact time outside the
+  /// contact solve, each with its normal impulse: first those of continuous collision (fast
+  /// spheres against terrain, planes and spheres; StepStats::sweep), in the order they were
+  /// taken (by time), then spheres that reached a plane during the step (the integrator splits
+  /// the motion there), in slot order. A sphere falling onto a plane bounces here, not in a
+  /// contact: planes make contacts only for spheres already touching them. a and b are dense
+  /// slots as in last_contacts(). No copy; valid until the next step. The lists grow only
+  /// when a step has more impacts than every step before it.
+  [[nodiscard]] std::span<const Impact> last_impacts() const { return impacts_; }
 
  private:
   friend struct StepPipeline;
@@ -334,6 +349,8 @@ class World {
   SphereBvhPairs sphere_bvh_;
   std::vector<std::vector<Contact>> contact_blocks_;
   std::vector<Contact> contacts_;
+  std::vector<std::vector<Impact>> impact_blocks_;  ///< integrate: plane impacts per sphere block
+  std::vector<Impact> impacts_;                     ///< last_impacts(): sweep's, then impact_blocks_ in order
   std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_
   ContactColouring colouring_;
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order

@@ -5,6 +5,7 @@
 // fill a batch. The cradle chain runs on every SIMD path this CPU supports (the rest on the
 // active one; tests/test_simd_dispatch.cpp compares every path).
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -51,7 +52,12 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   }
   CHECK(simd_any == scalar_any);
   batches.store_impulses(simd.contacts);
-  CHECK(same_bits(simd, scalar));
+  CHECK(same_bits(simd, scalar));  // velocities and every impulse, the bounce impulses included
+  // Some contact bounced (so the comparison of bounce impulses is not of zeros alone), and a
+  // contact's bounce is positive exactly when some pass applied an impulse to it.
+  CHECK(std::any_of(scalar.contacts.begin(), scalar.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }) ==
+        scalar_any);
+  for (const Contact& c : scalar.contacts) CHECK(c.bounce_impulse >= 0.0f);
   for (int pass = 0; pass < 4; ++pass) {
     batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f);
     solve_resting_run_scalar(tail, simd.bodies, 60.0f);
@@ -155,6 +161,7 @@ TEST_CASE("Frictionless passes do no angular work and match the full rules to ro
   pass_all(scalar, false, false);
   pass_all(full, false, true);
   CHECK(same_bits(simd, scalar));  // the SIMD frictionless passes equal their scalar reference
+  CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
   for (std::size_t i = 0; i < base.bodies.size(); ++i) {
     INFO("body " << i);
     for (int d = 0; d < 3; ++d) {

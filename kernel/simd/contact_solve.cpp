@@ -172,6 +172,8 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     if (lanes == 0) continue;  // nothing changes: no scatter needed
     any = true;
     const batch j = (one + batch::load_aligned(c.restitution + o)) * closing / kn;
+    const batch bounce = batch::load_aligned(c.bounce_impulse + o);
+    xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
     const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
     L.apply_impulse(p, active);
     if constexpr (kFriction) {
