@@ -55,6 +55,8 @@ void World::validate(const WorldSettings& s) {
   require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
           "WorldSettings::continuous_collision is true, but this hail was built without it "
           "(HAIL_WITH_CONTINUOUS_COLLISION=OFF)");
+  require(HAIL_WITH_ROTATION || !s.rotation,
+          "WorldSettings::rotation is true, but this hail was built without it (HAIL_WITH_ROTATION=OFF)");
   require(s.shock_mass_ratio >= 1.0f,  // false for NaN
           describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
@@ -89,6 +91,11 @@ SphereId World::add_sphere(const SphereDesc& d) {
     require(std::isfinite(d.mass) && d.mass > 0.0f,
             "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass));
   require_material(d.restitution, d.friction, "sphere");
+  if (!settings_.rotation && !d.is_static &&
+      !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f))
+    require(false, "sphere angular_velocity must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
+                       std::to_string(d.angular_velocity.x()) + ", " + std::to_string(d.angular_velocity.y()) + ", " +
+                       std::to_string(d.angular_velocity.z()) + ")");
   const float inv_mass = d.is_static ? 0.0f : 1.0f / d.mass;
   const float inertia = 0.4f * d.mass * d.radius * d.radius;  // solid sphere, 2/5 m r^2
   const float inv_inertia = d.is_static ? 0.0f : 1.0f / inertia;

@@ -143,8 +143,8 @@ TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
 
 TEST_CASE("While spheres are added and contacts rise, steps reallocate O(log n) times", "[allocation]") {
   // Two spheres added before every step (an emitter), 500 steps: the sphere count rises by two
-  // and the contact count by about ten every step, to 1,000 spheres and over 5,000 contacts
-  // (3,000 in a build without terrain).
+  // and the contact count by about ten every step, to 1,000 spheres and 5,386 contacts (3,068 in
+  // a build without terrain, 4,050 without rotation).
   // Buffers that grow geometrically reallocate a bounded number of times for each doubling of
   // their count; buffers that grew to exactly the new count reallocated in nearly every step
   // (before soa/grow.h: 3,522 allocations in 469 of the 500 steps, 6 to 7 in every step).
@@ -164,7 +164,7 @@ TEST_CASE("While spheres are added and contacts rise, steps reallocate O(log n) 
   }
   INFO(allocations << " allocations, " << last_quarter << " in the last quarter (contacts " << contacts_at_three_quarters
                    << " -> " << contacts << ")");
-  REQUIRE(contacts > (HAIL_WITH_TERRAIN ? 5000u : 2500u));  // (the floor plane alone holds fewer)
+  REQUIRE(contacts > 2500);  // (5,386 here; fewer without terrain or rotation)
   REQUIRE(contacts > contacts_at_three_quarters * 5 / 4);  // still rising in the last quarter
   // In the last quarter the counts grow by half: each of the ~100 buffers (some 40 of the step,
   // plus one list per block of 64 or 256 spheres) doubles at most once. Less than one
