@@ -119,6 +119,35 @@ TEST_CASE("The replaced operator new counts what it should", "[allocation]") {
   CHECK(allocations_during([] { auto p = std::make_unique<World>(WorldSettings{.threads = 1}); }) > 0);
 }
 
+TEST_CASE("add_sphere within reserve() and the accessors allocate nothing", "[allocation]") {
+  // (Each add_sphere made 16 allocations before its error messages were built only on failure:
+  // std::to_string and string concatenation for every check, passed or not.)
+  World world({.threads = 1});
+  world.add_plane({});
+  world.reserve(200);
+  std::vector<SphereId> ids;
+  ids.reserve(200);
+  const std::size_t adding = allocations_during([&] {
+    for (int k = 0; k < 200; ++k) ids.push_back(world.add_sphere(sphere_k(k, 2.0f)));
+  });
+  CHECK(adding == 0);
+  for (int step = 0; step < 30; ++step) world.step(kDt);
+  double sink = 0.0;
+  const std::size_t reading = allocations_during([&] {
+    for (const SphereId id : ids) {
+      sink += world.position(id).y() + world.velocity(id).x() + world.angular_velocity(id).z();
+      sink += static_cast<double>(world.slot_of(id));
+    }
+    const SphereState state = world.spheres();
+    sink += state.py[0] + static_cast<double>(world.id_at(0).index);
+    sink += world.kinetic_energy() + world.linear_momentum().norm() + static_cast<double>(world.nan_count());
+    sink += static_cast<double>(world.state_hash() % 7 + world.last_contacts().size() + world.last_impacts().size());
+    sink += static_cast<double>(world.last_step_stats().sphere_contacts) + world.last_phase_times().total();
+  });
+  CHECK(reading == 0);
+  CHECK(std::isfinite(sink));
+}
+
 TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
   for (const int threads : {1, 3}) {
     INFO(threads << " threads");
