@@ -100,6 +100,10 @@ CommandOptions parse(const std::vector<std::string>& args) {
       if (v != "on" && v != "off" && v != "both") usage_error("--ccd must be on, off or both, got '" + v + "'");
       o.params.continuous_collision = v != "off";
       o.ccd_both = v == "both";
+    } else if (flag == "--rotation") {
+      const std::string& v = value();
+      if (v != "on" && v != "off") usage_error("--rotation must be on or off, got '" + v + "'");
+      o.params.rotation = v == "on";
     } else if (flag == "--repeat") {
       o.repeat = parse_number<int>(flag, value());
       if (o.repeat < 1 || o.repeat > 1000) usage_error("--repeat must be in [1, 1000]");
@@ -128,6 +132,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
   if (given("--pairs")) v.pair_search = o.params.pair_search;
   if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
+  if (given("--rotation")) v.rotation = o.params.rotation;
   if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
     v.warm_start = o.params.warm_start;
     if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;

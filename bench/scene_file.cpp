@@ -260,6 +260,7 @@ void read_settings(const Object& o, WorldSettings& s) {
   s.shock_mass_ratio = o.number("shock_mass_ratio", s.shock_mass_ratio);
   if (!(s.shock_mass_ratio >= 1.0f))
     o.at("shock_mass_ratio").fail("must be >= 1, got " + got(o["shock_mass_ratio"]));
+  s.rotation = o.boolean("rotation", s.rotation);
 }
 
 // ---- terrain ---------------------------------------------------------------------------------
@@ -538,7 +539,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                                                  "sphere_collisions", "pair_search", "speculative_radii", "pair_margin_travel",
                                                  "reorder_interval", "warm_start", "warm_start_factor",
                                                  "continuous_collision", "fast_travel_fraction", "max_sweep_events",
-                                                 "shock_mass_ratio"}),
+                                                 "shock_mass_ratio", "rotation"}),
                                          settings);
 
   std::shared_ptr<const Terrain> terrain;
@@ -615,6 +616,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
   if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;
   if (overrides.continuous_collision) settings.continuous_collision = *overrides.continuous_collision;
+  if (overrides.rotation) settings.rotation = *overrides.rotation;
 
   // Every value was checked above; the World checks again, and its message gets the file's name.
   try {

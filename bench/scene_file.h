@@ -32,6 +32,7 @@ struct SceneOverrides {
   std::optional<bool> warm_start = std::nullopt;
   std::optional<float> warm_start_factor = std::nullopt;
   std::optional<bool> continuous_collision = std::nullopt;
+  std::optional<bool> rotation = std::nullopt;
 };
 
 /// Reads and builds the scene in `path`; a heightmap path inside is relative to the file's

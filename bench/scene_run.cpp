@@ -103,14 +103,16 @@ namespace {
 
 void count_parts(const StepParts& ran, RunResult::PartCounts& count) {
   count.reorder += ran.reorder, count.detect_static += ran.detect_static, count.detect_pairs += ran.detect_pairs;
-  count.solve += ran.solve, count.friction += ran.friction, count.shock += ran.shock, count.sweep += ran.sweep;
+  count.solve += ran.solve, count.friction += ran.friction, count.rotation += ran.rotation, count.shock += ran.shock;
+  count.sweep += ran.sweep;
   count.depenetrate += ran.depenetrate, count.terrain_guard += ran.terrain_guard;
 }
 
 /// (name, steps it ran in) for each optional part, in step order.
 std::vector<std::pair<const char*, int>> part_list(const RunResult::PartCounts& c) {
   return {{"reorder", c.reorder}, {"detect-static", c.detect_static}, {"detect-pairs", c.detect_pairs},
-          {"solve", c.solve},     {"friction", c.friction},           {"shock", c.shock},
+          {"solve", c.solve},     {"friction", c.friction},           {"rotation", c.rotation},
+          {"shock", c.shock},
           {"sweep", c.sweep},     {"depenetrate", c.depenetrate},     {"terrain-guard", c.terrain_guard}};
 }
 

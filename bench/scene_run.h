@@ -30,7 +30,8 @@ struct RunResult {
   std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
   /// Substeps in which each optional part of the step ran (StepStats::ran), over all steps.
   struct PartCounts {
-    int reorder = 0, detect_static = 0, detect_pairs = 0, solve = 0, friction = 0, shock = 0, sweep = 0, depenetrate = 0, terrain_guard = 0;
+    int reorder = 0, detect_static = 0, detect_pairs = 0, solve = 0, friction = 0, rotation = 0, shock = 0, sweep = 0,
+        depenetrate = 0, terrain_guard = 0;
   } parts_ran;
 };
 

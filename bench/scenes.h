@@ -21,6 +21,7 @@ struct SceneParams {
   float warm_start_factor = WorldSettings{}.warm_start_factor;
   int resting_iterations = WorldSettings{}.resting_iterations;  ///< --resting N
   bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
+  bool rotation = WorldSettings{}.rotation;  ///< --rotation on|off
 };
 
 /// The WorldSettings the command-line parameters ask for (the rest at their defaults).
@@ -33,6 +34,7 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.warm_start_factor = p.warm_start_factor;
   s.resting_iterations = p.resting_iterations;
   s.continuous_collision = p.continuous_collision;
+  s.rotation = p.rotation;
   return s;
 }
 

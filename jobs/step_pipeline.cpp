@@ -51,6 +51,7 @@ struct StepPipeline {
   bool guarding = false;       // terrain guard on (there is a terrain)
   bool friction_needed_ = true;  // some contact of this step has friction > 0 (merge_contacts)
   bool pair_margins = false;     // pairs filtered by their own margin (pair_margin_travel > 0)
+  bool rotation = true;          // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres_;
@@ -250,7 +251,7 @@ struct StepPipeline {
     ccd.begin(s, w.fast_, params.dt);
     if (w.fast_.empty()) return;
     const SweepScene scene{w.terrain_.get(), w.terrain_restitution_, w.terrain_friction_, w.planes_,
-                           w.settings_.sphere_collisions};
+                           w.settings_.sphere_collisions, rotation};
     for_each_block(w.fast_.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
@@ -384,13 +385,18 @@ struct StepPipeline {
       for (std::size_t k = first; k < last; ++k) w.coloured_contacts_[k] = w.contacts_[w.colouring_.order[k]];
     });
     std::swap(w.contacts_, w.coloured_contacts_);
+    // What the passes compute: no friction (no contact has any), friction on linear velocities
+    // (rotation off), or friction with the angular terms. Angular velocities are loaded only
+    // for the last, and for the shock pass, which takes the full rule whenever rotation is on.
+    const FrictionWork work = friction_work(friction_needed_, rotation);
+    const bool angular = rotation && (friction_needed_ || shock);
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
     if (w.solver_bodies_.size() < n + 1) resize_geometric(w.solver_bodies_, n + 1);
     const std::span<SolverBody> bodies(w.solver_bodies_.data(), n + 1);
     bodies[n] = SolverBody{};
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
-      load_solver_bodies(s, first, last, bodies);
+      load_solver_bodies(s, first, last, bodies, angular);
     });
     const ContactColouring& col = w.colouring_;
     ContactBatches& batches = w.contact_batches_;
@@ -402,14 +408,12 @@ struct StepPipeline {
     w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
-    // No contact of this step has friction: no friction or angular work in any pass.
-    const bool friction = friction_needed_;
     for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
       std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
         const auto number = static_cast<std::uint32_t>(pass);
-        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, friction);
-        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, friction);
+        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
+        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
         if (simd || rest) any.store(true, std::memory_order_relaxed);
       });
       if (!any.load()) break;
@@ -422,26 +426,26 @@ struct StepPipeline {
     // jitter that way, 1.4 J this way).
     if (w.settings_.warm_start && w.stats_.warm_started > 0)
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.warm_start(first, last, bodies, friction);
-        warm_start_run_scalar(scalar, bodies, friction);
+        batches.warm_start(first, last, bodies, work);
+        warm_start_run_scalar(scalar, bodies, work);
       });
     for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
       for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.solve_resting(first, last, bodies, inv_dt, friction);
-        solve_resting_run_scalar(scalar, bodies, inv_dt, friction);
+        batches.solve_resting(first, last, bodies, inv_dt, work);
+        solve_resting_run_scalar(scalar, bodies, inv_dt, work);
       });
     }
     if (shock) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       w.shock_.plan(w.contacts_, bodies);
-      w.shock_.solve(w.contacts_, bodies, inv_dt);
+      w.shock_.solve(w.contacts_, bodies, inv_dt, angular);
     }
     batches.store_impulses(w.contacts_);
     remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
-      store_solver_velocities(bodies, first, last, s);
+      store_solver_velocities(bodies, first, last, s, angular);
     });
   }
 
@@ -503,7 +507,7 @@ struct StepPipeline {
   }
   void reorder() {
     morton_slot_order(w.spheres_, w.reorder_keys_, w.reorder_slots_);
-    w.spheres_.permute(w.reorder_slots_);
+    w.spheres_.permute(w.reorder_slots_, /*angular=*/rotation);  // without rotation every w is 0
   }
 
   /// The step is assembled from what the scene has (StepParts): a phase with nothing to do is
@@ -556,6 +560,7 @@ struct StepPipeline {
       if (w.settings_.warm_start) w.contact_cache_.clear();  // nothing touched: nothing to carry over
     }
     ran.friction = ran.solve && friction_needed_;
+    ran.rotation = ran.solve && rotation && (friction_needed_ || shock);
     ran.shock = ran.solve && shock;
     ran.sweep = sweeping && !w.fast_.empty();
     if (sweeping) {
@@ -607,6 +612,8 @@ void World::substep(float scaled) {
   pipeline.params.dt = scaled;
   pipeline.fast_fraction = settings_.fast_travel_fraction;
   pipeline.sweeping = settings_.continuous_collision;
+  pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
+  pipeline.params.rotation = pipeline.rotation;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
   arena_->execute([&] { pipeline.run(); });

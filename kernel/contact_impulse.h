@@ -10,16 +10,44 @@
 //    closing speed to zero (or to what closes a speculative gap), with friction clamped to
 //    +-mu * (the same contact's accumulated normal impulse).
 // Friction in both: a Coulomb cone around the tangential slip, with the angular impulse so that
-// spheres spin and roll. No damping, no snapping of small velocities to zero.
+// spheres spin and roll (or, with rotation off, on the linear velocities alone: FrictionWork).
+// No damping, no snapping of small velocities to zero.
 
 #include <cmath>
+#include <cstdint>
 
 #include "kernel/contact.h"
+#include "kernel/features.h"
 #include "soa/sphere_soa.h"
 
 namespace hail {
 
+/// Which terms a solver rule computes. Without friction (no contact of the step has any)
+/// nothing turns a sphere: a normal impulse passes through the centre (r x n = 0) and w x r is
+/// perpendicular to n, so those passes drop the angular terms altogether (kNoFriction). That is
+/// the exact answer; with the terms the float products of parallel vectors leave spins of
+/// rounding size. Without rotation (WorldSettings::rotation false) friction acts on the linear
+/// velocities alone, with the effective mass 1 / (1/m_a + 1/m_b) (kLinearFriction): spheres
+/// slide and never spin. kWithFriction is the full rule: friction with the angular impulse that
+/// makes spheres spin and roll.
+enum FrictionWork : std::uint8_t { kNoFriction, kLinearFriction, kWithFriction };
+
+/// kWithFriction where rotation is compiled in (HAIL_WITH_ROTATION, kernel/features.h). Without
+/// it the dispatchers instantiate no angular code: a request for kWithFriction (which World
+/// never makes then) runs kLinearFriction.
+inline constexpr FrictionWork kRotationWork = HAIL_WITH_ROTATION ? kWithFriction : kLinearFriction;
+
+/// Whether a mode applies friction impulses.
+[[nodiscard]] constexpr bool has_friction(FrictionWork work) { return work != kNoFriction; }
+/// Whether a mode reads and changes angular velocities (w x r, r x p, inverse inertia).
+[[nodiscard]] constexpr bool has_rotation(FrictionWork work) { return work == kWithFriction; }
+/// The mode of a step: no friction anywhere, else friction with or without rotation.
+[[nodiscard]] constexpr FrictionWork friction_work(bool friction, bool rotation) {
+  return !friction ? kNoFriction : rotation ? kWithFriction : kLinearFriction;
+}
+
 /// Velocity state of one contact's two bodies, gathered from the SoA (static side: all zero).
+/// Modes without rotation neither read nor write w (it stays zero here).
 struct ContactBodies {
   float ima = 0, iia = 0, ra = 0;  // inverse mass, inverse inertia, radius of a
   float imb = 0, iib = 0, rb = 0;
@@ -27,44 +55,39 @@ struct ContactBodies {
   float vb[3] = {0, 0, 0}, wb[3] = {0, 0, 0};
 };
 
+template <FrictionWork kWork = kWithFriction>
 inline ContactBodies gather_bodies(const SphereSoA& s, const Contact& c) {
   ContactBodies k;
   const std::uint32_t a = c.a;
   k.ima = s.inv_mass[a]; k.iia = s.inv_inertia[a]; k.ra = s.radius[a];
   k.va[0] = s.vx[a]; k.va[1] = s.vy[a]; k.va[2] = s.vz[a];
-  k.wa[0] = s.wx[a]; k.wa[1] = s.wy[a]; k.wa[2] = s.wz[a];
+  if constexpr (has_rotation(kWork)) { k.wa[0] = s.wx[a]; k.wa[1] = s.wy[a]; k.wa[2] = s.wz[a]; }
   if (c.b != kStaticBody) {
     const std::uint32_t b = c.b;
     k.imb = s.inv_mass[b]; k.iib = s.inv_inertia[b]; k.rb = s.radius[b];
     k.vb[0] = s.vx[b]; k.vb[1] = s.vy[b]; k.vb[2] = s.vz[b];
-    k.wb[0] = s.wx[b]; k.wb[1] = s.wy[b]; k.wb[2] = s.wz[b];
+    if constexpr (has_rotation(kWork)) { k.wb[0] = s.wx[b]; k.wb[1] = s.wy[b]; k.wb[2] = s.wz[b]; }
   }
   return k;
 }
 
+template <FrictionWork kWork = kWithFriction>
 inline void scatter_bodies(SphereSoA& s, const Contact& c, const ContactBodies& k) {
   const std::uint32_t a = c.a;
   s.vx[a] = k.va[0]; s.vy[a] = k.va[1]; s.vz[a] = k.va[2];
-  s.wx[a] = k.wa[0]; s.wy[a] = k.wa[1]; s.wz[a] = k.wa[2];
+  if constexpr (has_rotation(kWork)) { s.wx[a] = k.wa[0]; s.wy[a] = k.wa[1]; s.wz[a] = k.wa[2]; }
   if (c.b != kStaticBody) {
     const std::uint32_t b = c.b;
     s.vx[b] = k.vb[0]; s.vy[b] = k.vb[1]; s.vz[b] = k.vb[2];
-    s.wx[b] = k.wb[0]; s.wy[b] = k.wb[1]; s.wz[b] = k.wb[2];
+    if constexpr (has_rotation(kWork)) { s.wx[b] = k.wb[0]; s.wy[b] = k.wb[1]; s.wz[b] = k.wb[2]; }
   }
 }
-
-/// Whether a solver pass does friction work. Without friction (no contact of the step has any)
-/// nothing turns a sphere: a normal impulse passes through the centre (r x n = 0) and w x r is
-/// perpendicular to n, so those passes drop the angular terms altogether (kNoFriction). That is
-/// the exact answer; with the terms the float products of parallel vectors leave spins of
-/// rounding size.
-enum FrictionWork : bool { kNoFriction = false, kWithFriction = true };
 
 /// Velocity of b relative to a at the contact point. The contact point sits at +n ra from a's
 /// centre and -n rb from b's, so w x r contributes the rolling/spinning part.
 template <FrictionWork kFriction = kWithFriction>
 inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, float out[3]) {
-  if constexpr (!kFriction) {
+  if constexpr (!has_rotation(kFriction)) {
     for (int d = 0; d < 3; ++d) out[d] = k.vb[d] - k.va[d];
     return;
   }
@@ -81,7 +104,7 @@ inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, 
 /// Applies impulse p (N s) to b at its contact point and -p to a at its contact point.
 template <FrictionWork kFriction = kWithFriction>
 inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
-  if constexpr (!kFriction) {  // p is along n: no torque
+  if constexpr (!has_rotation(kFriction)) {  // p is along n (or rotation is off): no torque
     for (int d = 0; d < 3; ++d) k.va[d] -= p[d] * k.ima, k.vb[d] += p[d] * k.imb;
     return;
   }
@@ -98,21 +121,26 @@ inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) 
   }
 }
 
-/// Effective mass denominators: along the normal (no lever arm for spheres) and tangentially.
+/// Effective mass denominators: along the normal (no lever arm for spheres) and tangentially
+/// (with the spheres' inertia when they may spin; without rotation as along the normal).
 inline float normal_mass_denominator(const ContactBodies& k) { return k.ima + k.imb; }
+template <FrictionWork kFriction = kWithFriction>
 inline float tangent_mass_denominator(const ContactBodies& k) {
+  if constexpr (!has_rotation(kFriction)) return k.ima + k.imb;
   return k.ima + k.imb + k.ra * k.ra * k.iia + k.rb * k.rb * k.iib;
 }
 
 /// Friction impulse opposing the current slip, limited to the cone |p_t| <= limit.
 /// `accumulated` is the friction impulse already applied at this contact (resting passes);
 /// returns the new accumulated value and applies only the difference.
+template <FrictionWork kFriction = kWithFriction>
 inline void apply_friction(const Contact& c, ContactBodies& k, float limit, float accumulated[3]) {
+  static_assert(has_friction(kFriction));
   float v[3];
-  relative_contact_velocity(c, k, v);
+  relative_contact_velocity<kFriction>(c, k, v);
   const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
   const float vt[3] = {v[0] - vn * c.nx, v[1] - vn * c.ny, v[2] - vn * c.nz};
-  const float kt = tangent_mass_denominator(k);
+  const float kt = tangent_mass_denominator<kFriction>(k);
   if (kt <= 0.0f) return;
   float target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
   const float len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
@@ -121,25 +149,29 @@ inline void apply_friction(const Contact& c, ContactBodies& k, float limit, floa
     for (float& t : target) t *= scale;
   }
   const float delta[3] = {target[0] - accumulated[0], target[1] - accumulated[1], target[2] - accumulated[2]};
-  apply_impulse(c, k, delta);
+  apply_impulse<kFriction>(c, k, delta);
   for (int d = 0; d < 3; ++d) accumulated[d] = target[d];
 }
 
 /// Impact found by the integrator at its exact time: bounce with restitution when closing
 /// faster than the threshold, else stop the closing motion; friction within mu * j. Returns the
-/// normal impulse j applied (N s), 0 when the bodies were not closing.
+/// normal impulse j applied (N s), 0 when the bodies were not closing. kWork: kWithFriction, or
+/// kLinearFriction without rotation (the friction cone is applied either way, as before: with
+/// zero friction it applies nothing).
+template <FrictionWork kWork = kWithFriction>
 inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_threshold) {
+  static_assert(has_friction(kWork));
   float v[3];
-  relative_contact_velocity(c, k, v);
+  relative_contact_velocity<kWork>(c, k, v);
   const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
   const float kn = normal_mass_denominator(k);
   if (closing <= 0.0f || kn <= 0.0f) return 0.0f;
   const float e = closing > restitution_threshold ? c.restitution : 0.0f;
   const float j = (1.0f + e) * closing / kn;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_impulse(c, k, p);
+  apply_impulse<kWork>(c, k, p);
   float fresh[3] = {0, 0, 0};
-  apply_friction(c, k, c.friction * j, fresh);
+  apply_friction<kWork>(c, k, c.friction * j, fresh);
   return j;
 }
 
@@ -148,13 +180,13 @@ inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_
 template <FrictionWork kFriction = kWithFriction>
 inline void apply_warm_start(const Contact& c, ContactBodies& k) {
   if (normal_mass_denominator(k) <= 0.0f) return;
-  if constexpr (!kFriction) {
+  if constexpr (!has_friction(kFriction)) {
     const float p[3] = {c.normal_impulse * c.nx, c.normal_impulse * c.ny, c.normal_impulse * c.nz};
     apply_impulse<kNoFriction>(c, k, p);
     return;
   }
   const float p[3] = {c.normal_impulse * c.nx + c.tx, c.normal_impulse * c.ny + c.ty, c.normal_impulse * c.nz + c.tz};
-  apply_impulse(c, k, p);
+  apply_impulse<kFriction>(c, k, p);
 }
 
 /// Collision pass on one contact. Returns true when it applied an impulse, whose normal part j
@@ -173,9 +205,9 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
   c.bounce_impulse += j;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
   apply_impulse<kFriction>(c, k, p);
-  if constexpr (kFriction) {
+  if constexpr (has_friction(kFriction)) {
     float fresh[3] = {0, 0, 0};
-    apply_friction(c, k, c.friction * j, fresh);
+    apply_friction<kFriction>(c, k, c.friction * j, fresh);
   }
   return true;
 }
@@ -196,12 +228,13 @@ inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
   c.normal_impulse = clamped;
   const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
   apply_impulse<kFriction>(c, k, p);
-  if constexpr (!kFriction) return;
-  float accumulated[3] = {c.tx, c.ty, c.tz};
-  apply_friction(c, k, c.friction * c.normal_impulse, accumulated);
-  c.tx = accumulated[0];
-  c.ty = accumulated[1];
-  c.tz = accumulated[2];
+  if constexpr (has_friction(kFriction)) {
+    float accumulated[3] = {c.tx, c.ty, c.tz};
+    apply_friction<kFriction>(c, k, c.friction * c.normal_impulse, accumulated);
+    c.tx = accumulated[0];
+    c.ty = accumulated[1];
+    c.tz = accumulated[2];
+  }
 }
 
 }  // namespace hail

@@ -14,9 +14,9 @@ bool collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, fl
                    std::uint32_t pass) {
   bool any = false;
   for (Contact& c : contacts) {
-    ContactBodies k = gather_bodies(bodies, c);
+    ContactBodies k = gather_bodies<kFriction>(bodies, c);
     if (solve_collision<kFriction>(c, k, dt, restitution_threshold)) {
-      scatter_bodies(bodies, c, k);
+      scatter_bodies<kFriction>(bodies, c, k);
       bodies[c.a].changed_in_pass = pass + 1;
       if (c.b != kStaticBody) bodies[c.b].changed_in_pass = pass + 1;
       any = true;
@@ -28,37 +28,49 @@ bool collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, fl
 template <FrictionWork kFriction>
 void resting_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
   for (Contact& c : contacts) {
-    ContactBodies k = gather_bodies(bodies, c);
+    ContactBodies k = gather_bodies<kFriction>(bodies, c);
     solve_resting<kFriction>(c, k, inv_dt);
-    scatter_bodies(bodies, c, k);
+    scatter_bodies<kFriction>(bodies, c, k);
   }
 }
 
 template <FrictionWork kFriction>
 void warm_start_run(std::span<const Contact> contacts, std::span<SolverBody> bodies) {
   for (const Contact& c : contacts) {
-    ContactBodies k = gather_bodies(bodies, c);
+    ContactBodies k = gather_bodies<kFriction>(bodies, c);
     apply_warm_start<kFriction>(c, k);
-    scatter_bodies(bodies, c, k);
+    scatter_bodies<kFriction>(bodies, c, k);
   }
 }
 
 }  // namespace
 
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass, bool friction) {
-  return friction ? collision_run<kWithFriction>(contacts, bodies, dt, restitution_threshold, pass)
-                  : collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
+                                float restitution_threshold, std::uint32_t pass, FrictionWork work) {
+  switch (work) {
+    case kNoFriction: return collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
+    case kLinearFriction: return collision_run<kLinearFriction>(contacts, bodies, dt, restitution_threshold, pass);
+    case kWithFriction: break;
+  }
+  return collision_run<kRotationWork>(contacts, bodies, dt, restitution_threshold, pass);
 }
 
-void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt, bool friction) {
-  if (friction) resting_run<kWithFriction>(contacts, bodies, inv_dt);
-  else resting_run<kNoFriction>(contacts, bodies, inv_dt);
+void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt, FrictionWork work) {
+  switch (work) {
+    case kNoFriction: return resting_run<kNoFriction>(contacts, bodies, inv_dt);
+    case kLinearFriction: return resting_run<kLinearFriction>(contacts, bodies, inv_dt);
+    case kWithFriction: break;
+  }
+  resting_run<kRotationWork>(contacts, bodies, inv_dt);
 }
 
-void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, bool friction) {
-  if (friction) warm_start_run<kWithFriction>(contacts, bodies);
-  else warm_start_run<kNoFriction>(contacts, bodies);
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, FrictionWork work) {
+  switch (work) {
+    case kNoFriction: return warm_start_run<kNoFriction>(contacts, bodies);
+    case kLinearFriction: return warm_start_run<kLinearFriction>(contacts, bodies);
+    case kWithFriction: break;
+  }
+  warm_start_run<kRotationWork>(contacts, bodies);
 }
 
 std::size_t contact_batch_width() { return simd_kernels().width; }
@@ -122,21 +134,21 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                                     float restitution_threshold, std::uint32_t pass, bool friction) {
+                                     float restitution_threshold, std::uint32_t pass, FrictionWork work) {
   if (first >= last) return false;
   return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold, pass,
-                                     friction);
+                                     work);
 }
 
 void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
-                                   bool friction) {
+                                   FrictionWork work) {
   if (first >= last) return;
-  kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt, friction);
+  kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt, work);
 }
 
-void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, bool friction) {
+void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work) {
   if (first >= last) return;
-  kernels_->contact_warm_start(arrays(), first, last, bodies.data(), bodies.size(), friction);
+  kernels_->contact_warm_start(arrays(), first, last, bodies.data(), bodies.size(), work);
 }
 
 void ContactBatches::store_impulses(std::span<Contact> contacts) const {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "kernel/contact.h"
+#include "kernel/contact_impulse.h"
 #include "kernel/solver_body.h"
 #include "soa/aligned_array.h"
 
@@ -74,12 +75,12 @@ class ContactBatches {
   /// none of its contacts applied then, so none can now (SolverBody::changed_in_pass); the
   /// result is the same as evaluating it.
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                       float restitution_threshold, std::uint32_t pass, bool friction = true);
+                       float restitution_threshold, std::uint32_t pass, FrictionWork work = kWithFriction);
   /// Warm start (apply_warm_start) of batches [first, last): their staged impulses applied.
-  void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, bool friction = true);
+  void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work = kWithFriction);
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
-                     bool friction = true);
+                     FrictionWork work = kWithFriction);
   /// Writes the batches' accumulated impulses (resting, friction and bounce) back to the
   /// contacts they were staged from.
   void store_impulses(std::span<Contact> contacts) const;
@@ -99,12 +100,15 @@ class ContactBatches {
 /// The scalar rules over a run of contacts: the reference, and the path for tails and for the
 /// serial colour (whose contacts may share spheres).
 /// `pass` marks the bodies it changes (SolverBody::changed_in_pass = pass + 1); it evaluates
-/// every contact. `friction` false: no contact has friction, and the passes do no friction or
-/// angular work (kNoFriction in kernel/contact_impulse.h); the same holds for ContactBatches.
+/// every contact. `work` (kernel/contact_impulse.h): kNoFriction when no contact has friction
+/// (no friction and no angular work), kLinearFriction without rotation (friction on linear
+/// velocities; angular velocities neither read nor written), kWithFriction the full rules; the
+/// same holds for ContactBatches, bit for bit.
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass = 0, bool friction = true);
+                                float restitution_threshold, std::uint32_t pass = 0, FrictionWork work = kWithFriction);
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
-                              bool friction = true);
-void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, bool friction = true);
+                              FrictionWork work = kWithFriction);
+void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies,
+                           FrictionWork work = kWithFriction);
 
 }  // namespace hail

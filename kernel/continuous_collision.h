@@ -65,6 +65,7 @@ struct SweepScene {
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   std::span<const Plane> planes;
   bool sphere_collisions = true;
+  bool rotation = true;  ///< impacts' friction turns spheres (WorldSettings::rotation); off: linear only
 };
 
 struct SweepStats {

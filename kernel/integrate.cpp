@@ -100,9 +100,12 @@ double earliest_root(double d0, double vn, double an, double limit) {
     contact.nz = -pl.nz;
     contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
     contact.friction = combine_friction(s.friction[i], pl.friction);
-    ContactBodies bodies = gather_bodies(s, contact);
+    // Without rotation the impulse acts on the linear velocity alone and w is not touched.
+    const bool spin = HAIL_WITH_ROTATION && p.rotation;
+    ContactBodies bodies = spin ? gather_bodies<kRotationWork>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
     for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
-    const float j = solve_impact(contact, bodies, p.restitution_threshold);
+    const float j = spin ? solve_impact<kRotationWork>(contact, bodies, p.restitution_threshold)
+                         : solve_impact<kLinearFriction>(contact, bodies, p.restitution_threshold);
     if (impacts && j > 0.0f) {
       const float r = s.radius[i];
       impacts->push_back({.a = contact.a, .b = kStaticBody, .feature = kPlaneFeature | static_cast<std::uint32_t>(hit_plane),
@@ -110,9 +113,7 @@ double earliest_root(double d0, double vn, double an, double limit) {
                           .pz = x[2] + contact.nz * r, .nx = contact.nx, .ny = contact.ny, .nz = contact.nz, .impulse = j});
     }
     for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
-    s.wx[i] = bodies.wa[0];
-    s.wy[i] = bodies.wa[1];
-    s.wz[i] = bodies.wa[2];
+    if (spin) s.wx[i] = bodies.wa[0], s.wy[i] = bodies.wa[1], s.wz[i] = bodies.wa[2];
   }
 }
 

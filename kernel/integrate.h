@@ -28,6 +28,7 @@ struct IntegrationParams {
   float gravity[3] = {0.0f, -9.81f, 0.0f};
   float dt = 0.0f;                     ///< time-scaled step
   float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
+  bool rotation = true;  ///< plane impacts' friction turns spheres (WorldSettings::rotation); off: linear only
 };
 
 /// v += g dt for movable spheres in [first, last); returns the largest speed after it among

@@ -61,27 +61,41 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
     if (const std::uint32_t l = key(contacts[k]); l != kNone) order_[level_count_[l]++] = k;
 }
 
-void ShockPropagation::solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) const {
-  for (const std::uint32_t index : order_) {
+namespace {
+
+template <FrictionWork kWork>
+void shock_pass(std::span<const std::uint32_t> order, std::span<const std::uint32_t> level,
+                std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
+  for (const std::uint32_t index : order) {
     const Contact& c = contacts[index];
-    ContactBodies k = gather_bodies(bodies, c);
+    ContactBodies k = gather_bodies<kWork>(bodies, c);
     if (c.b != kStaticBody) {
       // The lower body holds still: it was settled earlier in this pass, or is the ground.
-      if (level_[c.a] < level_[c.b]) k.ima = 0.0f, k.iia = 0.0f;
-      if (level_[c.b] < level_[c.a]) k.imb = 0.0f, k.iib = 0.0f;
+      if (level[c.a] < level[c.b]) k.ima = 0.0f, k.iia = 0.0f;
+      if (level[c.b] < level[c.a]) k.imb = 0.0f, k.iib = 0.0f;
     }
     const float kn = normal_mass_denominator(k);
     if (kn <= 0.0f) continue;
     float v[3];
-    relative_contact_velocity(c, k, v);
+    relative_contact_velocity<kWork>(c, k, v);
     const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
     const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
     const float j = -(vn + allowed_closing) / kn;
     if (!(j > 0.0f)) continue;  // not closing faster than its gap allows
     const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-    apply_impulse(c, k, p);
-    scatter_bodies(bodies, c, k);
+    apply_impulse<kWork>(c, k, p);
+    scatter_bodies<kWork>(bodies, c, k);
   }
+}
+
+}  // namespace
+
+void ShockPropagation::solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
+                             bool angular) const {
+  // The angular rule is kWithFriction's (rotation's, when compiled in); the linear one
+  // kLinearFriction's, which for a normal impulse is kNoFriction's as well.
+  if (angular) shock_pass<kRotationWork>(order_, level_, contacts, bodies, inv_dt);
+  else shock_pass<kLinearFriction>(order_, level_, contacts, bodies, inv_dt);
 }
 
 }  // namespace hail

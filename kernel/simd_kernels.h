@@ -21,6 +21,7 @@
 
 #include "kernel/aabb.h"
 #include "kernel/contact.h"
+#include "kernel/contact_impulse.h"
 #include "kernel/simd_dispatch.h"
 
 namespace hail {
@@ -70,11 +71,11 @@ struct SimdKernels {
   /// `bodies` holds body_count bodies, the last of them the static one.
   bool (*contact_collision)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                             std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                            bool friction);
+                            FrictionWork work);
   void (*contact_warm_start)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                             std::size_t body_count, bool friction);
+                             std::size_t body_count, FrictionWork work);
   void (*contact_resting)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                          std::size_t body_count, float inv_dt, bool friction);
+                          std::size_t body_count, float inv_dt, FrictionWork work);
   /// Terrain::find_contacts (kernel/terrain.h): the packet walk and the sphere-triangle tests.
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                            float restitution, float friction, std::vector<Contact>& out, float fast_fraction,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "kernel/simd_dispatch.h"
 
@@ -11,21 +12,28 @@ namespace {
 
 std::string describe(const char* what, float value) { return std::string(what) + " = " + std::to_string(value); }
 
-void require(bool ok, const std::string& message) {
-  if (!ok) throw InvalidArgument("hail: " + message);
+/// Throws InvalidArgument("hail: " + message) unless ok. `message` is a string, or a function
+/// that makes one: then it is made only on failure, so that a check that passes allocates
+/// nothing (add_sphere within reserve() and the accessors must not; tests/allocation/).
+template <class Message>
+void require(bool ok, Message&& message) {
+  if (ok) return;
+  if constexpr (std::is_invocable_v<Message>) throw InvalidArgument("hail: " + std::string(message()));
+  else throw InvalidArgument("hail: " + std::string(message));
 }
 
 void require_finite(const Vec3& v, const char* what) {
-  require(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()),
-          std::string(what) + " must be finite, got (" + std::to_string(v.x()) + ", " + std::to_string(v.y()) +
-              ", " + std::to_string(v.z()) + ")");
+  require(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()), [&] {
+    return std::string(what) + " must be finite, got (" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " +
+           std::to_string(v.z()) + ")";
+  });
 }
 
 void require_material(float restitution, float friction, const char* owner) {
   require(std::isfinite(restitution) && restitution >= 0.0f && restitution <= 1.0f,
-          std::string(owner) + " restitution must be in [0, 1], got " + std::to_string(restitution));
+          [&] { return std::string(owner) + " restitution must be in [0, 1], got " + std::to_string(restitution); });
   require(std::isfinite(friction) && friction >= 0.0f,
-          std::string(owner) + " friction must be finite and >= 0, got " + std::to_string(friction));
+          [&] { return std::string(owner) + " friction must be finite and >= 0, got " + std::to_string(friction); });
 }
 
 }  // namespace
@@ -55,6 +63,8 @@ void World::validate(const WorldSettings& s) {
   require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
           "WorldSettings::continuous_collision is true, but this hail was built without it "
           "(HAIL_WITH_CONTINUOUS_COLLISION=OFF)");
+  require(HAIL_WITH_ROTATION || !s.rotation,
+          "WorldSettings::rotation is true, but this hail was built without it (HAIL_WITH_ROTATION=OFF)");
   require(s.shock_mass_ratio >= 1.0f,  // false for NaN
           describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
   require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
@@ -86,17 +96,26 @@ SphereId World::add_sphere(const SphereDesc& d) {
   require_finite(d.position, "sphere position");
   require_finite(d.velocity, "sphere velocity");
   require_finite(d.angular_velocity, "sphere angular_velocity");
-  require(std::isfinite(d.radius) && d.radius > 0.0f, "sphere radius must be finite and > 0, got " + std::to_string(d.radius));
+  require(std::isfinite(d.radius) && d.radius > 0.0f,
+          [&] { return "sphere radius must be finite and > 0, got " + std::to_string(d.radius); });
   if (!d.is_static)
-    require(std::isfinite(d.mass) && d.mass > 0.0f,
-            "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass));
+    require(std::isfinite(d.mass) && d.mass > 0.0f, [&] {
+      return "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass);
+    });
   require_material(d.restitution, d.friction, "sphere");
+  const bool spins = !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
+  require(settings_.rotation || d.is_static || !spins, [&] {
+    return "sphere angular_velocity must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
+           std::to_string(d.angular_velocity.x()) + ", " + std::to_string(d.angular_velocity.y()) + ", " +
+           std::to_string(d.angular_velocity.z()) + ")";
+  });
   const float inv_mass = d.is_static ? 0.0f : 1.0f / d.mass;
   const float inertia = 0.4f * d.mass * d.radius * d.radius;  // solid sphere, 2/5 m r^2
   const float inv_inertia = d.is_static ? 0.0f : 1.0f / inertia;
-  require(std::isfinite(inv_mass) && std::isfinite(inv_inertia),
-          "sphere mass " + std::to_string(d.mass) + " and radius " + std::to_string(d.radius) +
-              " give an inertia outside float range");
+  require(std::isfinite(inv_mass) && std::isfinite(inv_inertia), [&] {
+    return "sphere mass " + std::to_string(d.mass) + " and radius " + std::to_string(d.radius) +
+           " give an inertia outside float range";
+  });
   const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
   const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
   return spheres_.add({d.position.x(), d.position.y(), d.position.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z(),
@@ -142,8 +161,10 @@ SphereState World::spheres() const {
 
 std::size_t World::require_slot(SphereId id) const {
   const std::int64_t slot = spheres_.slot_of(id);
-  require(slot >= 0, "sphere handle " + std::to_string(id.index) + "/" + std::to_string(id.generation) +
-                         " is stale or was never issued");
+  require(slot >= 0, [&] {
+    return "sphere handle " + std::to_string(id.index) + "/" + std::to_string(id.generation) +
+           " is stale or was never issued";
+  });
   return static_cast<std::size_t>(slot);
 }
 

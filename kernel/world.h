@@ -161,13 +161,23 @@ struct WorldSettings {
   /// presses its 1 kg sphere through the ground. >= 1; infinity: never. The default leaves
   /// scenes of equal (or nearly equal) masses exactly as they were, and costs them nothing.
   float shock_mass_ratio = 10.0f;
+  /// Spheres spin and roll: friction applies angular impulses (r x p through the inverse inertia
+  /// 5 / (2 m r^2)), so a sliding sphere starts to roll and a rolling one keeps its spin. Off,
+  /// spheres never spin: friction acts on the linear velocities alone (effective mass
+  /// 1 / (1/m_a + 1/m_b), as along the normal), so a sliding sphere slows to a stop instead of
+  /// rolling, and no angular velocity is read, changed or integrated: every angular velocity
+  /// stays 0 (add_sphere refuses a non-zero one) and the step does no angular work
+  /// (StepParts::rotation). A scene without friction and of equal masses (no shock pass) runs
+  /// the same passes either way and steps bitwise the same. Default: on when compiled in
+  /// (HAIL_WITH_ROTATION); true is refused otherwise.
+  bool rotation = HAIL_WITH_ROTATION != 0;
 };
 
 /// A new sphere. Mass must be > 0 unless `is_static` (then it never moves).
 struct SphereDesc {
   Vec3 position{0.0f, 0.0f, 0.0f};          ///< m
   Vec3 velocity{0.0f, 0.0f, 0.0f};          ///< m/s
-  Vec3 angular_velocity{0.0f, 0.0f, 0.0f};  ///< rad/s
+  Vec3 angular_velocity{0.0f, 0.0f, 0.0f};  ///< rad/s; must be zero when WorldSettings::rotation is off
   float radius = 0.5f;                      ///< m, > 0
   float mass = 1.0f;                        ///< kg, > 0 (ignored when is_static)
   float restitution = 0.5f;                 ///< [0, 1]
@@ -194,14 +204,16 @@ struct PhaseTimes {
 
 /// Which optional parts of a step ran. A step runs only what its scene needs: no planes and no
 /// terrain, no static detection; sphere collisions off (or one sphere), no pair search; no
-/// contacts, no solve and no depenetration; no contact with friction, no friction work; no fast
-/// sphere, no sweep. Predict and integrate always run.
+/// contacts, no solve and no depenetration; no contact with friction, no friction work; no
+/// friction or rotation off, no angular work; no fast sphere, no sweep. Predict and integrate
+/// always run.
 struct StepParts {
   bool reorder = false;         ///< Morton re-sort (every reorder_interval steps)
   bool detect_static = false;   ///< sphere-plane and sphere-terrain contacts
   bool detect_pairs = false;    ///< sphere-sphere pair search
   bool solve = false;           ///< contact impulses
   bool friction = false;        ///< friction within the solve (some contact has friction > 0)
+  bool rotation = false;        ///< angular work in the solve: WorldSettings::rotation on, and friction or shock
   bool sweep = false;           ///< continuous collision of fast spheres
   bool shock = false;           ///< shock propagation (masses differ more than shock_mass_ratio)
   bool depenetrate = false;     ///< position correction

@@ -3,7 +3,11 @@
 # compares, in one run with the runs alternating, the median step time of
 #   implosion    in the full build  vs  a spheres-only build (no terrain, no continuous
 #                collision, no reference walks);
-#   terrain-rain in the full build  vs  a build without continuous collision.
+#   terrain-rain in the full build  vs  a build without continuous collision;
+#   implosion    in the full build  vs  a build without rotation (frictionless: no angular
+#                work either way);
+#   terrain-rain with rotation off (--rotation off) in the full build  vs  the build without
+#                rotation (friction on linear velocities in both).
 # Each pair must also end in the same state (hash): compiling a feature out may not change a
 # scene that does not use it. Release builds in build/feature-*; only hail-feature-cost is built.
 #
@@ -25,13 +29,15 @@ full=build/feature-full
 build "$full"
 build build/feature-spheres -DHAIL_WITH_TERRAIN=OFF -DHAIL_WITH_CONTINUOUS_COLLISION=OFF -DHAIL_WITH_REFERENCE_WALKS=OFF
 build build/feature-no-ccd -DHAIL_WITH_CONTINUOUS_COLLISION=OFF
+build build/feature-no-rotation -DHAIL_WITH_ROTATION=OFF
 
-# compare SCENE BUILD_A BUILD_B: ABBA-alternating runs, medians, ratio B / A, hashes.
+# compare SCENE BUILD_A BUILD_B [FLAGS...]: ABBA-alternating runs, medians, ratio B / A, hashes.
 compare() {
   local scene="$1" a="$2" b="$3" ta=() tb=() line ha hb
+  shift 3
   for ((k = 0; k < repeats; ++k)); do
     for dir in $([ $((k % 2)) -eq 0 ] && echo "$a $b" || echo "$b $a"); do
-      line=$("$dir/bench/feature_cost/hail-feature-cost" "$scene" --spheres "$spheres" --threads "$threads")
+      line=$("$dir/bench/feature_cost/hail-feature-cost" "$scene" --spheres "$spheres" --threads "$threads" "$@")
       echo "  $(basename "$dir"): $line" >&2
       ms=$(sed -E 's/.*median ([0-9.]+) ms.*/\1/' <<< "$line")
       hash=$(sed -E 's/.*hash ([0-9a-f]+).*/\1/' <<< "$line")
@@ -41,7 +47,7 @@ compare() {
   local ma mb
   ma=$(printf '%s\n' "${ta[@]}" | sort -g | awk '{v[NR]=$1} END {print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2}')
   mb=$(printf '%s\n' "${tb[@]}" | sort -g | awk '{v[NR]=$1} END {print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2}')
-  printf '%-13s %-16s %8.4f ms   %-16s %8.4f ms   ratio %.3f   hashes %s\n' "$scene" "$(basename "$a")" "$ma" \
+  printf '%-13s %-16s %8.4f ms   %-21s %8.4f ms   ratio %.3f   hashes %s\n' "$scene${*:+ $*}" "$(basename "$a")" "$ma" \
     "$(basename "$b")" "$mb" "$(awk -v a="$ma" -v b="$mb" 'BEGIN {print b / a}')" \
     "$([ "$ha" = "$hb" ] && echo "equal ($ha)" || echo "DIFFER ($ha vs $hb)")"
   [ "$ha" = "$hb" ]
@@ -49,3 +55,5 @@ compare() {
 echo "feature_cost.sh: $repeats runs each, $spheres spheres, $threads thread(s), medians of per-run medians"
 compare implosion "$full" build/feature-spheres
 compare terrain-rain "$full" build/feature-no-ccd
+compare implosion "$full" build/feature-no-rotation
+compare terrain-rain "$full" build/feature-no-rotation --rotation off

@@ -94,12 +94,13 @@ bool SphereSoA::remove(SphereId id) {
   return true;
 }
 
-void SphereSoA::permute(std::span<const std::uint32_t> order) {
+void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular) {
   // Array by array through one scratch array, so a re-sort every few steps allocates only the
   // first time (or when the world grows).
   float_scratch_.resize(size_);
   for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia,
                   &restitution, &friction}) {
+    if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
     for (std::size_t k = 0; k < size_; ++k) float_scratch_[k] = (*a)[order[k]];
     std::copy_n(float_scratch_.data(), size_, a->data());
   }

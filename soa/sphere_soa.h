@@ -61,7 +61,9 @@ class SphereSoA {
   /// Reserves storage for n spheres so that adding up to n never allocates.
   void reserve(std::size_t n);
   /// Reorders dense slots: new slot k holds the sphere that was in slot order[k]. Handles stay valid.
-  void permute(std::span<const std::uint32_t> order);
+  /// `angular` false leaves the angular velocity arrays as they are: for a caller that knows
+  /// them all equal (a world without rotation keeps them all zero).
+  void permute(std::span<const std::uint32_t> order, bool angular = true);
 
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
   /// size() rounded up to kSimdPadding; the arrays are at least this long.

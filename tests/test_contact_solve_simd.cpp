@@ -2,12 +2,14 @@
 // scalar reference (the per-contact rules of kernel/contact_impulse.h in a loop), on random runs
 // of contacts that share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
 // mass (lanes the rules skip), accumulated impulses carried over, and runs whose tail does not
-// fill a batch. The cradle chain runs on every SIMD path this CPU supports (the rest on the
-// active one; tests/test_simd_dispatch.cpp compares every path).
+// fill a batch; in each FrictionWork mode (no friction, friction without rotation, the full
+// rules). The cradle chain runs on every SIMD path this CPU supports (the rest on the active
+// one; tests/test_simd_dispatch.cpp compares every path).
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <span>
 #include <random>
@@ -15,6 +17,7 @@
 
 #include "catch.h"
 #include "kernel/contact_solve_simd.h"
+#include "kernel/features.h"
 #include "simd_paths.h"
 #include "solver_problems.h"
 
@@ -27,12 +30,42 @@ using hail::testing::same_bits;
 
 Problem random_run(std::size_t count, std::uint32_t seed) { return hail::testing::random_contacts(count, seed); }
 
+/// Warm start, 4 collision and 4 resting passes over one colour holding every contact of p:
+/// SIMD batches plus the scalar tail, or (simd false) the scalar rules alone.
+void run_passes(Problem& p, bool simd, FrictionWork work, float threshold = 0.5f) {
+  const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(p.contacts.size())};
+  const float dt = 1.0f / 60.0f;
+  ContactBatches batches;
+  batches.stage(p.contacts, colour_begin, 1, p.bodies);
+  const std::size_t batched = simd ? batches.batch_end(0) : 0;
+  const std::span<Contact> rest = std::span(p.contacts).subspan(simd ? batches.tail_begin(0) : 0);
+  if (simd) batches.warm_start(0, batched, p.bodies, work);
+  warm_start_run_scalar(rest, p.bodies, work);
+  for (std::uint32_t pass = 0; pass < 4; ++pass) {
+    if (simd) batches.solve_collision(0, batched, p.bodies, dt, threshold, pass, work);
+    solve_collision_run_scalar(rest, p.bodies, dt, threshold, pass, work);
+  }
+  for (int pass = 0; pass < 4; ++pass) {
+    if (simd) batches.solve_resting(0, batched, p.bodies, 1.0f / dt, work);
+    solve_resting_run_scalar(rest, p.bodies, 1.0f / dt, work);
+  }
+  if (simd) batches.store_impulses(p.contacts);
+}
+
+/// The modes this build has: the full rules only with rotation compiled in.
+std::vector<FrictionWork> friction_modes() {
+  std::vector<FrictionWork> modes = {kNoFriction, kLinearFriction};
+  if (HAIL_WITH_ROTATION) modes.push_back(kWithFriction);
+  return modes;
+}
+
 }  // namespace
 
 TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solver][simd]") {
   const std::size_t count = GENERATE(1, 7, 8, 9, 16, 23, 256, 1001);
   const float threshold = GENERATE(0.0f, 1.0f);
-  INFO(count << " contacts, restitution threshold " << threshold);
+  const FrictionWork work = GENERATE(from_range(friction_modes()));
+  INFO(count << " contacts, restitution threshold " << threshold << ", friction mode " << int(work));
   Problem simd = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
   Problem scalar = simd;
   // One colour holding every contact: full batches, then the tail through the scalar rules.
@@ -46,9 +79,9 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   bool simd_any = false, scalar_any = false;
   for (std::uint32_t pass = 0; pass < 4; ++pass) {
     // From pass 1 on, batches whose bodies did not change are skipped: must change nothing.
-    simd_any |= batches.solve_collision(0, batches.batch_end(0), simd.bodies, dt, threshold, pass);
-    simd_any |= solve_collision_run_scalar(tail, simd.bodies, dt, threshold, pass);
-    scalar_any |= solve_collision_run_scalar(scalar.contacts, scalar.bodies, dt, threshold, pass);
+    simd_any |= batches.solve_collision(0, batches.batch_end(0), simd.bodies, dt, threshold, pass, work);
+    simd_any |= solve_collision_run_scalar(tail, simd.bodies, dt, threshold, pass, work);
+    scalar_any |= solve_collision_run_scalar(scalar.contacts, scalar.bodies, dt, threshold, pass, work);
   }
   CHECK(simd_any == scalar_any);
   batches.store_impulses(simd.contacts);
@@ -58,13 +91,21 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   CHECK(std::any_of(scalar.contacts.begin(), scalar.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }) ==
         scalar_any);
   for (const Contact& c : scalar.contacts) CHECK(c.bounce_impulse >= 0.0f);
+  batches.warm_start(0, batches.batch_end(0), simd.bodies, work);
+  warm_start_run_scalar(tail, simd.bodies, work);
+  warm_start_run_scalar(scalar.contacts, scalar.bodies, work);
   for (int pass = 0; pass < 4; ++pass) {
-    batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f);
-    solve_resting_run_scalar(tail, simd.bodies, 60.0f);
-    solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f);
+    batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f, work);
+    solve_resting_run_scalar(tail, simd.bodies, 60.0f, work);
+    solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f, work);
   }
   batches.store_impulses(simd.contacts);
   CHECK(same_bits(simd, scalar));
+  if (!has_rotation(work)) {  // angular velocities neither read nor written
+    const Problem start = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
+    for (std::size_t i = 0; i < start.bodies.size(); ++i)
+      CHECK(std::memcmp(simd.bodies[i].w, start.bodies[i].w, sizeof start.bodies[i].w) == 0);
+  }
   // The passes did something: velocities moved away from where they started.
   const Problem start = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
   CHECK_FALSE(same_bits(simd, start));
@@ -135,39 +176,82 @@ TEST_CASE("Frictionless passes do no angular work and match the full rules to ro
   INFO(count << " contacts");
   Problem base = random_run(count, static_cast<std::uint32_t>(count * 17 + 3));
   for (Contact& c : base.contacts) c.friction = 0.0f, c.tx = c.ty = c.tz = 0.0f;
-  const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
-  const float dt = 1.0f / 60.0f;
-  // pass_all(problem, friction): warm start, 4 collision and 4 resting passes, SIMD batches
-  // plus the scalar tail, or (simd false) the scalar rules alone.
-  auto pass_all = [&](Problem& p, bool simd, bool friction) {
-    ContactBatches batches;
-    batches.stage(p.contacts, colour_begin, 1, p.bodies);
-    const std::size_t batched = simd ? batches.batch_end(0) : 0;
-    const std::span<Contact> rest = std::span(p.contacts).subspan(simd ? batches.tail_begin(0) : 0);
-    if (simd) batches.warm_start(0, batched, p.bodies, friction);
-    warm_start_run_scalar(rest, p.bodies, friction);
-    for (std::uint32_t pass = 0; pass < 4; ++pass) {
-      if (simd) batches.solve_collision(0, batched, p.bodies, dt, 0.5f, pass, friction);
-      solve_collision_run_scalar(rest, p.bodies, dt, 0.5f, pass, friction);
-    }
-    for (int pass = 0; pass < 4; ++pass) {
-      if (simd) batches.solve_resting(0, batched, p.bodies, 1.0f / dt, friction);
-      solve_resting_run_scalar(rest, p.bodies, 1.0f / dt, friction);
-    }
-    if (simd) batches.store_impulses(p.contacts);
-  };
-  Problem simd = base, scalar = base, full = base;
-  pass_all(simd, true, false);
-  pass_all(scalar, false, false);
-  pass_all(full, false, true);
+  Problem simd = base, scalar = base, linear = base;
+  run_passes(simd, true, kNoFriction);
+  run_passes(scalar, false, kNoFriction);
+  run_passes(linear, false, kLinearFriction);
   CHECK(same_bits(simd, scalar));  // the SIMD frictionless passes equal their scalar reference
+  // With zero friction, friction without rotation adds nothing (zero impulses: the same values,
+  // up to the sign of a zero).
+  for (std::size_t i = 0; i < base.bodies.size(); ++i)
+    for (int d = 0; d < 3; ++d) CHECK(linear.bodies[i].v[d] == scalar.bodies[i].v[d]);
+  for (std::size_t k = 0; k < base.contacts.size(); ++k) {
+    CHECK(linear.contacts[k].normal_impulse == scalar.contacts[k].normal_impulse);
+    CHECK(linear.contacts[k].bounce_impulse == scalar.contacts[k].bounce_impulse);
+  }
   CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
+#if HAIL_WITH_ROTATION
+  Problem full = base;
+  run_passes(full, false, kWithFriction);
   for (std::size_t i = 0; i < base.bodies.size(); ++i) {
     INFO("body " << i);
     for (int d = 0; d < 3; ++d) {
       CHECK(scalar.bodies[i].w[d] == base.bodies[i].w[d]);  // no spin from normal impulses
       // The full rules differ only by the rounding of the angular terms they compute.
       CHECK(std::fabs(scalar.bodies[i].v[d] - full.bodies[i].v[d]) <= 1e-4f * (1.0f + std::fabs(full.bodies[i].v[d])));
+    }
+  }
+#endif
+}
+
+TEST_CASE("Friction without rotation: SIMD equals scalar, no angular velocity is read or written", "[solver][simd]") {
+  const std::size_t count = GENERATE(9, 256, 1001);
+  INFO(count << " contacts");
+  Problem base = random_run(count, static_cast<std::uint32_t>(count * 13 + 5));
+  // Poisoned angular velocities: any read would make a velocity NaN, any write change the bits.
+  for (std::size_t i = 0; i + 1 < base.bodies.size(); ++i)
+    for (float& w : base.bodies[i].w) w = std::numeric_limits<float>::quiet_NaN();
+  Problem simd = base, scalar = base;
+  run_passes(simd, true, kLinearFriction);
+  run_passes(scalar, false, kLinearFriction);
+  CHECK(same_bits(simd, scalar));
+  for (std::size_t i = 0; i < base.bodies.size(); ++i) {
+    INFO("body " << i);
+    CHECK(std::memcmp(simd.bodies[i].w, base.bodies[i].w, sizeof base.bodies[i].w) == 0);
+    for (int d = 0; d < 3; ++d) CHECK(std::isfinite(simd.bodies[i].v[d]));
+  }
+  for (const Contact& c : simd.contacts) CHECK((std::isfinite(c.tx) && std::isfinite(c.ty) && std::isfinite(c.tz)));
+  CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.tx != 0.0f; }));
+}
+
+TEST_CASE("A sphere sliding on the ground: without rotation friction stops it, with rotation it rolls at 5/7",
+          "[solver][friction]") {
+  // One resting pass on a sphere (m 1, r 0.5) sliding at 2 m/s while closing at 0.1 m/s, with
+  // friction large enough not to limit: the friction impulse removes the whole slip through the
+  // effective mass, m without rotation (it stops), and 1 / (1/m + r^2 / I) = 2/7 m with rotation
+  // (it keeps 5/7 of its speed and rolls: v = w r).
+  for (const FrictionWork work : friction_modes()) {
+    if (work == kNoFriction) continue;
+    INFO("friction mode " << int(work));
+    Problem p;
+    p.bodies.resize(2);  // the sphere, then the static body
+    SolverBody& b = p.bodies[0];
+    b.v[0] = 2.0f, b.v[1] = -0.1f, b.v[2] = 0.0f;
+    b.w[0] = b.w[1] = b.w[2] = 0.0f;
+    b.inv_mass = 1.0f, b.radius = 0.5f, b.inv_inertia = 1.0f / (0.4f * 0.25f);
+    Contact c;
+    c.a = 0, c.b = kStaticBody, c.nx = 0, c.ny = -1, c.nz = 0, c.gap = 0, c.friction = 100.0f;
+    p.contacts.push_back(c);
+    solve_resting_run_scalar(p.contacts, p.bodies, 60.0f, work);
+    CHECK(p.contacts[0].normal_impulse == Approx(0.1f));
+    CHECK(p.bodies[0].v[1] == Approx(0.0f).margin(1e-7));
+    if (work == kLinearFriction) {
+      CHECK(p.bodies[0].v[0] == Approx(0.0f).margin(1e-6));
+      CHECK(p.contacts[0].tx == Approx(2.0f));
+      CHECK((p.bodies[0].w[0] == 0.0f && p.bodies[0].w[1] == 0.0f && p.bodies[0].w[2] == 0.0f));
+    } else {
+      CHECK(p.bodies[0].v[0] == Approx(2.0f * 5.0f / 7.0f));
+      CHECK(-p.bodies[0].w[2] * 0.5f == Approx(p.bodies[0].v[0]));  // rolling: no slip at the contact
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "catch.h"
+#include "kernel/features.h"
 #include "kernel/world.h"
 
 using hail::InvalidArgument;
@@ -124,6 +125,19 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.shock_mass_ratio = kNaN; }), "shock_mass_ratio");
   rejected(with([](WorldSettings& s) { s.max_substep = 0; }), "max_substep");
   rejected(with([](WorldSettings& s) { s.max_substep = kInf; }), "max_substep");
+#if !HAIL_WITH_ROTATION
+  rejected(with([](WorldSettings& s) { s.rotation = true; }), "HAIL_WITH_ROTATION=OFF");
+#endif
+}
+
+TEST_CASE("Without rotation add_sphere refuses a spinning sphere and leaves the world unchanged", "[invalid]") {
+  World w(WorldSettings{.threads = 1, .rotation = false});
+  populate(w);
+  expect_rejected(w, [&] { w.add_sphere({.position = {0, 5, 0}, .angular_velocity = {0, 0, 1}}); }, "angular_velocity");
+  // A static sphere never moves: what it was given is dropped, as with rotation on.
+  const auto before = w.sphere_count();
+  w.add_sphere({.position = {0, 5, 0}, .angular_velocity = {0, 0, 1}, .is_static = true});
+  CHECK(w.sphere_count() == before + 1);
 }
 
 TEST_CASE("A stale handle is reported, not dereferenced", "[invalid]") {

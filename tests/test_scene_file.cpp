@@ -159,6 +159,9 @@ TEST_CASE("scene files: a file with every kind of entry parses to what it says",
   CHECK_FALSE(s.continuous_collision);
   CHECK(s.fast_travel_fraction == 0.5f);
   CHECK(s.max_sweep_events == 4);
+  CHECK(s.rotation);  // not given: the default
+  const Scene still = parse_scene_text(scene_text(R"("settings": {"rotation": false})"), "still.json");
+  CHECK_FALSE(still.world->settings().rotation);
 
   REQUIRE(world.planes().size() == 2);
   CHECK(world.planes()[0].offset == -0.5f);  // n . x = offset with n as given: both are divided by |n|
@@ -245,6 +248,9 @@ TEST_CASE("scene files: every kind of bad input names the file and the field", "
       {scene_text(R"("settings": {"pair_search": "fast"})"), "scene.json: settings.pair_search: must be one of \"auto\", \"brute\", \"grid\", \"sweep\", \"bvh\", got \"fast\""},
       {scene_text(R"("settings": {"integrator": "rk4"})"), "scene.json: settings.integrator: must be one of"},
       {scene_text(R"("settings": {"warm_start": 1})"), "scene.json: settings.warm_start: must be true or false, got 1"},
+      {scene_text(R"("settings": {"rotation": "off"})"), "scene.json: settings.rotation: must be true or false, got string \"off\""},
+      {scene_text(R"("settings": {"rotation": false}, "spheres": [{"list": [{"position": [0, 0, 0], "angular_velocity": [0, 1, 0]}]}])"),
+       "angular_velocity must be zero when WorldSettings::rotation is false"},
       {scene_text(R"("settings": {"collision_iterations": -1})"), "scene.json: settings.collision_iterations: must be >= 0, got -1"},
       {scene_text(R"("settings": {"fast_travel_fraction": 0})"), "scene.json: settings.fast_travel_fraction: must be in (0, 1], got 0"},
       {scene_text(R"("settings": {"max_sweep_events": 0})"), "scene.json: settings.max_sweep_events: must be >= 1, got 0"},

@@ -15,6 +15,7 @@
 #include "catch.h"
 #include "kernel/contact_solve_simd.h"
 #include "kernel/errors.h"
+#include "kernel/features.h"
 #include "kernel/path_box_scan.h"
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
@@ -138,36 +139,41 @@ TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference"
 }
 
 TEST_CASE("Every SIMD path's contact passes equal the scalar rules bit for bit", "[simd][dispatch][solver]") {
+  // In every FrictionWork mode: no friction, friction without rotation, the full rules (when
+  // compiled in).
+  std::vector<FrictionWork> modes = {kNoFriction, kLinearFriction};
+  if (HAIL_WITH_ROTATION) modes.push_back(kWithFriction);
   for (SimdPath p : supported_paths()) {
     const ScopedSimdPath path(p);
-    for (const std::size_t count : {std::size_t{3}, std::size_t{16}, std::size_t{37}, std::size_t{500}}) {
-      INFO(count << " contacts, path " << simd_path_name(p));
-      SolverProblem simd = random_contacts(count, static_cast<std::uint32_t>(count));
-      SolverProblem scalar = simd;
-      const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
-      ContactBatches batches;
-      batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
-      REQUIRE(batches.width() == simd_path_width(p));
-      REQUIRE(batches.batch_end(0) == count / batches.width());
-      const std::span<Contact> tail = std::span(simd.contacts).subspan(batches.tail_begin(0));
-      for (std::uint32_t pass = 0; pass < 3; ++pass) {
-        const bool a = batches.solve_collision(0, batches.batch_end(0), simd.bodies, 1.0f / 60.0f, 0.5f, pass);
-        const bool b = solve_collision_run_scalar(tail, simd.bodies, 1.0f / 60.0f, 0.5f, pass);
-        CHECK((a || b) == solve_collision_run_scalar(scalar.contacts, scalar.bodies, 1.0f / 60.0f, 0.5f, pass));
+    for (const FrictionWork work : modes)
+      for (const std::size_t count : {std::size_t{3}, std::size_t{16}, std::size_t{37}, std::size_t{500}}) {
+        INFO(count << " contacts, path " << simd_path_name(p) << ", friction mode " << int(work));
+        SolverProblem simd = random_contacts(count, static_cast<std::uint32_t>(count));
+        SolverProblem scalar = simd;
+        const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
+        ContactBatches batches;
+        batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
+        REQUIRE(batches.width() == simd_path_width(p));
+        REQUIRE(batches.batch_end(0) == count / batches.width());
+        const std::span<Contact> tail = std::span(simd.contacts).subspan(batches.tail_begin(0));
+        for (std::uint32_t pass = 0; pass < 3; ++pass) {
+          const bool a = batches.solve_collision(0, batches.batch_end(0), simd.bodies, 1.0f / 60.0f, 0.5f, pass, work);
+          const bool b = solve_collision_run_scalar(tail, simd.bodies, 1.0f / 60.0f, 0.5f, pass, work);
+          CHECK((a || b) == solve_collision_run_scalar(scalar.contacts, scalar.bodies, 1.0f / 60.0f, 0.5f, pass, work));
+        }
+        batches.warm_start(0, batches.batch_end(0), simd.bodies, work);
+        warm_start_run_scalar(tail, simd.bodies, work);
+        warm_start_run_scalar(scalar.contacts, scalar.bodies, work);
+        for (int pass = 0; pass < 3; ++pass) {
+          batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f, work);
+          solve_resting_run_scalar(tail, simd.bodies, 60.0f, work);
+          solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f, work);
+        }
+        batches.store_impulses(simd.contacts);
+        CHECK(same_bits(simd, scalar));  // the bounce impulses included
+        if (count >= 16)  // (3 random contacts need not bounce)
+          CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
       }
-      batches.warm_start(0, batches.batch_end(0), simd.bodies);
-      warm_start_run_scalar(tail, simd.bodies);
-      warm_start_run_scalar(scalar.contacts, scalar.bodies);
-      for (int pass = 0; pass < 3; ++pass) {
-        batches.solve_resting(0, batches.batch_end(0), simd.bodies, 60.0f);
-        solve_resting_run_scalar(tail, simd.bodies, 60.0f);
-        solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f);
-      }
-      batches.store_impulses(simd.contacts);
-      CHECK(same_bits(simd, scalar));  // the bounce impulses included
-      if (count >= 16)  // (3 random contacts need not bounce)
-        CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
-    }
   }
 }
 

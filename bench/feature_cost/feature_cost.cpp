@@ -1,4 +1,4 @@
-// hail-feature-cost SCENE [--spheres N] [--steps S] [--threads T]
+// hail-feature-cost SCENE [--spheres N] [--steps S] [--threads T] [--rotation on|off]
 //
 // Steps implosion or terrain-rain in whatever this build of hail has compiled in
 // (kernel/features.h) and prints one line: the build's features, the median ms per step over
@@ -22,7 +22,10 @@ using namespace hail;
 using namespace hail::bench;
 
 int usage(const char* why) {
-  std::fprintf(stderr, "hail-feature-cost: %s\nusage: hail-feature-cost implosion|terrain-rain [--spheres N] [--steps S] [--threads T]\n", why);
+  std::fprintf(stderr,
+               "hail-feature-cost: %s\nusage: hail-feature-cost implosion|terrain-rain [--spheres N] [--steps S] [--threads T] "
+               "[--rotation on|off]\n",
+               why);
   return 2;
 }
 
@@ -30,7 +33,8 @@ std::string parts_that_ran(const std::vector<StepParts>& steps) {
   struct Part { const char* name; bool StepParts::*flag; };
   const Part parts[] = {{"reorder", &StepParts::reorder}, {"detect-static", &StepParts::detect_static},
                         {"detect-pairs", &StepParts::detect_pairs}, {"solve", &StepParts::solve},
-                        {"friction", &StepParts::friction}, {"shock", &StepParts::shock},
+                        {"friction", &StepParts::friction}, {"rotation", &StepParts::rotation},
+                        {"shock", &StepParts::shock},
                         {"sweep", &StepParts::sweep}, {"depenetrate", &StepParts::depenetrate},
                         {"terrain-guard", &StepParts::terrain_guard}};
   std::string out;
@@ -52,6 +56,12 @@ int main(int argc, char** argv) {
   int steps = 600;
   for (int k = 2; k + 1 < argc; k += 2) {
     const std::string flag = argv[k];
+    if (flag == "--rotation") {  // default: on where compiled in (WorldSettings::rotation)
+      const std::string v = argv[k + 1];
+      if (v != "on" && v != "off") return usage("--rotation must be on or off");
+      params.rotation = v == "on";
+      continue;
+    }
     const long value = std::strtol(argv[k + 1], nullptr, 10);
     if (value <= 0) return usage(("bad value for " + flag).c_str());
     if (flag == "--spheres") params.spheres = static_cast<std::size_t>(value);
@@ -60,14 +70,18 @@ int main(int argc, char** argv) {
     else return usage(("unknown option " + flag).c_str());
   }
   Scene scene;
-  if (scene_name == "implosion") {
-    scene = build_implosion(params);
+  try {  // (a setting this build lacks, e.g. --rotation on without HAIL_WITH_ROTATION, is refused)
+    if (scene_name == "implosion") {
+      scene = build_implosion(params);
 #if HAIL_WITH_TERRAIN
-  } else if (scene_name == "terrain-rain") {
-    scene = build_terrain_rain(params);
+    } else if (scene_name == "terrain-rain") {
+      scene = build_terrain_rain(params);
 #endif
-  } else {
-    return usage(("scene '" + scene_name + "' is not in this build").c_str());
+    } else {
+      return usage(("scene '" + scene_name + "' is not in this build").c_str());
+    }
+  } catch (const InvalidArgument& e) {
+    return usage(e.what());
   }
   World& world = *scene.world;
   const int warmup = steps > 120 ? 60 : 0;  // the scenes' definition, as hail-bench run
@@ -81,9 +95,9 @@ int main(int argc, char** argv) {
     ran.push_back(world.last_step_stats().ran);
   }
   std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  std::printf("features terrain=%d ccd=%d reference-walks=%d  %s %zu spheres  median %.4f ms/step  hash %016llx  ran %s\n",
-              HAIL_WITH_TERRAIN, HAIL_WITH_CONTINUOUS_COLLISION, HAIL_WITH_REFERENCE_WALKS, scene_name.c_str(),
-              world.sphere_count(), ms[ms.size() / 2], static_cast<unsigned long long>(world.state_hash()),
+  std::printf("features terrain=%d ccd=%d reference-walks=%d rotation=%d  %s %zu spheres%s  median %.4f ms/step  hash %016llx  ran %s\n",
+              HAIL_WITH_TERRAIN, HAIL_WITH_CONTINUOUS_COLLISION, HAIL_WITH_REFERENCE_WALKS, HAIL_WITH_ROTATION, scene_name.c_str(),
+              world.sphere_count(), world.settings().rotation ? "" : " (rotation off)", ms[ms.size() / 2], static_cast<unsigned long long>(world.state_hash()),
               parts_that_ran(ran).c_str());
   return 0;
 }

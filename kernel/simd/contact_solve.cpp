@@ -22,9 +22,9 @@ using lane_mask = xsimd::batch_bool<float, simd_arch>;
 constexpr std::size_t W = batch::size;
 static_assert(index_batch::size == W);
 
-/// ContactBodies and the contact's normal, one lane per contact. Without friction
-/// (kFriction false) no angular velocity is gathered, changed or scattered (kNoFriction in
-/// kernel/contact_impulse.h).
+/// ContactBodies and the contact's normal, one lane per contact. kFriction: the angular terms of
+/// friction (FrictionWork kWithFriction). False (kNoFriction, or kLinearFriction: friction without
+/// rotation) gathers, changes and scatters no angular velocity: has_rotation() of the mode.
 template <bool kFriction>
 struct Lanes {
   batch ima, iia, ra, imb, iib, rb;
@@ -114,7 +114,8 @@ struct Lanes {
     relative_velocity(v);
     const batch vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
     const batch vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
-    const batch kt = ima + imb + ra * ra * iia + rb * rb * iib;
+    batch kt = ima + imb;  // tangent_mass_denominator: without rotation as along the normal
+    if constexpr (kFriction) kt = ima + imb + ra * ra * iia + rb * rb * iib;
     active = active & !(kt <= batch(0.0f));
     batch target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
     const batch len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
@@ -144,9 +145,10 @@ void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t 
 
 namespace {
 
-template <bool kFriction>
+template <FrictionWork kWork>
 bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                     std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
+  constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
   const batch zero(0.0f), one(1.0f);
   const index_batch changed_since(static_cast<std::int32_t>(pass));
@@ -176,7 +178,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
     const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
     L.apply_impulse(p, active);
-    if constexpr (kFriction) {
+    if constexpr (has_friction(kWork)) {
       batch fresh[3] = {zero, zero, zero};
       L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
     }
@@ -190,9 +192,10 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
   return any;
 }
 
-template <bool kFriction>
+template <FrictionWork kWork>
 void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                   std::size_t body_count, float inv_dt) {
+  constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   const batch zero(0.0f);
   for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     batch v[3];
@@ -210,7 +213,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
     const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
     L.apply_impulse(p, active);
     new_impulse.store_aligned(c.normal_impulse + o);
-    if constexpr (kFriction) {
+    if constexpr (has_friction(kWork)) {
       batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
       L.apply_friction(batch::load_aligned(c.friction + o) * new_impulse, accumulated, active);
       accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
@@ -218,14 +221,15 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   });
 }
 
-template <bool kFriction>
+template <FrictionWork kWork>
 void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                      std::size_t body_count) {
+  constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   const batch zero(0.0f);
   for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     const lane_mask active = !((L.ima + L.imb) <= zero);
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
-    if constexpr (kFriction) {
+    if constexpr (has_friction(kWork)) {
       const batch p[3] = {impulse * L.n[0] + batch::load_aligned(c.tx + o), impulse * L.n[1] + batch::load_aligned(c.ty + o),
                           impulse * L.n[2] + batch::load_aligned(c.tz + o)};
       L.apply_impulse(p, active);
@@ -238,22 +242,39 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
 
 }  // namespace
 
+// kWithFriction runs kRotationWork: the angular passes are not compiled without rotation
+// (HAIL_WITH_ROTATION=OFF), where World never asks for them.
 bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass, bool friction) {
-  return friction ? collision_pass<true>(c, first, last, bodies, body_count, dt, restitution_threshold, pass)
-                  : collision_pass<false>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+                       std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
+                       FrictionWork work) {
+  switch (work) {
+    case kNoFriction:
+      return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+    case kLinearFriction:
+      return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+    case kWithFriction: break;
+  }
+  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
 }
 
 void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                     std::size_t body_count, float inv_dt, bool friction) {
-  if (friction) resting_pass<true>(c, first, last, bodies, body_count, inv_dt);
-  else resting_pass<false>(c, first, last, bodies, body_count, inv_dt);
+                     std::size_t body_count, float inv_dt, FrictionWork work) {
+  switch (work) {
+    case kNoFriction: return resting_pass<kNoFriction>(c, first, last, bodies, body_count, inv_dt);
+    case kLinearFriction: return resting_pass<kLinearFriction>(c, first, last, bodies, body_count, inv_dt);
+    case kWithFriction: break;
+  }
+  resting_pass<kRotationWork>(c, first, last, bodies, body_count, inv_dt);
 }
 
 void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                        std::size_t body_count, bool friction) {
-  if (friction) warm_start_pass<true>(c, first, last, bodies, body_count);
-  else warm_start_pass<false>(c, first, last, bodies, body_count);
+                        std::size_t body_count, FrictionWork work) {
+  switch (work) {
+    case kNoFriction: return warm_start_pass<kNoFriction>(c, first, last, bodies, body_count);
+    case kLinearFriction: return warm_start_pass<kLinearFriction>(c, first, last, bodies, body_count);
+    case kWithFriction: break;
+  }
+  warm_start_pass<kRotationWork>(c, first, last, bodies, body_count);
 }
 
 }  // namespace HAIL_SIMD_NS

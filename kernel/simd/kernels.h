@@ -20,11 +20,11 @@ void sweep_find_pairs(const SphereSweepView& sweep, const SphereSoA& spheres, st
                       float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                       bool friction);
+                       FrictionWork work);
 void contact_warm_start(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                        std::size_t body_count, bool friction);
+                        std::size_t body_count, FrictionWork work);
 void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
-                     std::size_t body_count, float inv_dt, bool friction);
+                     std::size_t body_count, float inv_dt, FrictionWork work);
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
 void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
