@@ -25,6 +25,7 @@
 #include "jobs/parallel_blocks.h"
 #include "jobs/phase_timer.h"
 #include "jobs/phase_trace.h"
+#include "jobs/stage_crew.h"
 #include "kernel/contact_impulse.h"
 #include "kernel/contact_solve_simd.h"
 #include "kernel/solver_body.h"
@@ -348,24 +349,26 @@ struct StepPipeline {
   }
 
   /// Runs f(first_batch, last_batch, scalar_contacts) over the staged contact batches, colour
-  /// after colour, chunks of one colour in parallel; each colour's scalar tail goes with its
-  /// last chunk, and the serial overflow colour is all scalar. Chunks are fixed by the batch
-  /// count, not the thread count.
+  /// after colour, chunks of one colour in parallel (one crew stage per colour); each colour's
+  /// scalar tail goes with its last chunk, and the serial overflow colour is all scalar. Chunks
+  /// are fixed by the batch count, not the thread count.
   template <class F>
-  void for_each_batch_chunk(F&& f) {
+  void for_each_batch_chunk(StageCrew& crew, F&& f) {
     const ContactColouring& col = w.colouring_;
     const ContactBatches& batches = w.contact_batches_;
     for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
       const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
       if (col.is_serial(colour)) {
-        ScopedTraceRecord record(w.trace_, Phase::Solve);
-        f(std::size_t{0}, std::size_t{0}, std::span<Contact>(w.contacts_.data() + begin, end - begin));
+        crew.stage(1, [&](std::size_t) {
+          ScopedTraceRecord record(w.trace_, Phase::Solve);
+          f(std::size_t{0}, std::size_t{0}, std::span<Contact>(w.contacts_.data() + begin, end - begin));
+        });
         continue;
       }
       const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
       const std::span<Contact> tail(w.contacts_.data() + batches.tail_begin(colour), end - batches.tail_begin(colour));
       const std::size_t chunks = std::max<std::size_t>(block_count(count, kBatchChunk), 1);
-      for_each_block_pinned(chunks, 1, [&](std::size_t k, std::size_t, std::size_t) {
+      crew.stage(chunks, [&](std::size_t k) {
         ScopedTraceRecord record(w.trace_, Phase::Solve);
         f(first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk),
           k + 1 == chunks ? tail : std::span<Contact>());
@@ -408,33 +411,39 @@ struct StepPipeline {
     w.stats_.colours = col.colour_count();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
-    for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
-      std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
-      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        const auto number = static_cast<std::uint32_t>(pass);
-        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
-        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
-        if (simd || rest) any.store(true, std::memory_order_relaxed);
-      });
-      if (!any.load()) break;
-      ++w.stats_.collision_passes;
-    }
     const float inv_dt = 1.0f / params.dt;
-    // Warm start after the collision passes, not before: applied first, an impulse that no
-    // longer fits the pile pushes neighbours into each other faster than the restitution
-    // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of
-    // jitter that way, 1.4 J this way).
-    if (w.settings_.warm_start && w.stats_.warm_started > 0)
-      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.warm_start(first, last, bodies, work);
-        warm_start_run_scalar(scalar, bodies, work);
-      });
-    for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
-      for_each_batch_chunk([&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        batches.solve_resting(first, last, bodies, inv_dt, work);
-        solve_resting_run_scalar(scalar, bodies, inv_dt, work);
-      });
-    }
+    // The passes below are about (collision + 1 + resting) x colours short stages: one crew
+    // for all of them (jobs/stage_crew.h) instead of a parallel loop each.
+    const std::size_t stages = (static_cast<std::size_t>(w.settings_.collision_iterations) + 1 +
+                                static_cast<std::size_t>(w.settings_.resting_iterations)) * col.colour_count();
+    w.crew_.run(stages, [&](StageCrew& crew) {
+      for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
+        std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
+        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          const auto number = static_cast<std::uint32_t>(pass);
+          const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
+          const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+          if (simd || rest) any.store(true, std::memory_order_relaxed);
+        });
+        if (!any.load()) break;
+        ++w.stats_.collision_passes;
+      }
+      // Warm start after the collision passes, not before: applied first, an impulse that no
+      // longer fits the pile pushes neighbours into each other faster than the restitution
+      // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of
+      // jitter that way, 1.4 J this way).
+      if (w.settings_.warm_start && w.stats_.warm_started > 0)
+        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          batches.warm_start(first, last, bodies, work);
+          warm_start_run_scalar(scalar, bodies, work);
+        });
+      for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
+        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          batches.solve_resting(first, last, bodies, inv_dt, work);
+          solve_resting_run_scalar(scalar, bodies, inv_dt, work);
+        });
+      }
+    });
     if (shock) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
       ScopedTraceRecord record(w.trace_, Phase::Solve);

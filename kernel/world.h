@@ -30,6 +30,7 @@
 
 // PhaseTrace is jobs/' recorder; World owns one so that a trace outlives the steps it records.
 #include "jobs/phase_trace.h"
+#include "jobs/stage_crew.h"
 #include "kernel/contact.h"
 #include "kernel/contact_cache.h"
 #include "kernel/contact_colouring.h"
@@ -385,6 +386,7 @@ class World {
   std::uint64_t steps_taken_ = 0;
   PhaseTimes times_;
   PhaseTrace trace_;
+  StageCrew crew_;  // the solver passes' threads (jobs/stage_crew.h)
   StepStats stats_;
 };
 

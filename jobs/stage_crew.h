@@ -1,0 +1,158 @@
+#pragma once
+// A crew of threads that runs many short stages in a row with a cheap barrier between them:
+// the solver's passes are colour after colour (a step of terrain-rain 4k has about 175 such
+// stages of a few microseconds each), and a tbb::parallel_for per stage paid its task start
+// and join every time, which is what kept two threads well below twice one thread's speed.
+//
+// After Box2D v3's solver stages: one task per arena thread for the whole sequence. The calling
+// thread (the "lead") publishes a stage, claims its blocks like everyone else, and waits until
+// every block is done; the other threads spin (briefly, then yield) for the next stage, claim
+// blocks of it with a compare-and-swap on one word that holds the stage number and the next
+// block, and leave when the lead says the sequence is over.
+//
+// Determinism: which thread runs a block never changes what the block computes, and a stage
+// only starts after every block of the one before has finished, exactly as with one
+// parallel_for per stage. Progress: the lead runs any block nobody else claimed, so the
+// sequence finishes even when no other thread ever joins (a busy host arena).
+//
+// Memory order: a helper's block writes are released by its increment of the done count and
+// acquired by the lead's wait; the lead's publication of the next stage releases them again,
+// and every claimer acquires that word before its block runs.
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+#include <cstdlib>
+#include "jobs/parallel_blocks.h"
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
+
+namespace hail {
+
+class StageCrew {
+ public:
+  /// Runs lead(*this) on the calling thread, with the other threads of the current task arena
+  /// joining the stages lead publishes through stage(). `max_stages` bounds the number of
+  /// stage() calls (their descriptions are kept for the whole sequence, so that a late thread
+  /// never reads one being rewritten). With one thread, stage() runs its blocks in order.
+  template <class Lead>
+  void run(std::size_t max_stages, Lead&& lead) {
+    const int threads = tbb::this_task_arena::max_concurrency();
+    solo_ = threads <= 1;
+    static const bool ab_off = std::getenv("HAIL_AB_NO_CREW") != nullptr;  // TEMP A/B
+    ab_ = ab_off && !solo_;
+    if (solo_ || ab_) {
+      lead(*this);
+      return;
+    }
+    if (stages_.size() < max_stages + 1) stages_ = std::vector<Stage>(max_stages + 1);  // grows, never per step
+    max_stages_ = max_stages;
+    published_ = 0;
+    claim_.store(0, std::memory_order_relaxed);
+    done_.store(0, std::memory_order_relaxed);
+    finished_.store(false, std::memory_order_relaxed);
+    tbb::task_group helpers;
+    for (int t = 1; t < threads; ++t) helpers.run([this] { help(); });
+    lead(*this);
+    finished_.store(true, std::memory_order_release);
+    helpers.wait();
+  }
+
+  /// Inside run(): calls f(block) for every block in [0, blocks), on whichever crew threads
+  /// claim them, and returns when all have finished. Blocks must not depend on each other.
+  template <class F>
+  void stage(std::size_t blocks, F&& f) {
+    if (blocks == 0) return;
+    if (ab_) {  // TEMP A/B
+      for_each_block_pinned(blocks, 1, [&](std::size_t b, std::size_t, std::size_t) { f(b); });
+      return;
+    }
+    if (solo_ || blocks == 1) {
+      for (std::size_t b = 0; b < blocks; ++b) f(b);
+      return;
+    }
+    if (published_ >= max_stages_) {  // more stages than run() was told: still correct, on this thread
+      for (std::size_t b = 0; b < blocks; ++b) f(b);
+      return;
+    }
+    const std::uint32_t number = ++published_;
+    stages_[number] = Stage{&call<std::remove_reference_t<F>>, &f, static_cast<std::uint32_t>(blocks)};
+    done_.store(0, std::memory_order_relaxed);  // no block of an earlier stage is still running
+    claim_.store(std::uint64_t{number} << 32, std::memory_order_release);
+    const std::uint32_t mine = work_on(number);
+    std::uint32_t spins = 0;
+    while (done_.load(std::memory_order_acquire) + mine < blocks) pause(spins);
+  }
+
+ private:
+  struct Stage {
+    void (*run_block)(const void* f, std::size_t block) = nullptr;  // one indirect call per block, not per contact
+    const void* f = nullptr;
+    std::uint32_t blocks = 0;
+  };
+
+  template <class F>
+  static void call(const void* f, std::size_t block) {
+    (*static_cast<const F*>(f))(block);
+  }
+
+  /// Claims and runs blocks of stage `number` until none is left or the stage is over; returns
+  /// how many it ran. The lead counts its own blocks instead of adding them to done_.
+  std::uint32_t work_on(std::uint32_t number) {
+    const Stage& stage = stages_[number];  // written before the stage was published, never again
+    std::uint32_t ran = 0;
+    std::uint64_t c = claim_.load(std::memory_order_acquire);
+    while ((c >> 32) == number && static_cast<std::uint32_t>(c) < stage.blocks) {
+      if (!claim_.compare_exchange_weak(c, c + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+      stage.run_block(stage.f, static_cast<std::uint32_t>(c));
+      ++ran;
+      c = claim_.load(std::memory_order_acquire);
+    }
+    return ran;
+  }
+
+  /// A helper thread's loop: every newly published stage, until the lead finishes.
+  void help() {
+    std::uint32_t seen = 0;
+    std::uint32_t spins = 0;
+    for (;;) {
+      const std::uint32_t number = static_cast<std::uint32_t>(claim_.load(std::memory_order_acquire) >> 32);
+      if (number != seen) {
+        seen = number;
+        spins = 0;
+        const std::uint32_t ran = work_on(number);
+        if (ran) done_.fetch_add(ran, std::memory_order_release);
+        continue;
+      }
+      if (finished_.load(std::memory_order_acquire)) return;
+      pause(spins);
+    }
+  }
+
+  /// Busy-wait step: a CPU pause, and after a while a yield, so that an oversubscribed machine
+  /// (more crews than cores) still makes progress.
+  static void pause(std::uint32_t& spins) {
+    if (++spins < 4096) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+      __builtin_ia32_pause();
+#endif
+      return;
+    }
+    std::this_thread::yield();
+  }
+
+  std::vector<Stage> stages_;
+  std::size_t max_stages_ = 0;
+  std::uint32_t published_ = 0;
+  bool solo_ = true;
+  bool ab_ = false;
+  std::atomic<std::uint64_t> claim_{0};  // stage number << 32 | next unclaimed block
+  std::atomic<std::uint32_t> done_{0};   // blocks of the current stage finished by helpers
+  std::atomic<bool> finished_{false};
+};
+
+}  // namespace hail
