@@ -3,79 +3,178 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
+#include "kernel/simd_kernels.h"
+#include "kernel/sphere_pair_bounds.h"
 #include "soa/grow.h"
 
 namespace hail {
 namespace {
 
-std::int32_t cell_coordinate(float p, float inv_cell) {
-  const float c = std::floor(p * inv_cell);
-  // Non-finite or huge coordinates (a NaN sphere, parked padding) all land in one far cell:
-  // they are still tested exactly, only less efficiently.
-  if (!(c > -1.0e9f && c < 1.0e9f)) return 1 << 30;
-  return static_cast<std::int32_t>(c);
+constexpr std::uint32_t kNoBucket = std::numeric_limits<std::uint32_t>::max();
+// Padding after the sorted arrays: the widest batch of any SIMD path.
+constexpr std::size_t kLanes = kSimdPadding;
+
+// floor((c - lowest) / cell) as the top of sphere_grid.h proves safe: offsets are >= 0, so
+// the conversion truncates; beyond kMaxCell (or NaN: an overflowed offset times a zero inverse)
+// the coordinate clamps.
+std::int32_t cell_coordinate(float c, float lowest, float inv_cell) {
+  const float u = (c - lowest) * inv_cell;
+  return u < static_cast<float>(SphereGrid::kMaxCell) ? static_cast<std::int32_t>(u) : SphereGrid::kMaxCell;
+}
+
+// Sorts a row's partners ascending and drops repeats (two of a sphere's 9 runs may share
+// buckets). Rows are a few partners long: insertion sort beats std::sort there.
+std::size_t sort_unique(std::uint32_t* row, std::size_t count) {
+  std::size_t kept = 0;
+  for (std::size_t a = 0; a < count; ++a) {
+    const std::uint32_t j = row[a];
+    std::size_t at = kept;
+    while (at > 0 && row[at - 1] > j) --at;
+    if (at > 0 && row[at - 1] == j) continue;
+    for (std::size_t b = kept; b > at; --b) row[b] = row[b - 1];
+    row[at] = j;
+    ++kept;
+  }
+  return kept;
 }
 
 }  // namespace
 
-std::uint32_t SphereGrid::bucket_of(std::int32_t x, std::int32_t y, std::int32_t z) const {
-  const std::uint32_t h = static_cast<std::uint32_t>(x) * 73856093u ^ static_cast<std::uint32_t>(y) * 19349663u ^
-                          static_cast<std::uint32_t>(z) * 83492791u;
-  return (h ^ (h >> 15)) & mask_;
-}
-
-void SphereGrid::build(const SphereSoA& s, float margin) {
+void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margins) {
   const std::size_t n = s.size();
+  with_travel_ = pair_margins.travel != nullptr;
+  travel_factor_ = pair_margins.factor;
+  resize_geometric(cell_, n);
+  resize_geometric(bucket_of_, n);
+
+  // Spheres that pair with nothing (can_pair) stay out; the rest set the cell and the origin.
   float max_radius = 0.0f;
-  for (std::size_t i = 0; i < n; ++i) max_radius = std::max(max_radius, s.radius[i]);
-  // Any pair within reach is at most one cell apart on every axis.
-  const float cell = std::max(2.0f * max_radius + margin, 1e-6f);
-  inv_cell_ = 1.0f / cell;
-  const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * n, 64));
-  mask_ = static_cast<std::uint32_t>(buckets - 1);
-  resize_geometric(cell_, 3 * n);
-  assign_geometric(bucket_start_, buckets + 1, std::uint32_t{0});
-  resize_geometric(sorted_, n);
+  float lowest[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                     std::numeric_limits<float>::infinity()};
+  std::size_t sorted = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    cell_[3 * i] = cell_coordinate(s.px[i], inv_cell_);
-    cell_[3 * i + 1] = cell_coordinate(s.py[i], inv_cell_);
-    cell_[3 * i + 2] = cell_coordinate(s.pz[i], inv_cell_);
-    ++bucket_start_[bucket_of(cell_[3 * i], cell_[3 * i + 1], cell_[3 * i + 2]) + 1];
+    const float r = std::fabs(s.radius[i]);
+    if (!can_pair(s.px[i], s.py[i], s.pz[i], r)) {
+      bucket_of_[i] = kNoBucket;
+      continue;
+    }
+    bucket_of_[i] = 0;
+    ++sorted;
+    max_radius = std::max(max_radius, r);
+    lowest[0] = std::min(lowest[0], s.px[i]);
+    lowest[1] = std::min(lowest[1], s.py[i]);
+    lowest[2] = std::min(lowest[2], s.pz[i]);
+  }
+  // Any pair within reach is at most one cell apart on every axis (the top of sphere_grid.h).
+  // An infinite cell puts every sphere in cell 0; a zero or NaN one any positive size.
+  float cell = (2.0f * max_radius + std::fabs(margin)) * (1.0f + 0x1p-8f);
+  if (!(cell >= std::numeric_limits<float>::min())) cell = std::numeric_limits<float>::min();
+  const float inv_cell = 1.0f / cell;
+  const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * sorted, 64));
+  mask_ = static_cast<std::uint32_t>(buckets - 1);
+  assign_geometric(bucket_start_, buckets + 1, std::uint32_t{0});
+
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bucket_of_[i] == kNoBucket) continue;
+    GridCell& c = cell_[i];
+    c.x = cell_coordinate(s.px[i], lowest[0], inv_cell);
+    c.y = cell_coordinate(s.py[i], lowest[1], inv_cell);
+    c.z = cell_coordinate(s.pz[i], lowest[2], inv_cell);
+    c.travel = with_travel_ ? pair_margins.travel[i] : 0.0f;
+    const std::uint32_t b = (grid_row_hash(c.y, c.z) + static_cast<std::uint32_t>(c.x)) & mask_;
+    bucket_of_[i] = b;
+    ++bucket_start_[b + 1];
   }
   for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
-  // Counting sort; the cursor reuses sorted_ order so spheres stay ascending within a bucket.
-  std::vector<std::uint32_t>& start = bucket_start_;
+
+  // Counting sort into the sorted SoA; each bucket keeps index order. The cursor runs
+  // bucket_start_ one bucket ahead, and the shift afterwards puts it back.
+  resize_geometric(x_, sorted + kLanes);
+  resize_geometric(y_, sorted + kLanes);
+  resize_geometric(z_, sorted + kLanes);
+  resize_geometric(radius_, sorted + kLanes);
+  resize_geometric(index_, sorted + kLanes);
+  if (with_travel_) resize_geometric(travel_, sorted + kLanes);
+  std::uint32_t* start = bucket_start_.data();
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t b = bucket_of(cell_[3 * i], cell_[3 * i + 1], cell_[3 * i + 2]);
-    sorted_[start[b]++] = static_cast<std::uint32_t>(i);
+    const std::uint32_t b = bucket_of_[i];
+    if (b == kNoBucket) continue;
+    const std::uint32_t k = start[b]++;
+    x_[k] = s.px[i];
+    y_[k] = s.py[i];
+    z_[k] = s.pz[i];
+    radius_[k] = s.radius[i];
+    index_[k] = static_cast<std::uint32_t>(i);
+    if (with_travel_) travel_[k] = cell_[i].travel;
   }
   for (std::size_t b = buckets; b > 0; --b) start[b] = start[b - 1];
   start[0] = 0;
+  // Padding: far away, zero radius; never reported anyway (lanes past a run are masked).
+  for (std::size_t k = sorted; k < sorted + kLanes; ++k) {
+    x_[k] = y_[k] = z_[k] = kPaddingPosition;
+    radius_[k] = 0.0f;
+    index_[k] = 0;
+    if (with_travel_) travel_[k] = 0.0f;
+  }
+}
+
+SphereGridView SphereGrid::view() const {
+  return {x_.data(), y_.data(), z_.data(), radius_.data(), with_travel_ ? travel_.data() : nullptr,
+          index_.data(), bucket_start_.data(), cell_.data(), mask_, travel_factor_};
 }
 
 void SphereGrid::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
                             std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const {
+  if (first >= last || bucket_start_.empty()) return;
+  row.clear();
+  simd_kernels().grid_find_pairs(view(), s, first, last, margin, out, row);
+}
+
+void SphereGrid::find_pairs_scalar(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
+                                   std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const {
+  if (first >= last || bucket_start_.empty()) return;
+  const SphereGridView v = view();
   for (std::size_t i = first; i < last; ++i) {
+    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;
+    if (!can_pair(xi, yi, zi, ri_margin)) continue;
+    const GridCell c = v.cell[i];
     row.clear();
-    const std::int32_t cx = cell_[3 * i], cy = cell_[3 * i + 1], cz = cell_[3 * i + 2];
-    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri_margin = s.radius[i] + margin;
-    for (std::int32_t dx = -1; dx <= 1; ++dx)
-      for (std::int32_t dy = -1; dy <= 1; ++dy)
-        for (std::int32_t dz = -1; dz <= 1; ++dz) {
-          const std::uint32_t b = bucket_of(cx + dx, cy + dy, cz + dz);
-          for (std::uint32_t k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
-            const std::uint32_t j = sorted_[k];
-            if (j <= i) continue;
-            const float reach = s.radius[j] + ri_margin;
-            if (spheres_within(s.px[j] - xi, s.py[j] - yi, s.pz[j] - zi, reach)) row.push_back(j);
-          }
+    auto scan = [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k = begin; k < end; ++k) {
+        // Brute force's reach, or keep_pairs_within_their_margin's (jobs/step_pipeline.cpp).
+        float reach = v.radius[k] + ri_margin;
+        if (v.travel) {
+          const float wanted = v.travel_factor * (c.travel + v.travel[k]);
+          reach = v.radius[k] + (ri + std::min(margin, wanted));
         }
-    // Two neighbour cells may share a bucket: sort and drop repeats to get brute force's row.
-    std::sort(row.begin(), row.end());
-    row.erase(std::unique(row.begin(), row.end()), row.end());
+        if (v.index[k] > i && spheres_within(v.x[k] - xi, v.y[k] - yi, v.z[k] - zi, reach)) row.push_back(v.index[k]);
+      }
+    };
+    for (std::int32_t dz = -1; dz <= 1; ++dz)
+      for (std::int32_t dy = -1; dy <= 1; ++dy) {
+        // Cells x - 1, x, x + 1 of this row: buckets b0 .. b0 + 2, split if they wrap.
+        const std::uint32_t b0 = (grid_row_hash(c.y + dy, c.z + dz) + static_cast<std::uint32_t>(c.x) - 1u) & v.mask;
+        const std::uint32_t b3 = b0 + 3;
+        if (b3 <= v.mask + 1) {
+          scan(v.bucket_start[b0], v.bucket_start[b3]);
+        } else {
+          scan(v.bucket_start[b0], v.bucket_start[v.mask + 1]);
+          scan(v.bucket_start[0], v.bucket_start[b3 - (v.mask + 1)]);
+        }
+      }
+    row.resize(sort_unique(row.data(), row.size()));
     for (std::uint32_t j : row) out.push_back({static_cast<std::uint32_t>(i), j});
   }
+  row.clear();
+}
+
+void append_sorted_unique_row(std::uint32_t i, std::vector<std::uint32_t>& row, std::vector<SpherePair>& out) {
+  row.resize(sort_unique(row.data(), row.size()));
+  reserve_geometric(out, out.size() + row.size());
+  for (std::uint32_t j : row) out.push_back({i, j});
+  row.clear();
 }
 
 }  // namespace hail
