@@ -53,6 +53,7 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
   float max_radius = 0.0f;
   float lowest[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
                      std::numeric_limits<float>::infinity()};
+  float highest[3] = {-std::numeric_limits<float>::infinity(), 0.0f, -std::numeric_limits<float>::infinity()};
   std::size_t sorted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float r = std::fabs(s.radius[i]);
@@ -66,63 +67,81 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
     lowest[0] = std::min(lowest[0], s.px[i]);
     lowest[1] = std::min(lowest[1], s.py[i]);
     lowest[2] = std::min(lowest[2], s.pz[i]);
+    highest[0] = std::max(highest[0], s.px[i]);
+    highest[2] = std::max(highest[2], s.pz[i]);
   }
   // Any pair within reach is at most one cell apart on every axis (the top of sphere_grid.h).
   // An infinite cell puts every sphere in cell 0; a zero or NaN one any positive size.
   float cell = (2.0f * max_radius + std::fabs(margin)) * (1.0f + 0x1p-8f);
   if (!(cell >= std::numeric_limits<float>::min())) cell = std::numeric_limits<float>::min();
   const float inv_cell = 1.0f / cell;
+  // Odd strides wider than the occupied box plus a neighbour cell (grid_key).
+  const std::uint32_t x_cells = sorted > 0 ? static_cast<std::uint32_t>(cell_coordinate(highest[0], lowest[0], inv_cell)) : 0;
+  const std::uint32_t z_cells = sorted > 0 ? static_cast<std::uint32_t>(cell_coordinate(highest[2], lowest[2], inv_cell)) : 0;
+  stride_z_ = (x_cells + 3) | 1u;
+  stride_y_ = stride_z_ * ((z_cells + 3) | 1u);
   const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * sorted, 64));
   mask_ = static_cast<std::uint32_t>(buckets - 1);
-  assign_geometric(bucket_start_, buckets + 1, std::uint32_t{0});
+  assign_geometric(bucket_start_, buckets + 2, std::uint32_t{0});
 
+  const float* __restrict px = s.px.data();
+  const float* __restrict py = s.py.data();
+  const float* __restrict pz = s.pz.data();
+  std::uint32_t* __restrict bucket_of = bucket_of_.data();
+  std::uint32_t* __restrict start = bucket_start_.data();
+  GridCell* __restrict cells = cell_.data();
   for (std::size_t i = 0; i < n; ++i) {
-    if (bucket_of_[i] == kNoBucket) continue;
-    GridCell& c = cell_[i];
-    c.x = cell_coordinate(s.px[i], lowest[0], inv_cell);
-    c.y = cell_coordinate(s.py[i], lowest[1], inv_cell);
-    c.z = cell_coordinate(s.pz[i], lowest[2], inv_cell);
+    if (bucket_of[i] == kNoBucket) continue;
+    GridCell& c = cells[i];
+    c.x = cell_coordinate(px[i], lowest[0], inv_cell);
+    c.y = cell_coordinate(py[i], lowest[1], inv_cell);
+    c.z = cell_coordinate(pz[i], lowest[2], inv_cell);
     c.travel = with_travel_ ? pair_margins.travel[i] : 0.0f;
-    const std::uint32_t b = (grid_row_hash(c.y, c.z) + static_cast<std::uint32_t>(c.x)) & mask_;
-    bucket_of_[i] = b;
-    ++bucket_start_[b + 1];
+    const std::uint32_t b = grid_key(c.x, c.y, c.z, stride_y_, stride_z_) & mask_;
+    bucket_of[i] = b;
+    ++start[b + 2];
   }
-  for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 2] += start[b + 1];
 
-  // Counting sort into the sorted SoA; each bucket keeps index order. The cursor runs
-  // bucket_start_ one bucket ahead, and the shift afterwards puts it back.
+  // Counting sort of the indices, each bucket in index order. The counts went in two buckets
+  // ahead, so start[b + 1] is bucket b's cursor, and it ends at bucket b's end = start of
+  // b + 1. Then the sorted SoA is gathered in sorted order: one scattered write per sphere,
+  // not six.
   resize_geometric(x_, sorted + kLanes);
   resize_geometric(y_, sorted + kLanes);
   resize_geometric(z_, sorted + kLanes);
   resize_geometric(radius_, sorted + kLanes);
   resize_geometric(index_, sorted + kLanes);
   if (with_travel_) resize_geometric(travel_, sorted + kLanes);
-  std::uint32_t* start = bucket_start_.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t b = bucket_of_[i];
-    if (b == kNoBucket) continue;
-    const std::uint32_t k = start[b]++;
-    x_[k] = s.px[i];
-    y_[k] = s.py[i];
-    z_[k] = s.pz[i];
-    radius_[k] = s.radius[i];
-    index_[k] = static_cast<std::uint32_t>(i);
-    if (with_travel_) travel_[k] = cell_[i].travel;
+  std::uint32_t* __restrict index = index_.data();
+  for (std::size_t i = 0; i < n; ++i)
+    if (bucket_of[i] != kNoBucket) index[start[bucket_of[i] + 1]++] = static_cast<std::uint32_t>(i);
+  const float* __restrict radius = s.radius.data();
+  float* __restrict x = x_.data();
+  float* __restrict y = y_.data();
+  float* __restrict z = z_.data();
+  float* __restrict r = radius_.data();
+  for (std::size_t k = 0; k < sorted; ++k) {
+    const std::uint32_t i = index[k];
+    x[k] = px[i];
+    y[k] = py[i];
+    z[k] = pz[i];
+    r[k] = radius[i];
   }
-  for (std::size_t b = buckets; b > 0; --b) start[b] = start[b - 1];
-  start[0] = 0;
+  if (with_travel_)
+    for (std::size_t k = 0; k < sorted; ++k) travel_[k] = cells[index[k]].travel;
   // Padding: far away, zero radius; never reported anyway (lanes past a run are masked).
   for (std::size_t k = sorted; k < sorted + kLanes; ++k) {
-    x_[k] = y_[k] = z_[k] = kPaddingPosition;
-    radius_[k] = 0.0f;
-    index_[k] = 0;
+    x[k] = y[k] = z[k] = kPaddingPosition;
+    r[k] = 0.0f;
+    index[k] = 0;
     if (with_travel_) travel_[k] = 0.0f;
   }
 }
 
 SphereGridView SphereGrid::view() const {
   return {x_.data(), y_.data(), z_.data(), radius_.data(), with_travel_ ? travel_.data() : nullptr,
-          index_.data(), bucket_start_.data(), cell_.data(), mask_, travel_factor_};
+          index_.data(), bucket_start_.data(), cell_.data(), mask_, stride_y_, stride_z_, travel_factor_};
 }
 
 void SphereGrid::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
@@ -155,7 +174,7 @@ void SphereGrid::find_pairs_scalar(const SphereSoA& s, std::size_t first, std::s
     for (std::int32_t dz = -1; dz <= 1; ++dz)
       for (std::int32_t dy = -1; dy <= 1; ++dy) {
         // Cells x - 1, x, x + 1 of this row: buckets b0 .. b0 + 2, split if they wrap.
-        const std::uint32_t b0 = (grid_row_hash(c.y + dy, c.z + dz) + static_cast<std::uint32_t>(c.x) - 1u) & v.mask;
+        const std::uint32_t b0 = grid_key(c.x - 1, c.y + dy, c.z + dz, v.stride_y, v.stride_z) & v.mask;
         const std::uint32_t b3 = b0 + 3;
         if (b3 <= v.mask + 1) {
           scan(v.bucket_start[b0], v.bucket_start[b3]);

@@ -5,7 +5,7 @@
 // order (rows i ascending, j ascending within a row), so the choice of pair search never
 // changes a simulation.
 //
-// Layout, for speed: a cell (x, y, z) goes to bucket (row_hash(y, z) + x) & mask, so the three
+// Layout, for speed: a cell (x, y, z) goes to bucket grid_key(x, y, z) & mask, so the three
 // cells x - 1, x, x + 1 of one row are three consecutive buckets, one contiguous run of the
 // sorted arrays: a sphere scans 9 runs, not 27 hashed buckets. The build copies centres, radii
 // (and travels) into that sorted order, so a run is read contiguously and tested a batch at a
@@ -55,15 +55,19 @@ struct SphereGridView {
   const std::uint32_t* bucket_start;  ///< bucket b holds sorted slots [bucket_start[b], bucket_start[b + 1]), mask + 2 entries
   const GridCell* cell;               ///< per sphere (dense slot)
   std::uint32_t mask;
+  std::uint32_t stride_y, stride_z;   ///< grid_key's
   float travel_factor;                ///< PairMargins::factor (with travel)
 };
 
 inline namespace HAIL_SIMD_NS {
-/// The hash of the row of cells (y, z); cell (x, y, z) is in bucket (row_hash + x) & mask.
-/// Integers only; here (per path namespace) because the kernels and the build both use it.
-[[nodiscard]] inline std::uint32_t grid_row_hash(std::int32_t y, std::int32_t z) {
-  const std::uint32_t h = static_cast<std::uint32_t>(y) * 73856093u ^ static_cast<std::uint32_t>(z) * 19349663u;
-  return h ^ (h >> 15);
+/// The key of cell (x, y, z), modulo the bucket count: x + stride_z z + stride_y y. Spatially
+/// coherent (a sphere's neighbour cells, and those of the next sphere in Morton order, lie
+/// close in the sorted arrays), and with no collisions at all while the box of occupied cells
+/// fits the table. The strides are odd, so no two cells of one column (or row) share a bucket
+/// below the bucket count. Integers only; here (per path namespace) for the kernels and build.
+[[nodiscard]] inline std::uint32_t grid_key(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t stride_y,
+                                            std::uint32_t stride_z) {
+  return static_cast<std::uint32_t>(x) + stride_z * static_cast<std::uint32_t>(z) + stride_y * static_cast<std::uint32_t>(y);
 }
 }  // namespace HAIL_SIMD_NS
 
@@ -88,11 +92,12 @@ class SphereGrid {
 
  private:
   std::uint32_t mask_ = 0;
+  std::uint32_t stride_y_ = 0, stride_z_ = 0;
   bool with_travel_ = false;
   float travel_factor_ = 0.0f;
   std::vector<GridCell> cell_;               // per sphere
   std::vector<std::uint32_t> bucket_of_;     // per sphere, build scratch (kNoBucket: left out)
-  std::vector<std::uint32_t> bucket_start_;  // mask + 2 entries
+  std::vector<std::uint32_t> bucket_start_;  // mask + 3 entries (the last is build's scratch)
   // Spheres in bucket order (index ascending within a bucket), SoA, each array followed by
   // kSimdPadding inert slots.
   std::vector<float> x_, y_, z_, radius_, travel_;

@@ -18,93 +18,86 @@ namespace {
 // the caller's `row` vector (base code, kernel/simd_kernels.h).
 constexpr std::size_t kBuffer = 128;
 
-struct RowState {
-  std::uint32_t found[kBuffer];
-  std::size_t count = 0;
-};
-
-template <bool kPairMargins>
-void scan_run(const SphereGridView& v, std::uint32_t begin, std::uint32_t end, std::uint32_t i, float xi, float yi,
-              float zi, float ri, float ri_margin, float travel_i, float margin, RowState& state,
-              std::vector<std::uint32_t>& row) {
-  using batch = xsimd::batch<float, simd_arch>;
-  constexpr std::uint32_t W = batch::size;
-  const batch bx(xi), by(yi), bz(zi);
-  for (std::uint32_t k0 = begin; k0 < end; k0 += W) {
-    const batch dx = batch::load_unaligned(v.x + k0) - bx;
-    const batch dy = batch::load_unaligned(v.y + k0) - by;
-    const batch dz = batch::load_unaligned(v.z + k0) - bz;
-    const batch rj = batch::load_unaligned(v.radius + k0);
-    batch reach;
-    if constexpr (kPairMargins) {
-      // std::min(margin, wanted) is wanted < margin ? wanted : margin (NaN: margin).
-      const batch wanted = batch(v.travel_factor) * (batch(travel_i) + batch::load_unaligned(v.travel + k0));
-      const batch pair_margin = xsimd::select(wanted < batch(margin), wanted, batch(margin));
-      reach = rj + (batch(ri) + pair_margin);
-    } else {
-      reach = rj + batch(ri_margin);
-    }
-    const batch d2 = dx * dx + dy * dy + dz * dz;
-    std::uint32_t lanes = lane_bits(d2 < reach * reach);
-    if (end - k0 < W) lanes &= (1u << (end - k0)) - 1u;  // lanes past the run
-    for (; lanes != 0; lanes &= lanes - 1) {
-      const std::uint32_t j = v.index[k0 + lowest_lane(lanes)];
-      if (j <= i) continue;
-      if (state.count == kBuffer) append_slots(row, state.found, state.count), state.count = 0;
-      state.found[state.count++] = j;
-    }
-  }
-}
-
 template <bool kPairMargins>
 void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, std::size_t last, float margin,
                std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
-  RowState state;
+  using batch = xsimd::batch<float, simd_arch>;
+  constexpr std::uint32_t W = batch::size;
+  std::uint32_t found[kBuffer];
   constexpr std::size_t kPairBuffer = 256;
   SpherePair pairs[kPairBuffer];
   std::size_t pair_count = 0;
   const std::uint32_t buckets = v.mask + 1;
+  const batch factor(v.travel_factor), b_margin(margin);
   for (std::size_t i = first; i < last; ++i) {
     const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;  // brute force's order
     if (!can_pair(xi, yi, zi, ri_margin)) continue;
     const GridCell c = v.cell[i];
     const std::uint32_t i32 = static_cast<std::uint32_t>(i);
-    state.count = 0;
+    // The 9 runs (cells x - 1 .. x + 1 of each row: buckets b0 .. b0 + 2), a wrapping one split.
+    std::uint32_t run_begin[10], run_end[10], runs = 0;
     for (std::int32_t dz = -1; dz <= 1; ++dz)
       for (std::int32_t dy = -1; dy <= 1; ++dy) {
-        // Cells x - 1, x, x + 1 of this row: buckets b0 .. b0 + 2, split if they wrap.
-        const std::uint32_t b0 = (grid_row_hash(c.y + dy, c.z + dz) + static_cast<std::uint32_t>(c.x) - 1u) & v.mask;
+        const std::uint32_t b0 = grid_key(c.x - 1, c.y + dy, c.z + dz, v.stride_y, v.stride_z) & v.mask;
         const std::uint32_t b3 = b0 + 3;
+        run_begin[runs] = v.bucket_start[b0];
         if (b3 <= buckets) {
-          scan_run<kPairMargins>(v, v.bucket_start[b0], v.bucket_start[b3], i32, xi, yi, zi, ri, ri_margin, c.travel,
-                                 margin, state, row);
+          run_end[runs++] = v.bucket_start[b3];
         } else {
-          scan_run<kPairMargins>(v, v.bucket_start[b0], v.bucket_start[buckets], i32, xi, yi, zi, ri, ri_margin,
-                                 c.travel, margin, state, row);
-          scan_run<kPairMargins>(v, v.bucket_start[0], v.bucket_start[b3 - buckets], i32, xi, yi, zi, ri, ri_margin,
-                                 c.travel, margin, state, row);
+          run_end[runs++] = v.bucket_start[buckets];
+          run_begin[runs] = v.bucket_start[0];
+          run_end[runs++] = v.bucket_start[b3 - buckets];
         }
       }
-    if (state.count == 0 && row.empty()) continue;
+    const batch bx(xi), by(yi), bz(zi), b_ri(ri), b_ri_margin(ri_margin), travel_i(c.travel);
+    std::size_t count = 0;
+    for (std::uint32_t r = 0; r < runs; ++r) {
+      const std::uint32_t end = run_end[r];
+      for (std::uint32_t k0 = run_begin[r]; k0 < end; k0 += W) {
+        const batch dx = batch::load_unaligned(v.x + k0) - bx;
+        const batch dy = batch::load_unaligned(v.y + k0) - by;
+        const batch dz = batch::load_unaligned(v.z + k0) - bz;
+        const batch rj = batch::load_unaligned(v.radius + k0);
+        batch reach;
+        if constexpr (kPairMargins) {
+          // keep_pairs_within_their_margin's reach; std::min(margin, wanted) is
+          // wanted < margin ? wanted : margin (NaN: margin).
+          const batch wanted = factor * (travel_i + batch::load_unaligned(v.travel + k0));
+          reach = rj + (b_ri + xsimd::select(wanted < b_margin, wanted, b_margin));
+        } else {
+          reach = rj + b_ri_margin;
+        }
+        const batch d2 = dx * dx + dy * dy + dz * dz;
+        std::uint32_t lanes = lane_bits(d2 < reach * reach);
+        if (end - k0 < W) lanes &= (1u << (end - k0)) - 1u;  // lanes past the run
+        for (; lanes != 0; lanes &= lanes - 1) {
+          const std::uint32_t j = v.index[k0 + lowest_lane(lanes)];
+          if (j <= i32) continue;
+          if (count == kBuffer) append_slots(row, found, count), count = 0;
+          found[count++] = j;
+        }
+      }
+    }
+    if (count == 0 && row.empty()) continue;
     if (!row.empty()) {  // a long row: sorted in base code
-      append_slots(row, state.found, state.count);
+      append_slots(row, found, count);
       if (pair_count > 0) append_pairs(out, pairs, pair_count), pair_count = 0;
       append_sorted_unique_row(i32, row, out);
       continue;
     }
     // Insertion sort without repeats (two runs may share buckets); rows are short.
     std::size_t kept = 0;
-    for (std::size_t a = 0; a < state.count; ++a) {
-      const std::uint32_t j = state.found[a];
+    for (std::size_t a = 0; a < count; ++a) {
+      const std::uint32_t j = found[a];
       std::size_t at = kept;
-      while (at > 0 && state.found[at - 1] > j) --at;
-      if (at > 0 && state.found[at - 1] == j) continue;
-      for (std::size_t b = kept; b > at; --b) state.found[b] = state.found[b - 1];
-      state.found[at] = j;
+      while (at > 0 && found[at - 1] > j) --at;
+      if (at > 0 && found[at - 1] == j) continue;
+      for (std::size_t b = kept; b > at; --b) found[b] = found[b - 1];
+      found[at] = j;
       ++kept;
     }
     if (pair_count + kept > kPairBuffer) append_pairs(out, pairs, pair_count), pair_count = 0;
-    for (std::size_t a = 0; a < kept; ++a) pairs[pair_count++] = {i32, state.found[a]};
+    for (std::size_t a = 0; a < kept; ++a) pairs[pair_count++] = {i32, found[a]};
   }
   if (pair_count > 0) append_pairs(out, pairs, pair_count);
 }
