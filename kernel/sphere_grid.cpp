@@ -16,14 +16,6 @@ constexpr std::uint32_t kNoBucket = std::numeric_limits<std::uint32_t>::max();
 // Padding after the sorted arrays: the widest batch of any SIMD path.
 constexpr std::size_t kLanes = kSimdPadding;
 
-// floor((c - lowest) / cell) as the top of sphere_grid.h proves safe: offsets are >= 0, so
-// the conversion truncates; beyond kMaxCell (or NaN: an overflowed offset times a zero inverse)
-// the coordinate clamps.
-std::int32_t cell_coordinate(float c, float lowest, float inv_cell) {
-  const float u = (c - lowest) * inv_cell;
-  return u < static_cast<float>(SphereGrid::kMaxCell) ? static_cast<std::int32_t>(u) : SphereGrid::kMaxCell;
-}
-
 // Sorts a row's partners ascending and drops repeats (two of a sphere's 9 runs may share
 // buckets). Rows are a few partners long: insertion sort beats std::sort there.
 std::size_t sort_unique(std::uint32_t* row, std::size_t count) {
@@ -46,58 +38,63 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
   const std::size_t n = s.size();
   with_travel_ = pair_margins.travel != nullptr;
   travel_factor_ = pair_margins.factor;
-  resize_geometric(cell_, n);
   resize_geometric(bucket_of_, n);
+  if (with_travel_) {
+    resize_geometric(sphere_travel_, n);
+    std::copy(pair_margins.travel, pair_margins.travel + n, sphere_travel_.begin());
+  }
 
-  // Spheres that pair with nothing (can_pair) stay out; the rest set the cell and the origin.
+  // Spheres that pair with nothing (can_pair) stay out; the rest set the cell and the box.
+  const float* __restrict px = s.px.data();
+  const float* __restrict py = s.py.data();
+  const float* __restrict pz = s.pz.data();
+  const float* __restrict radius = s.radius.data();
+  std::uint32_t* __restrict bucket_of = bucket_of_.data();
   float max_radius = 0.0f;
-  float lowest[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
-                     std::numeric_limits<float>::infinity()};
-  float highest[3] = {-std::numeric_limits<float>::infinity(), 0.0f, -std::numeric_limits<float>::infinity()};
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lowest[3] = {kInf, kInf, kInf}, highest[3] = {-kInf, -kInf, -kInf};
   std::size_t sorted = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float r = std::fabs(s.radius[i]);
-    if (!can_pair(s.px[i], s.py[i], s.pz[i], r)) {
-      bucket_of_[i] = kNoBucket;
+    const float r = std::fabs(radius[i]);
+    if (!can_pair(px[i], py[i], pz[i], r)) {
+      bucket_of[i] = kNoBucket;
       continue;
     }
-    bucket_of_[i] = 0;
+    bucket_of[i] = 0;
     ++sorted;
     max_radius = std::max(max_radius, r);
-    lowest[0] = std::min(lowest[0], s.px[i]);
-    lowest[1] = std::min(lowest[1], s.py[i]);
-    lowest[2] = std::min(lowest[2], s.pz[i]);
-    highest[0] = std::max(highest[0], s.px[i]);
-    highest[2] = std::max(highest[2], s.pz[i]);
+    lowest[0] = std::min(lowest[0], px[i]);
+    lowest[1] = std::min(lowest[1], py[i]);
+    lowest[2] = std::min(lowest[2], pz[i]);
+    highest[0] = std::max(highest[0], px[i]);
+    highest[1] = std::max(highest[1], py[i]);
+    highest[2] = std::max(highest[2], pz[i]);
   }
-  // Any pair within reach is at most one cell apart on every axis (the top of sphere_grid.h).
-  // An infinite cell puts every sphere in cell 0; a zero or NaN one any positive size.
-  float cell = (2.0f * max_radius + std::fabs(margin)) * (1.0f + 0x1p-8f);
+  if (sorted == 0) lowest[0] = lowest[1] = lowest[2] = highest[0] = highest[1] = highest[2] = 0.0f;
+  // The cell size only trades runs against candidates (the windows are exact, top of
+  // sphere_grid.h): about one reach, so a window spans 2 cells per axis, 3 when it straddles.
+  // An infinite cell puts every sphere in cell 0; a zero or NaN one gets any positive size.
+  float cell = 2.0f * max_radius + std::fabs(margin);
   if (!(cell >= std::numeric_limits<float>::min())) cell = std::numeric_limits<float>::min();
-  const float inv_cell = 1.0f / cell;
-  // Odd strides wider than the occupied box plus a neighbour cell (grid_key).
-  const std::uint32_t x_cells = sorted > 0 ? static_cast<std::uint32_t>(cell_coordinate(highest[0], lowest[0], inv_cell)) : 0;
-  const std::uint32_t z_cells = sorted > 0 ? static_cast<std::uint32_t>(cell_coordinate(highest[2], lowest[2], inv_cell)) : 0;
-  stride_z_ = (x_cells + 3) | 1u;
-  stride_y_ = stride_z_ * ((z_cells + 3) | 1u);
+  inv_cell_ = 1.0f / cell;
+  max_radius_ = max_radius;
+  for (int a = 0; a < 3; ++a) {
+    lowest_[a] = lowest[a];
+    top_cell_[a] = grid_cell(highest[a], lowest[a], inv_cell_);
+  }
+  // Odd strides wider than the occupied box (grid_key).
+  stride_z_ = (static_cast<std::uint32_t>(top_cell_[0]) + 2) | 1u;
+  stride_y_ = stride_z_ * ((static_cast<std::uint32_t>(top_cell_[2]) + 2) | 1u);
   const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * sorted, 64));
   mask_ = static_cast<std::uint32_t>(buckets - 1);
   assign_geometric(bucket_start_, buckets + 2, std::uint32_t{0});
 
-  const float* __restrict px = s.px.data();
-  const float* __restrict py = s.py.data();
-  const float* __restrict pz = s.pz.data();
-  std::uint32_t* __restrict bucket_of = bucket_of_.data();
   std::uint32_t* __restrict start = bucket_start_.data();
-  GridCell* __restrict cells = cell_.data();
   for (std::size_t i = 0; i < n; ++i) {
     if (bucket_of[i] == kNoBucket) continue;
-    GridCell& c = cells[i];
-    c.x = cell_coordinate(px[i], lowest[0], inv_cell);
-    c.y = cell_coordinate(py[i], lowest[1], inv_cell);
-    c.z = cell_coordinate(pz[i], lowest[2], inv_cell);
-    c.travel = with_travel_ ? pair_margins.travel[i] : 0.0f;
-    const std::uint32_t b = grid_key(c.x, c.y, c.z, stride_y_, stride_z_) & mask_;
+    const std::int32_t cx = grid_cell(px[i], lowest[0], inv_cell_), cy = grid_cell(py[i], lowest[1], inv_cell_),
+                       cz = grid_cell(pz[i], lowest[2], inv_cell_);
+    const std::uint32_t b = grid_key(cx, cy, cz, stride_y_, stride_z_) & mask_;
     bucket_of[i] = b;
     ++start[b + 2];
   }
@@ -116,7 +113,6 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
   std::uint32_t* __restrict index = index_.data();
   for (std::size_t i = 0; i < n; ++i)
     if (bucket_of[i] != kNoBucket) index[start[bucket_of[i] + 1]++] = static_cast<std::uint32_t>(i);
-  const float* __restrict radius = s.radius.data();
   float* __restrict x = x_.data();
   float* __restrict y = y_.data();
   float* __restrict z = z_.data();
@@ -129,7 +125,7 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
     r[k] = radius[i];
   }
   if (with_travel_)
-    for (std::size_t k = 0; k < sorted; ++k) travel_[k] = cells[index[k]].travel;
+    for (std::size_t k = 0; k < sorted; ++k) travel_[k] = sphere_travel_[index[k]];
   // Padding: far away, zero radius; never reported anyway (lanes past a run are masked).
   for (std::size_t k = sorted; k < sorted + kLanes; ++k) {
     x[k] = y[k] = z[k] = kPaddingPosition;
@@ -140,8 +136,22 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
 }
 
 SphereGridView SphereGrid::view() const {
-  return {x_.data(), y_.data(), z_.data(), radius_.data(), with_travel_ ? travel_.data() : nullptr,
-          index_.data(), bucket_start_.data(), cell_.data(), mask_, stride_y_, stride_z_, travel_factor_};
+  return {x_.data(),
+          y_.data(),
+          z_.data(),
+          radius_.data(),
+          with_travel_ ? travel_.data() : nullptr,
+          index_.data(),
+          bucket_start_.data(),
+          with_travel_ ? sphere_travel_.data() : nullptr,
+          mask_,
+          stride_y_,
+          stride_z_,
+          travel_factor_,
+          {lowest_[0], lowest_[1], lowest_[2]},
+          inv_cell_,
+          max_radius_,
+          {top_cell_[0], top_cell_[1], top_cell_[2]}};
 }
 
 void SphereGrid::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
@@ -158,29 +168,32 @@ void SphereGrid::find_pairs_scalar(const SphereSoA& s, std::size_t first, std::s
   for (std::size_t i = first; i < last; ++i) {
     const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;
     if (!can_pair(xi, yi, zi, ri_margin)) continue;
-    const GridCell c = v.cell[i];
+    const float travel_i = v.travel ? v.sphere_travel[i] : 0.0f;
     row.clear();
     auto scan = [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t k = begin; k < end; ++k) {
         // Brute force's reach, or keep_pairs_within_their_margin's (jobs/step_pipeline.cpp).
         float reach = v.radius[k] + ri_margin;
         if (v.travel) {
-          const float wanted = v.travel_factor * (c.travel + v.travel[k]);
+          const float wanted = v.travel_factor * (travel_i + v.travel[k]);
           reach = v.radius[k] + (ri + std::min(margin, wanted));
         }
         if (v.index[k] > i && spheres_within(v.x[k] - xi, v.y[k] - yi, v.z[k] - zi, reach)) row.push_back(v.index[k]);
       }
     };
-    for (std::int32_t dz = -1; dz <= 1; ++dz)
-      for (std::int32_t dy = -1; dy <= 1; ++dy) {
-        // Cells x - 1, x, x + 1 of this row: buckets b0 .. b0 + 2, split if they wrap.
-        const std::uint32_t b0 = grid_key(c.x - 1, c.y + dy, c.z + dz, v.stride_y, v.stride_z) & v.mask;
-        const std::uint32_t b3 = b0 + 3;
-        if (b3 <= v.mask + 1) {
-          scan(v.bucket_start[b0], v.bucket_start[b3]);
+    const GridWindow g = grid_window(v, xi, yi, zi, ri, ri_margin);
+    const std::uint32_t buckets = v.mask + 1, length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
+    for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
+      for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
+        // Cells lo .. hi of this row along x: consecutive buckets, split where they wrap.
+        const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
+        if (length >= buckets) {
+          scan(v.bucket_start[0], v.bucket_start[buckets]);
+        } else if (b1 <= buckets) {
+          scan(v.bucket_start[b0], v.bucket_start[b1]);
         } else {
-          scan(v.bucket_start[b0], v.bucket_start[v.mask + 1]);
-          scan(v.bucket_start[0], v.bucket_start[b3 - (v.mask + 1)]);
+          scan(v.bucket_start[b0], v.bucket_start[buckets]);
+          scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
         }
       }
     row.resize(sort_unique(row.data(), row.size()));

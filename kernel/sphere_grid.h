@@ -1,29 +1,30 @@
 #pragma once
-// Uniform-grid pair search for many spheres: spheres are counting-sorted into hashed cells a
-// little wider than the largest reach (largest diameter plus margin), and each sphere tests the
-// 27 cells around its own. It returns exactly the pairs of the brute-force search, in the same
-// order (rows i ascending, j ascending within a row), so the choice of pair search never
-// changes a simulation.
+// Uniform-grid pair search for many spheres: spheres are counting-sorted into hashed cells
+// about the largest reach (largest diameter plus margin) wide, and each sphere tests the cells
+// its reach window overlaps: usually 2 x 2 x 2, at most 3 x 3 x 3. It returns exactly the pairs
+// of the brute-force search, in the same order (rows i ascending, j ascending within a row), so
+// the choice of pair search never changes a simulation.
 //
-// Layout, for speed: a cell (x, y, z) goes to bucket grid_key(x, y, z) & mask, so the three
-// cells x - 1, x, x + 1 of one row are three consecutive buckets, one contiguous run of the
-// sorted arrays: a sphere scans 9 runs, not 27 hashed buckets. The build copies centres, radii
-// (and travels) into that sorted order, so a run is read contiguously and tested a batch at a
-// time by the SIMD kernel (kernel/simd/sphere_grid.cpp; find_pairs_scalar is its reference).
+// Layout, for speed: a cell (x, y, z) goes to bucket grid_key(x, y, z) & mask, so the cells of
+// one row along x are consecutive buckets, one contiguous run of the sorted arrays: a sphere
+// scans one run per (y, z) row of its window (4 to 9), not one hashed bucket per cell. The
+// build copies centres, radii (and travels) into that sorted order, so a run is read
+// contiguously and tested a batch at a time by the SIMD kernel (kernel/simd/sphere_grid.cpp;
+// find_pairs_scalar is its reference).
 //
-// Why the cells never lose a pair to rounding: cell coordinates are
-// floor(fl(fl(c - lowest) * fl(1 / cell))), monotone in c, clamped to [0, kMaxCell]. An accepted
-// pair is at most |ri + margin| + |rj| <= (2 max|r| + |margin|)(1 + 2^-23) apart on each axis
-// (kernel/sphere_pair_bounds.h), the cell is that bound times (1 + 2^-8), and below kMaxCell
-// the three roundings move a coordinate by less than 2^-10.4 of a cell: two coordinates of an
-// accepted pair differ by less than 1 - 2^-8 + 2^-9.4 < 1 cells, so their floors by at most 1.
-// Clamping is monotone and does not widen gaps; a sphere clamped to kMaxCell and an unclamped
-// partner stay neighbours by the same bound.
+// Why the window never loses a pair to rounding: on each axis, every partner's centre lies in
+// [fl(ci - W), fl(ci + W)] with W = fl(|q| + max|r|) (kernel/sphere_pair_bounds.h; q = ri +
+// margin, or ri + the pair's margin, which lies between ri and ri + margin), and grid_cell is
+// monotone in the coordinate (fl(c - lowest) and fl(u * inv_cell) are monotone, and so are the
+// truncation and the clamps). So a partner's cell lies between the cells of the window's ends,
+// whatever the cell size: the cell size only trades runs against candidates.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "kernel/simd_namespace.h"
+#include "kernel/sphere_pair_bounds.h"
 #include "kernel/sphere_pairs.h"
 #include "soa/sphere_soa.h"
 
@@ -40,12 +41,6 @@ struct PairMargins {
   float factor = 0.0f;
 };
 
-/// Cell of one sphere (build's coordinates) and its travel (PairMargins), per dense slot.
-struct GridCell {
-  std::int32_t x, y, z;
-  float travel;
-};
-
 /// A built SphereGrid as plain arrays: what the search kernels read. The sorted arrays are
 /// followed by kSimdPadding inert slots, so a run's last batch may read past it.
 struct SphereGridView {
@@ -53,13 +48,27 @@ struct SphereGridView {
   const float* travel;                ///< sorted slots; null without pair margins
   const std::uint32_t* index;         ///< sphere index of each sorted slot
   const std::uint32_t* bucket_start;  ///< bucket b holds sorted slots [bucket_start[b], bucket_start[b + 1]), mask + 2 entries
-  const GridCell* cell;               ///< per sphere (dense slot)
+  const float* sphere_travel;         ///< per sphere (dense slot); null without pair margins
   std::uint32_t mask;
   std::uint32_t stride_y, stride_z;   ///< grid_key's
   float travel_factor;                ///< PairMargins::factor (with travel)
+  float lowest[3];                    ///< lowest centre on each axis (grid_cell's)
+  float inv_cell;
+  float max_radius;                   ///< largest |radius| of the sorted spheres
+  std::int32_t top_cell[3];           ///< highest cell coordinate of any sphere on each axis
 };
 
 inline namespace HAIL_SIMD_NS {
+/// Cell coordinate of c on an axis whose lowest centre is `lowest`: fl(fl(c - lowest) *
+/// inv_cell) truncated, clamped to [0, kMaxCell] (NaN, from an infinite offset times a zero
+/// inverse, goes to 0). Monotone in c; build and kernels must use exactly this.
+[[nodiscard]] inline std::int32_t grid_cell(float c, float lowest, float inv_cell) {
+  constexpr std::int32_t kMaxCell = 1 << 15;
+  const float u = (c - lowest) * inv_cell;
+  if (!(u > 0.0f)) return 0;
+  return u < static_cast<float>(kMaxCell) ? static_cast<std::int32_t>(u) : kMaxCell;
+}
+
 /// The key of cell (x, y, z), modulo the bucket count: x + stride_z z + stride_y y. Spatially
 /// coherent (a sphere's neighbour cells, and those of the next sphere in Morton order, lie
 /// close in the sorted arrays), and with no collisions at all while the box of occupied cells
@@ -68,6 +77,25 @@ inline namespace HAIL_SIMD_NS {
 [[nodiscard]] inline std::uint32_t grid_key(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t stride_y,
                                             std::uint32_t stride_z) {
   return static_cast<std::uint32_t>(x) + stride_z * static_cast<std::uint32_t>(z) + stride_y * static_cast<std::uint32_t>(y);
+}
+
+/// The cells, on each axis [lo, hi], that hold every partner of sphere i (the top of this
+/// file): the cells of its window's ends, the top clamped to the highest occupied cell.
+struct GridWindow {
+  std::int32_t lo[3], hi[3];
+};
+[[nodiscard]] inline GridWindow grid_window(const SphereGridView& v, float xi, float yi, float zi, float ri,
+                                            float ri_margin) {
+  const float q = std::fabs(ri) > std::fabs(ri_margin) ? std::fabs(ri) : std::fabs(ri_margin);
+  const float w = axis_reach_bound(q, v.max_radius);
+  const float c[3] = {xi, yi, zi};
+  GridWindow g;
+  for (int a = 0; a < 3; ++a) {
+    g.lo[a] = grid_cell(c[a] - w, v.lowest[a], v.inv_cell);
+    const std::int32_t hi = grid_cell(c[a] + w, v.lowest[a], v.inv_cell);
+    g.hi[a] = hi < v.top_cell[a] ? hi : v.top_cell[a];
+  }
+  return g;
 }
 }  // namespace HAIL_SIMD_NS
 
@@ -87,15 +115,15 @@ class SphereGrid {
   /// The sorted arrays, for the SIMD kernels.
   [[nodiscard]] SphereGridView view() const;
 
-  /// Cells per axis above the lowest sphere before coordinates clamp (see the top of the file).
-  static constexpr std::int32_t kMaxCell = 4096;
-
  private:
   std::uint32_t mask_ = 0;
   std::uint32_t stride_y_ = 0, stride_z_ = 0;
+  float lowest_[3] = {0, 0, 0};
+  float inv_cell_ = 1.0f, max_radius_ = 0.0f;
+  std::int32_t top_cell_[3] = {0, 0, 0};
   bool with_travel_ = false;
   float travel_factor_ = 0.0f;
-  std::vector<GridCell> cell_;               // per sphere
+  std::vector<float> sphere_travel_;         // per sphere, with pair margins
   std::vector<std::uint32_t> bucket_of_;     // per sphere, build scratch (kNoBucket: left out)
   std::vector<std::uint32_t> bucket_start_;  // mask + 3 entries (the last is build's scratch)
   // Spheres in bucket order (index ascending within a bucket), SoA, each array followed by

@@ -1,5 +1,5 @@
-// SphereGrid::find_pairs (kernel/sphere_grid.h): per sphere, the 9 contiguous runs of sorted
-// spheres in the cells around it, tested a batch at a time with the brute-force predicate in
+// SphereGrid::find_pairs (kernel/sphere_grid.h): per sphere, the contiguous runs of sorted
+// spheres in the cells its window overlaps (one per row of cells along x), tested a batch at a time with the brute-force predicate in
 // its float operations (or, with pair margins, keep_pairs_within_their_margin's). Compiled
 // once per SIMD path (kernel/simd_arch.h); the scalar reference is SphereGrid::find_pairs_scalar.
 
@@ -32,28 +32,12 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
   for (std::size_t i = first; i < last; ++i) {
     const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;  // brute force's order
     if (!can_pair(xi, yi, zi, ri_margin)) continue;
-    const GridCell c = v.cell[i];
     const std::uint32_t i32 = static_cast<std::uint32_t>(i);
-    // The 9 runs (cells x - 1 .. x + 1 of each row: buckets b0 .. b0 + 2), a wrapping one split.
-    std::uint32_t run_begin[10], run_end[10], runs = 0;
-    for (std::int32_t dz = -1; dz <= 1; ++dz)
-      for (std::int32_t dy = -1; dy <= 1; ++dy) {
-        const std::uint32_t b0 = grid_key(c.x - 1, c.y + dy, c.z + dz, v.stride_y, v.stride_z) & v.mask;
-        const std::uint32_t b3 = b0 + 3;
-        run_begin[runs] = v.bucket_start[b0];
-        if (b3 <= buckets) {
-          run_end[runs++] = v.bucket_start[b3];
-        } else {
-          run_end[runs++] = v.bucket_start[buckets];
-          run_begin[runs] = v.bucket_start[0];
-          run_end[runs++] = v.bucket_start[b3 - buckets];
-        }
-      }
-    const batch bx(xi), by(yi), bz(zi), b_ri(ri), b_ri_margin(ri_margin), travel_i(c.travel);
+    const batch bx(xi), by(yi), bz(zi), b_ri(ri), b_ri_margin(ri_margin);
+    const batch travel_i(kPairMargins ? v.sphere_travel[i] : 0.0f);
     std::size_t count = 0;
-    for (std::uint32_t r = 0; r < runs; ++r) {
-      const std::uint32_t end = run_end[r];
-      for (std::uint32_t k0 = run_begin[r]; k0 < end; k0 += W) {
+    auto scan = [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k0 = begin; k0 < end; k0 += W) {
         const batch dx = batch::load_unaligned(v.x + k0) - bx;
         const batch dy = batch::load_unaligned(v.y + k0) - by;
         const batch dz = batch::load_unaligned(v.z + k0) - bz;
@@ -71,13 +55,29 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
         std::uint32_t lanes = lane_bits(d2 < reach * reach);
         if (end - k0 < W) lanes &= (1u << (end - k0)) - 1u;  // lanes past the run
         for (; lanes != 0; lanes &= lanes - 1) {
+          // Branch-free: the slot is written anyway and kept only for j > i.
           const std::uint32_t j = v.index[k0 + lowest_lane(lanes)];
-          if (j <= i32) continue;
+          found[count] = j;
+          count += j > i32;
           if (count == kBuffer) append_slots(row, found, count), count = 0;
-          found[count++] = j;
         }
       }
-    }
+    };
+    const GridWindow g = grid_window(v, xi, yi, zi, ri, ri_margin);
+    const std::uint32_t length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
+    for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
+      for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
+        // Cells lo .. hi of this row along x: consecutive buckets, split where they wrap.
+        const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
+        if (length >= buckets) {
+          scan(v.bucket_start[0], v.bucket_start[buckets]);
+        } else if (b1 <= buckets) {
+          scan(v.bucket_start[b0], v.bucket_start[b1]);
+        } else {
+          scan(v.bucket_start[b0], v.bucket_start[buckets]);
+          scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
+        }
+      }
     if (count == 0 && row.empty()) continue;
     if (!row.empty()) {  // a long row: sorted in base code
       append_slots(row, found, count);
