@@ -1,13 +1,13 @@
 #pragma once
 // Uniform-grid pair search for many spheres: spheres are counting-sorted into hashed cells
-// about the largest reach (largest diameter plus margin) wide, and each sphere tests the cells
-// its reach window overlaps: usually 2 x 2 x 2, at most 3 x 3 x 3. It returns exactly the pairs
+// twice the largest reach (largest diameter plus margin) wide, and each sphere tests the cells
+// its reach window overlaps: usually 2 x 2 x 2. It returns exactly the pairs
 // of the brute-force search, in the same order (rows i ascending, j ascending within a row), so
 // the choice of pair search never changes a simulation.
 //
 // Layout, for speed: a cell (x, y, z) goes to bucket grid_key(x, y, z) & mask, so the cells of
 // one row along x are consecutive buckets, one contiguous run of the sorted arrays: a sphere
-// scans one run per (y, z) row of its window (4 to 9), not one hashed bucket per cell. The
+// scans one run per (y, z) row of its window (usually 4), not one hashed bucket per cell. The
 // build copies centres, radii (and travels) into that sorted order, so a run is read
 // contiguously and tested a batch at a time by the SIMD kernel (kernel/simd/sphere_grid.cpp;
 // find_pairs_scalar is its reference).

@@ -311,3 +311,27 @@ TEST_CASE("The grid with per-pair margins returns brute force's pairs after the 
     CHECK(in_blocks(s, s.size() + 1, simd) == reference);
   }
 }
+
+TEST_CASE("The grid agrees with brute force at the extremes of its cell size", "[pairs][broadphase]") {
+  // An infinite radius makes the cell infinite (every sphere in cell 0, every pair with that
+  // sphere accepted); zero radii and margin make it the smallest float (coordinates clamp).
+  for (const float special : {std::numeric_limits<float>::infinity(), 0.0f}) {
+    SphereSoA s = make_cloud(Cloud::EqualRadii, 300, 0.0f, 5);
+    if (special == 0.0f)
+      for (std::size_t i = 0; i < s.size(); ++i) s.radius[i] = 0.0f;
+    else
+      s.radius[7] = special;
+    const float margin = 0.0f;
+    std::vector<SpherePair> reference;
+    hail::find_sphere_pairs_scalar(s, 0, s.size(), margin, reference);
+    INFO("special radius " << special << ": " << reference.size() << " pairs");
+    hail::SphereGrid grid;
+    grid.build(s, margin);
+    std::vector<SpherePair> scalar, simd;
+    std::vector<std::uint32_t> row;
+    grid.find_pairs_scalar(s, 0, s.size(), margin, scalar, row);
+    grid.find_pairs(s, 0, s.size(), margin, simd, row);
+    CHECK(scalar == reference);
+    CHECK(simd == reference);
+  }
+}
