@@ -22,7 +22,10 @@ template <bool kPairMargins>
 void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, std::size_t last, float margin,
                std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
   using batch = xsimd::batch<float, simd_arch>;
+  // Slots compared as int32: a World's slots are far below 2^31 (SpherePair holds uint32).
+  using ibatch = xsimd::batch<std::int32_t, simd_arch>;
   constexpr std::uint32_t W = batch::size;
+  static_assert(ibatch::size == W);
   std::uint32_t found[kBuffer];
   constexpr std::size_t kPairBuffer = 256;
   SpherePair pairs[kPairBuffer];
@@ -35,6 +38,7 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
     const std::uint32_t i32 = static_cast<std::uint32_t>(i);
     const batch bx(xi), by(yi), bz(zi), b_ri(ri), b_ri_margin(ri_margin);
     const batch travel_i(kPairMargins ? v.sphere_travel[i] : 0.0f);
+    const ibatch bi(static_cast<std::int32_t>(i));
     std::size_t count = 0;
     auto scan = [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t k0 = begin; k0 < end; k0 += W) {
@@ -52,13 +56,12 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
           reach = rj + b_ri_margin;
         }
         const batch d2 = dx * dx + dy * dy + dz * dz;
-        std::uint32_t lanes = lane_bits(d2 < reach * reach);
+        // Partners j > i only: about half the lanes within reach are j < i (and i itself).
+        const ibatch j = ibatch::load_unaligned(reinterpret_cast<const std::int32_t*>(v.index + k0));
+        std::uint32_t lanes = lane_bits((d2 < reach * reach) && xsimd::bool_cast(j > bi));
         if (end - k0 < W) lanes &= (1u << (end - k0)) - 1u;  // lanes past the run
         for (; lanes != 0; lanes &= lanes - 1) {
-          // Branch-free: the slot is written anyway and kept only for j > i.
-          const std::uint32_t j = v.index[k0 + lowest_lane(lanes)];
-          found[count] = j;
-          count += j > i32;
+          found[count++] = v.index[k0 + lowest_lane(lanes)];
           if (count == kBuffer) append_slots(row, found, count), count = 0;
         }
       }
