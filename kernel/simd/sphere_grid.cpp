@@ -1,7 +1,8 @@
 // SphereGrid::find_pairs (kernel/sphere_grid.h): per sphere, the contiguous runs of sorted
-// spheres in the cells its window overlaps (one per row of cells along x), tested a batch at a time with the brute-force predicate in
-// its float operations (or, with pair margins, keep_pairs_within_their_margin's). Compiled
-// once per SIMD path (kernel/simd_arch.h); the scalar reference is SphereGrid::find_pairs_scalar.
+// spheres in the cells its reach window overlaps (one run per row of cells along x), tested a
+// batch at a time with the brute-force predicate in its float operations (or, with pair
+// margins, keep_pairs_within_their_margin's). Compiled once per SIMD path (kernel/simd_arch.h);
+// the scalar reference is SphereGrid::find_pairs_scalar.
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
