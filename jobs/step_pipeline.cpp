@@ -188,7 +188,9 @@ struct StepPipeline {
     if (search == PairSearch::Automatic)
       search = automatic_pair_search(n, min_radius, max_radius, w.settings_.reorder_interval > 0);
     w.stats_.pair_search = search;
-    if (search == PairSearch::Grid) w.grid_.build(s, margin);
+    // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
+    const PairMargins own_margins = pair_margins ? PairMargins{w.travel_.data(), w.settings_.pair_margin_travel} : PairMargins{};
+    if (search == PairSearch::Grid) w.grid_.build(s, margin, own_margins);
     if (search == PairSearch::SweepAndPrune) w.sweep_.build(s, margin);
     if (search == PairSearch::Bvh) w.sphere_bvh_.build(s, margin);
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
@@ -202,7 +204,7 @@ struct StepPipeline {
         default: find_sphere_pairs_simd(s, first, last, margin, out); break;
       }
       if (!w.fast_.empty()) drop_fast_speculative_pairs(out);
-      if (pair_margins) keep_pairs_within_their_margin(out, margin);
+      if (pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
     });
   }
 

@@ -12,6 +12,7 @@
 // base copies by the linker (the trap kernel/simd_arch.h describes).
 //
 // The scalar references stay beside the kernels' callers (find_sphere_pairs_scalar,
+// SphereGrid::find_pairs_scalar,
 // solve_*_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere), and
 // tests/test_simd_dispatch.cpp compares every path with them.
 
@@ -33,6 +34,7 @@ struct PathBox;
 struct SolverBody;
 struct SpherePair;
 struct SphereSweepView;
+struct SphereGridView;
 struct ContactBatchArrays;
 
 /// Where a kernel hands a run of sphere slots: fn(context, slots, count), in slot order.
@@ -67,6 +69,9 @@ struct SimdKernels {
   /// SphereSweep::find_pairs (kernel/sphere_sweep.h); `row` comes in empty and leaves empty.
   void (*sweep_find_pairs)(const SphereSweepView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
                            float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
+  /// SphereGrid::find_pairs (kernel/sphere_grid.h); `row` comes in empty and leaves empty.
+  void (*grid_find_pairs)(const SphereGridView& grid, const SphereSoA& spheres, std::size_t first, std::size_t last,
+                          float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
   /// ContactBatches::solve_collision, warm_start, solve_resting (kernel/contact_solve_simd.h);
   /// `bodies` holds body_count bodies, the last of them the static one.
   bool (*contact_collision)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
@@ -108,5 +113,7 @@ void append_slots(std::vector<std::uint32_t>& out, const std::uint32_t* slots, s
 void append_contacts(std::vector<Contact>& out, const Contact* contacts, std::size_t count);
 /// Sorts `row` (partner slots of sphere i), appends the pairs (i, j) in that order, empties it.
 void append_sorted_row(std::uint32_t i, std::vector<std::uint32_t>& row, std::vector<SpherePair>& out);
+/// The same for rows that may hold a partner twice (SphereGrid): sorted, repeats dropped.
+void append_sorted_unique_row(std::uint32_t i, std::vector<std::uint32_t>& row, std::vector<SpherePair>& out);
 
 }  // namespace hail

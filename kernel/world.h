@@ -59,7 +59,7 @@ namespace hail {
 enum class PairSearch {
   Automatic,      ///< by sphere count and radius spread, from measured crossovers (README)
   BruteForce,     ///< SIMD all-pairs: O(n^2), fastest for small n
-  Grid,           ///< hashed uniform grid of the largest diameter: O(n) for similar radii
+  Grid,           ///< hashed uniform grid sized by the largest reach (diameter + margin): O(n) for similar radii
   SweepAndPrune,  ///< sort along the axis of greatest spread, per radius class
   Bvh,            ///< per-step BVH over the spheres (the terrain's builder and flat walk)
 };

@@ -18,13 +18,15 @@
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/sphere_sweep.h"
+#include "kernel/simd_kernels.h"
+#include "simd_paths.h"
 
 namespace {
 
 using hail::SpherePair;
 using hail::SphereSoA;
 
-enum class Cloud { EqualRadii, MixedWithGiants, Coincident, FlatLayer, KnifeEdge };
+enum class Cloud { EqualRadii, MixedWithGiants, Coincident, FlatLayer, KnifeEdge, Sprawling };
 
 const char* name_of(Cloud c) {
   switch (c) {
@@ -33,6 +35,7 @@ const char* name_of(Cloud c) {
     case Cloud::Coincident: return "coincident";
     case Cloud::FlatLayer: return "flat layer";
     case Cloud::KnifeEdge: return "knife edge";
+    case Cloud::Sprawling: return "sprawling";
   }
   return "?";
 }
@@ -86,6 +89,14 @@ SphereSoA make_cloud(Cloud kind, std::size_t n, float margin, std::uint32_t seed
         if (k + 1 < n) add(s, p[0], p[1], p[2], rb);
         break;
       }
+      case Cloud::Sprawling: {
+        // Clusters of four 1,000 apart along a diagonal, far from the origin: hundreds of
+        // thousands of cells per axis, past where the grid clamps its coordinates
+        // (SphereGrid::kMaxCell), with pairs at coarse coordinates.
+        const float base = 5.0e4f + 1000.0f * static_cast<float>(k / 4);
+        add(s, base + unit(rng), base + 0.5f * unit(rng), -base + unit(rng), 0.3f + 0.3f * unit(rng));
+        break;
+      }
     }
   }
   return s;
@@ -111,6 +122,7 @@ void check_all_searches_agree(const SphereSoA& s, float margin, const std::vecto
   std::vector<std::uint32_t> row;
   auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { hail::find_sphere_pairs_simd(s, a, b, margin, out); };
   auto by_grid = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs(s, a, b, margin, out, row); };
+  auto by_grid_scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs_scalar(s, a, b, margin, out, row); };
   auto by_sweep = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { sweep.find_pairs(s, a, b, margin, out, row); };
   auto by_bvh = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { bvh.find_pairs(s, a, b, margin, out, row); };
   for (const std::size_t block : {s.size() + 1, std::size_t{64}}) {
@@ -118,6 +130,7 @@ void check_all_searches_agree(const SphereSoA& s, float margin, const std::vecto
                               << " radius classes)");
     CHECK(in_blocks(s, block, simd) == reference);
     CHECK(in_blocks(s, block, by_grid) == reference);
+    CHECK(in_blocks(s, block, by_grid_scalar) == reference);
     CHECK(in_blocks(s, block, by_sweep) == reference);
     CHECK(in_blocks(s, block, by_bvh) == reference);
   }
@@ -127,7 +140,7 @@ void check_all_searches_agree(const SphereSoA& s, float margin, const std::vecto
 
 TEST_CASE("Every pair search returns exactly the brute-force pairs, in order", "[pairs][broadphase]") {
   const Cloud kind = GENERATE(Cloud::EqualRadii, Cloud::MixedWithGiants, Cloud::Coincident, Cloud::FlatLayer,
-                              Cloud::KnifeEdge);
+                              Cloud::KnifeEdge, Cloud::Sprawling);
   const std::size_t n = GENERATE(1, 2, 17, 500, 3000);
   const float margin = GENERATE(0.0f, 0.3f);
   const SphereSoA s = make_cloud(kind, n, margin, static_cast<std::uint32_t>(n * 7 + static_cast<int>(kind)));
@@ -235,8 +248,10 @@ TEST_CASE("Pair searches give the same pairs when row blocks run in parallel", "
   const SphereSoA s = make_cloud(Cloud::MixedWithGiants, 3000, 0.3f, 42);
   std::vector<SpherePair> reference;
   hail::find_sphere_pairs_scalar(s, 0, s.size(), 0.3f, reference);
+  hail::SphereGrid grid;
   hail::SphereSweep sweep;
   hail::SphereBvhPairs bvh;
+  grid.build(s, 0.3f);
   sweep.build(s, 0.3f);
   bvh.build(s, 0.3f);
   constexpr std::size_t kBlock = 64;
@@ -252,6 +267,71 @@ TEST_CASE("Pair searches give the same pairs when row blocks run in parallel", "
     for (const auto& part : out) merged.insert(merged.end(), part.begin(), part.end());
     return merged;
   };
+  CHECK(parallel(grid) == reference);
   CHECK(parallel(sweep) == reference);
   CHECK(parallel(bvh) == reference);
+}
+
+TEST_CASE("The grid with per-pair margins returns brute force's pairs after the per-pair filter", "[pairs][broadphase]") {
+  // The filter of jobs/step_pipeline.cpp (keep_pairs_within_their_margin), applied here to
+  // brute force's pairs; the grid applies it inside the search, scalar and on every SIMD path.
+  const Cloud kind = GENERATE(Cloud::EqualRadii, Cloud::MixedWithGiants, Cloud::KnifeEdge, Cloud::Sprawling);
+  const float margin = 0.3f, factor = GENERATE(0.0f, 0.5f, 2.0f);
+  const SphereSoA s = make_cloud(kind, 2000, margin, 11 + static_cast<std::uint32_t>(kind));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> travel(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    // At rest, slow, fast (beyond the step's margin), and a NaN (the step's margin).
+    const std::uint32_t pick = rng() % 8;
+    travel[i] = pick == 0 ? 0.0f : pick == 7 ? 1.0f : pick == 6 && i % 5 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                                                              : 0.1f * unit(rng);
+  }
+  std::vector<SpherePair> reference;
+  hail::find_sphere_pairs_scalar(s, 0, s.size(), margin, reference);
+  const std::size_t unfiltered = reference.size();
+  std::erase_if(reference, [&](const SpherePair& p) {
+    const float pair_margin = std::min(margin, factor * (travel[p.a] + travel[p.b]));
+    const float reach = s.radius[p.b] + (s.radius[p.a] + pair_margin);
+    return !hail::spheres_within(s.px[p.b] - s.px[p.a], s.py[p.b] - s.py[p.a], s.pz[p.b] - s.pz[p.a], reach);
+  });
+  INFO(name_of(kind) << ", factor " << factor << ": " << reference.size() << " of " << unfiltered << " pairs kept");
+  CHECK(reference.size() > 0);
+  if (factor < 2.0f) CHECK(reference.size() < unfiltered);
+  hail::SphereGrid grid;
+  grid.build(s, margin, {travel.data(), factor});
+  std::vector<std::uint32_t> row;
+  auto scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs_scalar(s, a, b, margin, out, row); };
+  CHECK(in_blocks(s, 64, scalar) == reference);
+  for (const hail::SimdPath path : hail::testing::supported_paths()) {
+    INFO("path " << hail::simd_path_name(path));
+    const hail::SimdKernels& k = hail::simd_kernels(path);
+    auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { k.grid_find_pairs(grid.view(), s, a, b, margin, out, row); };
+    CHECK(in_blocks(s, 64, simd) == reference);
+    CHECK(in_blocks(s, s.size() + 1, simd) == reference);
+  }
+}
+
+TEST_CASE("The grid agrees with brute force at the extremes of its cell size", "[pairs][broadphase]") {
+  // An infinite radius makes the cell infinite (every sphere in cell 0, every pair with that
+  // sphere accepted); zero radii and margin make it the smallest float (coordinates clamp).
+  for (const float special : {std::numeric_limits<float>::infinity(), 0.0f}) {
+    SphereSoA s = make_cloud(Cloud::EqualRadii, 300, 0.0f, 5);
+    if (special == 0.0f)
+      for (std::size_t i = 0; i < s.size(); ++i) s.radius[i] = 0.0f;
+    else
+      s.radius[7] = special;
+    const float margin = 0.0f;
+    std::vector<SpherePair> reference;
+    hail::find_sphere_pairs_scalar(s, 0, s.size(), margin, reference);
+    INFO("special radius " << special << ": " << reference.size() << " pairs");
+    hail::SphereGrid grid;
+    grid.build(s, margin);
+    std::vector<SpherePair> scalar, simd;
+    std::vector<std::uint32_t> row;
+    grid.find_pairs_scalar(s, 0, s.size(), margin, scalar, row);
+    grid.find_pairs(s, 0, s.size(), margin, simd, row);
+    CHECK(scalar == reference);
+    CHECK(simd == reference);
+  }
 }

@@ -19,6 +19,7 @@
 #include "kernel/path_box_scan.h"
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_pairs.h"
+#include "kernel/sphere_grid.h"
 #include "kernel/sphere_sweep.h"
 #include "kernel/terrain.h"
 #include "kernel/world.h"
@@ -120,6 +121,12 @@ TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference"
     find_sphere_pairs_scalar(s, 0, n, margin, reference);
     SphereSweep sweep;
     sweep.build(s, margin);
+    SphereGrid grid;
+    grid.build(s, margin);
+    std::vector<SpherePair> grid_scalar;
+    std::vector<std::uint32_t> scratch;
+    grid.find_pairs_scalar(s, 0, n, margin, grid_scalar, scratch);
+    CHECK(grid_scalar == reference);
     for (SimdPath p : supported_paths()) {
       INFO(n << " spheres, path " << simd_path_name(p));
       const SimdKernels& k = simd_kernels(p);
@@ -133,6 +140,11 @@ TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference"
       k.sweep_find_pairs(sweep.view(), s, 0, mid, margin, swept, row);
       k.sweep_find_pairs(sweep.view(), s, mid, n, margin, swept, row);
       CHECK(swept == reference);
+      CHECK(row.empty());
+      std::vector<SpherePair> gridded;
+      k.grid_find_pairs(grid.view(), s, 0, mid, margin, gridded, row);
+      k.grid_find_pairs(grid.view(), s, mid, n, margin, gridded, row);
+      CHECK(gridded == reference);
       CHECK(row.empty());
     }
   }

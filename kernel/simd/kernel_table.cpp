@@ -21,6 +21,7 @@ constexpr SimdKernels kTable{
     .width = xsimd::batch<float, simd_arch>::size,
     .find_sphere_pairs = &HAIL_SIMD_NS::find_sphere_pairs,
     .sweep_find_pairs = &HAIL_SIMD_NS::sweep_find_pairs,
+    .grid_find_pairs = &HAIL_SIMD_NS::grid_find_pairs,
     .contact_collision = &HAIL_SIMD_NS::contact_collision,
     .contact_warm_start = &HAIL_SIMD_NS::contact_warm_start,
     .contact_resting = &HAIL_SIMD_NS::contact_resting,

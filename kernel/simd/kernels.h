@@ -18,6 +18,8 @@ void find_sphere_pairs(const SphereSoA& spheres, std::size_t first, std::size_t 
                        std::vector<SpherePair>& out);
 void sweep_find_pairs(const SphereSweepView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
                       float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
+void grid_find_pairs(const SphereGridView& grid, const SphereSoA& spheres, std::size_t first, std::size_t last,
+                     float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
                        FrictionWork work);

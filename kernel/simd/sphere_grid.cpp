@@ -1,0 +1,121 @@
+// SphereGrid::find_pairs (kernel/sphere_grid.h): per sphere, the contiguous runs of sorted
+// spheres in the cells its reach window overlaps (one run per row of cells along x), tested a
+// batch at a time with the brute-force predicate in its float operations (or, with pair
+// margins, keep_pairs_within_their_margin's). Compiled once per SIMD path (kernel/simd_arch.h);
+// the scalar reference is SphereGrid::find_pairs_scalar.
+
+#include "kernel/simd_arch.h"  // first: the path's namespace
+
+#include "kernel/simd/kernels.h"
+#include "kernel/sphere_grid.h"
+#include "kernel/sphere_pair_bounds.h"
+#include "kernel/sphere_pairs.h"
+
+namespace hail {
+inline namespace HAIL_SIMD_NS {
+namespace {
+
+// Partners of one row, collected before they are sorted; a row that overflows it goes through
+// the caller's `row` vector (base code, kernel/simd_kernels.h).
+constexpr std::size_t kBuffer = 128;
+
+template <bool kPairMargins>
+void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, std::size_t last, float margin,
+               std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
+  using batch = xsimd::batch<float, simd_arch>;
+  // Slots compared as int32: a World's slots are far below 2^31 (SpherePair holds uint32).
+  using ibatch = xsimd::batch<std::int32_t, simd_arch>;
+  constexpr std::uint32_t W = batch::size;
+  static_assert(ibatch::size == W);
+  std::uint32_t found[kBuffer];
+  constexpr std::size_t kPairBuffer = 256;
+  SpherePair pairs[kPairBuffer];
+  std::size_t pair_count = 0;
+  const std::uint32_t buckets = v.mask + 1;
+  const batch factor(v.travel_factor), b_margin(margin);
+  for (std::size_t i = first; i < last; ++i) {
+    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;  // brute force's order
+    if (!can_pair(xi, yi, zi, ri_margin)) continue;
+    const std::uint32_t i32 = static_cast<std::uint32_t>(i);
+    const batch bx(xi), by(yi), bz(zi), b_ri(ri), b_ri_margin(ri_margin);
+    const batch travel_i(kPairMargins ? v.sphere_travel[i] : 0.0f);
+    const ibatch bi(static_cast<std::int32_t>(i));
+    std::size_t count = 0;
+    auto scan = [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k0 = begin; k0 < end; k0 += W) {
+        const batch dx = batch::load_unaligned(v.x + k0) - bx;
+        const batch dy = batch::load_unaligned(v.y + k0) - by;
+        const batch dz = batch::load_unaligned(v.z + k0) - bz;
+        const batch rj = batch::load_unaligned(v.radius + k0);
+        batch reach;
+        if constexpr (kPairMargins) {
+          // keep_pairs_within_their_margin's reach; std::min(margin, wanted) is
+          // wanted < margin ? wanted : margin (NaN: margin).
+          const batch wanted = factor * (travel_i + batch::load_unaligned(v.travel + k0));
+          reach = rj + (b_ri + xsimd::select(wanted < b_margin, wanted, b_margin));
+        } else {
+          reach = rj + b_ri_margin;
+        }
+        const batch d2 = dx * dx + dy * dy + dz * dz;
+        // Partners j > i only: about half the lanes within reach are j < i (and i itself).
+        const ibatch j = ibatch::load_unaligned(reinterpret_cast<const std::int32_t*>(v.index + k0));
+        std::uint32_t lanes = lane_bits((d2 < reach * reach) && xsimd::bool_cast(j > bi));
+        if (end - k0 < W) lanes &= (1u << (end - k0)) - 1u;  // lanes past the run
+        for (; lanes != 0; lanes &= lanes - 1) {
+          found[count++] = v.index[k0 + lowest_lane(lanes)];
+          if (count == kBuffer) append_slots(row, found, count), count = 0;
+        }
+      }
+    };
+    const GridWindow g = grid_window(v, xi, yi, zi, ri, ri_margin);
+    const std::uint32_t length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
+    for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
+      for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
+        // Cells lo .. hi of this row along x: consecutive buckets, split where they wrap.
+        const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
+        if (length >= buckets) {
+          scan(v.bucket_start[0], v.bucket_start[buckets]);
+        } else if (b1 <= buckets) {
+          scan(v.bucket_start[b0], v.bucket_start[b1]);
+        } else {
+          scan(v.bucket_start[b0], v.bucket_start[buckets]);
+          scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
+        }
+      }
+    if (count == 0 && row.empty()) continue;
+    if (!row.empty()) {  // a long row: sorted in base code
+      append_slots(row, found, count);
+      if (pair_count > 0) append_pairs(out, pairs, pair_count), pair_count = 0;
+      append_sorted_unique_row(i32, row, out);
+      continue;
+    }
+    // Insertion sort without repeats (two runs may share buckets); rows are short.
+    std::size_t kept = 0;
+    for (std::size_t a = 0; a < count; ++a) {
+      const std::uint32_t j = found[a];
+      std::size_t at = kept;
+      while (at > 0 && found[at - 1] > j) --at;
+      if (at > 0 && found[at - 1] == j) continue;
+      for (std::size_t b = kept; b > at; --b) found[b] = found[b - 1];
+      found[at] = j;
+      ++kept;
+    }
+    if (pair_count + kept > kPairBuffer) append_pairs(out, pairs, pair_count), pair_count = 0;
+    for (std::size_t a = 0; a < kept; ++a) pairs[pair_count++] = {i32, found[a]};
+  }
+  if (pair_count > 0) append_pairs(out, pairs, pair_count);
+}
+
+}  // namespace
+
+void grid_find_pairs(const SphereGridView& v, const SphereSoA& s, std::size_t first, std::size_t last, float margin,
+                     std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
+  static_assert(kSimdPadding >= xsimd::batch<float, simd_arch>::size, "the grid's padding must cover the widest batch");
+  if (v.travel)
+    find_rows<true>(v, s, first, last, margin, out, row);
+  else
+    find_rows<false>(v, s, first, last, margin, out, row);
+}
+
+}  // namespace HAIL_SIMD_NS
+}  // namespace hail
