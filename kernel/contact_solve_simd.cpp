@@ -1,5 +1,7 @@
 #include "kernel/contact_solve_simd.h"
 
+#include "soa/grow.h"
+
 #include <cstddef>
 
 #include "kernel/contact_impulse.h"
@@ -80,7 +82,8 @@ ContactBatchArrays ContactBatches::arrays() {
           a_.data(), b_.data(),
           nx_.data(), ny_.data(), nz_.data(), gap_.data(), restitution_.data(), friction_.data(),
           ra_.data(), rb_.data(),
-          normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data(), bounce_impulse_.data()};
+          normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data(), bounce_impulse_.data(),
+          static_b_.data()};
 }
 
 void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours) {
@@ -99,6 +102,7 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size
   }
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
+  if (static_b_.size() < first_contact_.size()) resize_geometric(static_b_, first_contact_.size());
   for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_,
                   &normal_impulse_, &tx_, &ty_, &tz_, &bounce_impulse_})
     v->resize(lanes);
@@ -108,12 +112,14 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
                           std::span<const SolverBody> bodies) {
   const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
   const std::size_t W = width_;
-  for (std::size_t k = first; k < last; ++k)
+  for (std::size_t k = first; k < last; ++k) {
+    bool all_static = true;
     for (std::size_t l = 0; l < W; ++l) {
       const Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
       const SolverBody& a = bodies[c.a];
       const bool has_b = c.b != kStaticBody;
+      all_static = all_static && !has_b;
       a_[i] = static_cast<std::int32_t>(c.a);
       b_[i] = has_b ? static_cast<std::int32_t>(c.b) : static_slot;
       // Inverse masses and inertias come with the velocities from the bodies in each pass (the
@@ -125,6 +131,8 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
       bounce_impulse_[i] = c.bounce_impulse;
     }
+    static_b_[k] = all_static ? 1 : 0;
+  }
 }
 
 void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,

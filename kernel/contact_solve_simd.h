@@ -43,6 +43,10 @@ struct ContactBatchArrays {
   const float *ra, *rb;  ///< radii (rb 0 for static contacts)
   float *normal_impulse, *tx, *ty, *tz;
   float* bounce_impulse;  ///< the collision passes' normal impulses, summed (Contact::bounce_impulse)
+  /// Per batch: 1 when every lane's b is the static body. Such a batch (terrain and plane
+  /// contacts come first in each colour, so most of them fill whole batches) loads and stores
+  /// only its a side: b's velocity and inverse mass are zero, as the static body's are.
+  const std::uint8_t* static_b;
 };
 
 class ContactBatches {
@@ -92,6 +96,7 @@ class ContactBatches {
   std::vector<std::size_t> colour_batches_, tail_begin_;
   std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact
   AlignedArray<std::int32_t> a_, b_;          // body slots (b: the static body for static contacts)
+  std::vector<std::uint8_t> static_b_;        // per batch: every lane's b is the static body
   AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
   AlignedArray<float> ra_, rb_;
   AlignedArray<float> normal_impulse_, tx_, ty_, tz_, bounce_impulse_;

@@ -34,18 +34,32 @@ struct Lanes {
   SolverBody* body_a[W];
   SolverBody* body_b[W];
   const SolverBody* static_body;
+  bool b_static;  // every lane's b is the static body (ContactBatchArrays::static_b)
 
-  /// Lanes of the batch at lane offset o: staged data, velocities loaded from bodies
+  /// Lanes of batch k (lane offset o = k W): staged data, velocities loaded from bodies
   /// (kernel/simd/body_rows.h). `bodies` ends with the static body.
-  [[gnu::always_inline]] Lanes(const ContactBatchArrays& c, std::size_t o, SolverBody* bodies, std::size_t body_count)
-      : ra(batch::load_aligned(c.ra + o)), rb(batch::load_aligned(c.rb + o)), static_body(bodies + body_count - 1) {
+  [[gnu::always_inline]] Lanes(const ContactBatchArrays& c, std::size_t k, std::size_t o, SolverBody* bodies,
+                               std::size_t body_count)
+      : ra(batch::load_aligned(c.ra + o)),
+        rb(batch::load_aligned(c.rb + o)),
+        static_body(bodies + body_count - 1),
+        b_static(c.static_b[k] != 0) {
     for (std::size_t l = 0; l < W; ++l) body_a[l] = bodies + c.a[o + l], body_b[l] = bodies + c.b[o + l];
-    // The fourth float of each group is the inverse mass (inertia): the static body's are zero.
+    // The fourth float of each group is the inverse mass (inertia): the static body's are zero,
+    // as are its velocities, so a static b side is set, not loaded: the same bits.
     load(body_a, kLinearGroup, va, ima);
-    load(body_b, kLinearGroup, vb, imb);
+    if (b_static) {
+      vb[0] = vb[1] = vb[2] = imb = batch(0.0f);
+    } else {
+      load(body_b, kLinearGroup, vb, imb);
+    }
     if constexpr (kFriction) {
       load(body_a, kAngularGroup, wa, iia);
-      load(body_b, kAngularGroup, wb, iib);
+      if (b_static) {
+        wb[0] = wb[1] = wb[2] = iib = batch(0.0f);
+      } else {
+        load(body_b, kAngularGroup, wb, iib);
+      }
     } else {
       iia = iib = batch(0.0f);  // no angular work reads them
     }
@@ -56,10 +70,10 @@ struct Lanes {
   /// static body.
   [[gnu::always_inline]] void scatter() const {
     store(body_a, nullptr, kLinearGroup, va, ima);
-    store(body_b, static_body, kLinearGroup, vb, imb);
+    if (!b_static) store(body_b, static_body, kLinearGroup, vb, imb);
     if constexpr (kFriction) {
       store(body_a, nullptr, kAngularGroup, wa, iia);
-      store(body_b, static_body, kAngularGroup, wb, iib);
+      if (!b_static) store(body_b, static_body, kAngularGroup, wb, iib);
     }
   }
 
@@ -135,7 +149,7 @@ void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t 
                     std::size_t body_count, F&& f) {
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    Lanes<kFriction> L(c, o, bodies, body_count);
+    Lanes<kFriction> L(c, k, o, bodies, body_count);
     f(o, L);
     L.scatter();
   }
@@ -160,7 +174,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       const index_batch sa = load_body_stamps(bodies, c.a + o), sb = load_body_stamps(bodies, c.b + o);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
-    Lanes<kFriction> L(c, o, bodies, body_count);
+    Lanes<kFriction> L(c, k, o, bodies, body_count);
     batch v[3];
     L.relative_velocity(v);
     const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
