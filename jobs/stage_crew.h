@@ -26,8 +26,6 @@
 #include <type_traits>
 #include <vector>
 
-#include <cstdlib>
-#include "jobs/parallel_blocks.h"
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
 
@@ -43,9 +41,7 @@ class StageCrew {
   void run(std::size_t max_stages, Lead&& lead) {
     const int threads = tbb::this_task_arena::max_concurrency();
     solo_ = threads <= 1;
-    static const bool ab_off = std::getenv("HAIL_AB_NO_CREW") != nullptr;  // TEMP A/B
-    ab_ = ab_off && !solo_;
-    if (solo_ || ab_) {
+    if (solo_) {
       lead(*this);
       return;
     }
@@ -67,10 +63,6 @@ class StageCrew {
   template <class F>
   void stage(std::size_t blocks, F&& f) {
     if (blocks == 0) return;
-    if (ab_) {  // TEMP A/B
-      for_each_block_pinned(blocks, 1, [&](std::size_t b, std::size_t, std::size_t) { f(b); });
-      return;
-    }
     if (solo_ || blocks == 1) {
       for (std::size_t b = 0; b < blocks; ++b) f(b);
       return;
@@ -149,7 +141,6 @@ class StageCrew {
   std::size_t max_stages_ = 0;
   std::uint32_t published_ = 0;
   bool solo_ = true;
-  bool ab_ = false;
   std::atomic<std::uint64_t> claim_{0};  // stage number << 32 | next unclaimed block
   std::atomic<std::uint32_t> done_{0};   // blocks of the current stage finished by helpers
   std::atomic<bool> finished_{false};
