@@ -7,8 +7,8 @@
 // After Box2D v3's solver stages: one task per arena thread for the whole sequence. The calling
 // thread (the "lead") publishes a stage, claims its blocks like everyone else, and waits until
 // every block is done; the other threads spin (briefly, then yield) for the next stage, claim
-// blocks of it with a compare-and-swap on one word that holds the stage number and the next
-// block, and leave when the lead says the sequence is over.
+// blocks of it with a compare-and-swap on one word that holds the stage number and the blocks
+// left (the lead takes them from the front, helpers from the back), and leave when the lead says the sequence is over.
 //
 // Determinism: which thread runs a block never changes what the block computes, and a stage
 // only starts after every block of the one before has finished, exactly as with one
@@ -45,8 +45,8 @@ class StageCrew {
       lead(*this);
       return;
     }
-    if (stages_.size() < max_stages + 1) stages_ = std::vector<Stage>(max_stages + 1);  // grows, never per step
-    max_stages_ = max_stages;
+    max_stages_ = max_stages < kMaxStages ? max_stages : kMaxStages;
+    if (stages_.size() < max_stages_ + 1) stages_ = std::vector<Stage>(max_stages_ + 1);  // grows, never per step
     published_ = 0;
     claim_.store(0, std::memory_order_relaxed);
     done_.store(0, std::memory_order_relaxed);
@@ -67,24 +67,34 @@ class StageCrew {
       for (std::size_t b = 0; b < blocks; ++b) f(b);
       return;
     }
-    if (published_ >= max_stages_) {  // more stages than run() was told: still correct, on this thread
+    // More stages than run() was told, or more blocks than a claim word holds: still correct,
+    // on this thread.
+    if (published_ >= max_stages_ || blocks > kBlockMask) {
       for (std::size_t b = 0; b < blocks; ++b) f(b);
       return;
     }
     const std::uint32_t number = ++published_;
-    stages_[number] = Stage{&call<std::remove_reference_t<F>>, &f, static_cast<std::uint32_t>(blocks)};
+    stages_[number] = Stage{&call<std::remove_reference_t<F>>, &f};
     done_.store(0, std::memory_order_relaxed);  // no block of an earlier stage is still running
-    claim_.store(std::uint64_t{number} << 32, std::memory_order_release);
-    const std::uint32_t mine = work_on(number);
+    claim_.store(std::uint64_t{number} << kStageShift | blocks, std::memory_order_release);
+    const std::uint32_t mine = work_on(number, false);
     std::uint32_t spins = 0;
     while (done_.load(std::memory_order_acquire) + mine < blocks) pause(spins);
   }
 
  private:
+  // The claim word: stage number, then the next block from the front and one past the next
+  // block from the back. The lead claims from the front and the helpers from the back, so with
+  // two threads each keeps roughly the same half of a colour's chunks from pass to pass (and
+  // their bodies in its cache), as tbb::static_partitioner gave.
+  static constexpr int kBlockBits = 20;
+  static constexpr std::uint64_t kBlockMask = (std::uint64_t{1} << kBlockBits) - 1;
+  static constexpr int kStageShift = 2 * kBlockBits;
+  static constexpr std::size_t kMaxStages = (std::size_t{1} << (64 - kStageShift)) - 1;
+
   struct Stage {
     void (*run_block)(const void* f, std::size_t block) = nullptr;  // one indirect call per block, not per contact
     const void* f = nullptr;
-    std::uint32_t blocks = 0;
   };
 
   template <class F>
@@ -92,19 +102,22 @@ class StageCrew {
     (*static_cast<const F*>(f))(block);
   }
 
-  /// Claims and runs blocks of stage `number` until none is left or the stage is over; returns
-  /// how many it ran. The lead counts its own blocks instead of adding them to done_.
-  std::uint32_t work_on(std::uint32_t number) {
+  /// Claims and runs blocks of stage `number`, from the back or the front, until none is left
+  /// or the stage is over; returns how many it ran. The lead counts its own blocks instead of
+  /// adding them to done_.
+  std::uint32_t work_on(std::uint32_t number, bool from_back) {
     const Stage& stage = stages_[number];  // written before the stage was published, never again
     std::uint32_t ran = 0;
     std::uint64_t c = claim_.load(std::memory_order_acquire);
-    while ((c >> 32) == number && static_cast<std::uint32_t>(c) < stage.blocks) {
-      if (!claim_.compare_exchange_weak(c, c + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
-      stage.run_block(stage.f, static_cast<std::uint32_t>(c));
+    for (;;) {
+      const std::uint64_t front = (c >> kBlockBits) & kBlockMask, back = c & kBlockMask;
+      if ((c >> kStageShift) != number || front >= back) return ran;
+      const std::uint64_t next = from_back ? c - 1 : c + (std::uint64_t{1} << kBlockBits);
+      if (!claim_.compare_exchange_weak(c, next, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+      stage.run_block(stage.f, static_cast<std::size_t>(from_back ? back - 1 : front));
       ++ran;
       c = claim_.load(std::memory_order_acquire);
     }
-    return ran;
   }
 
   /// A helper thread's loop: every newly published stage, until the lead finishes.
@@ -112,11 +125,11 @@ class StageCrew {
     std::uint32_t seen = 0;
     std::uint32_t spins = 0;
     for (;;) {
-      const std::uint32_t number = static_cast<std::uint32_t>(claim_.load(std::memory_order_acquire) >> 32);
+      const auto number = static_cast<std::uint32_t>(claim_.load(std::memory_order_acquire) >> kStageShift);
       if (number != seen) {
         seen = number;
         spins = 0;
-        const std::uint32_t ran = work_on(number);
+        const std::uint32_t ran = work_on(number, true);
         if (ran) done_.fetch_add(ran, std::memory_order_release);
         continue;
       }
@@ -141,7 +154,7 @@ class StageCrew {
   std::size_t max_stages_ = 0;
   std::uint32_t published_ = 0;
   bool solo_ = true;
-  std::atomic<std::uint64_t> claim_{0};  // stage number << 32 | next unclaimed block
+  std::atomic<std::uint64_t> claim_{0};  // stage number, front block, back end (above)
   std::atomic<std::uint32_t> done_{0};   // blocks of the current stage finished by helpers
   std::atomic<bool> finished_{false};
 };
