@@ -96,11 +96,12 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   for (std::uint32_t slot : fast) activate(s, slot);
   resize_geometric(first_events_, fast.size());
   stats_.fast = fast.size();
-  changed_.clear();
   use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
   if (!use_bvh_) return;
   resize_geometric(path_boxes_, s.size());
+  float max_radius = 0.0f;
   for (std::size_t j = 0; j < s.size(); ++j) {
+    max_radius = std::max(max_radius, s.radius[j]);
     const double lo[3] = {std::min<double>(s.px[j], double(s.px[j]) + double(s.vx[j]) * dt),
                           std::min<double>(s.py[j], double(s.py[j]) + double(s.vy[j]) * dt),
                           std::min<double>(s.pz[j], double(s.pz[j]) + double(s.vz[j]) * dt)};
@@ -112,6 +113,8 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
       path_boxes_[j].min[d] = static_cast<float>(lo[d]) - pad, path_boxes_[j].max[d] = static_cast<float>(hi[d]) + pad;
   }
   path_bvh_.build(path_boxes_);
+  // Cells of two diameters: a changed path (a short one, after an impact) covers a few.
+  changed_paths_.reset(std::max(4.0f * max_radius, 1e-3f), motions_.size());
 }
 
 ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& s, const SweepScene& scene,
@@ -182,8 +185,11 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
       const std::uint32_t j = path_bvh_.primitive_order[k];
       if (j != slot && version_of(j) == 0) try_sphere(j);
     });
-    for (std::uint32_t m_changed : changed_)
-      if (motions_[m_changed].slot != slot) try_sphere(motions_[m_changed].slot);
+    changed_paths_.query(
+        box.min, box.max, [&](std::uint32_t m_changed) { return motions_[m_changed].version; },
+        [&](std::uint32_t m_changed) {
+          if (motions_[m_changed].slot != slot) try_sphere(motions_[m_changed].slot);
+        });
     return best;
   }
   // Every sphere's SoA position and velocity describe its current straight path (for swept
@@ -273,16 +279,33 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       Motion& mo = motions_[m];
       const float* vnew = m == ma ? bodies.va : bodies.vb;
       for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
-      if (mo.version++ == 0 && use_bvh_) changed_.push_back(m);
+      ++mo.version;
       if (++mo.events >= max_events && !mo.stopped) {
         mo.stopped = true;
         ++stats_.capped;
       }
       sync_path(s, mo);
+      if (use_bvh_) list_changed_path(s, m);
       push(earliest_event(s, scene, m));
       if (mb == ma) break;
     }
   }
+}
+
+void ContinuousCollision::list_changed_path(const SphereSoA& s, std::uint32_t m) {
+  // The box of the path from now (t0) to the end of the step, as centre_at follows it, padded
+  // by the radius as the searches pad theirs: every search from now on starts at t0 or later.
+  const Motion& mo = motions_[m];
+  const double rest = dt_ - mo.t0;
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    const double end = mo.x[d] + (mo.stopped ? 0.0 : mo.v[d]) * rest;
+    lo[d] = std::min(mo.x[d], end), hi[d] = std::max(mo.x[d], end);
+  }
+  const float pad = box_padding(lo, hi) + s.radius[mo.slot];
+  float box_lo[3], box_hi[3];
+  for (int d = 0; d < 3; ++d) box_lo[d] = static_cast<float>(lo[d]) - pad, box_hi[d] = static_cast<float>(hi[d]) + pad;
+  changed_paths_.insert(m, mo.version, box_lo, box_hi);
 }
 
 void ContinuousCollision::finish(SphereSoA& s) {

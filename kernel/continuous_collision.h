@@ -35,6 +35,7 @@
 #include <span>
 #include <vector>
 
+#include "kernel/changed_path_grid.h"
 #include "kernel/flat_bvh.h"
 #include "kernel/plane.h"
 #include "kernel/terrain.h"
@@ -128,6 +129,8 @@ class ContinuousCollision {
   /// (p extrapolated back to t = 0), so that the SIMD path scan sees it like any other sphere.
   /// The SoA holds the real end-of-step state again after finish().
   static void sync_path(SphereSoA& s, const Motion& mo);
+  /// Lists motion m's new path in changed_paths_ (use_bvh_).
+  void list_changed_path(const SphereSoA& s, std::uint32_t m);
 
   double dt_ = 0;
   bool any_ = false;
@@ -140,7 +143,9 @@ class ContinuousCollision {
   bool use_bvh_ = false;             ///< this step's sphere candidates come from path_bvh_
   std::vector<Aabb> path_boxes_;     ///< every sphere's path box over the step (use_bvh_)
   FlatBvh path_bvh_;                 ///< over path_boxes_; stale for spheres whose path changed
-  std::vector<std::uint32_t> changed_;  ///< motions whose path changed since begin (use_bvh_)
+  /// Paths changed since begin, by box (use_bvh_). Mutable: earliest_event queries it, and it
+  /// is only written (and queried: the first events see it empty) in the serial resolve().
+  mutable ChangedPathGrid changed_paths_;
   SweepStats stats_;
   std::vector<Impact> impacts_;  ///< this step's, for World::last_impacts
 };

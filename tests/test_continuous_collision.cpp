@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <array>
 #include <random>
 #include <vector>
 
@@ -370,36 +371,97 @@ TEST_CASE("The swept-sphere BVH walk finds the same first triangle as testing ev
   CHECK(hits > 15);  // both outcomes covered: 22 of the 60 paths hit
 }
 
+namespace {
+
+// 700 spheres near terrain-rain's ground, every other one fast (speeds in [low, low + span],
+// spread over `extent` metres), swept once with the given candidates: end state and impacts.
+std::pair<std::vector<float>, std::size_t> sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float low,
+                                                      float span, float extent) {
+  SphereSoA s;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int k = 0; k < 700; ++k) {
+    const float speed = k % 2 ? 0.0f : low + span * u(rng);  // every other one fast, the rest at rest
+    const float angle = 6.2831853f * u(rng);
+    s.add({.px = 100.0f + extent * u(rng), .py = 12.0f + 0.5f * extent * u(rng), .pz = 100.0f + extent * u(rng),
+           .vx = 0.5f * speed * std::cos(angle), .vy = -speed, .vz = 0.5f * speed * std::sin(angle), .radius = 0.3f,
+           .inv_mass = 1.0f, .inv_inertia = 1.0f / (0.4f * 0.09f), .restitution = 0.5f, .friction = 0.5f});
+  }
+  std::vector<std::uint32_t> fast;
+  for (std::uint32_t i = 0; i < s.size(); ++i)
+    if (s.vy[i] != 0.0f) fast.push_back(i);
+  ContinuousCollision ccd;
+  const SweepScene scene{&terrain, 0.5f, 0.5f, {}, true};
+  ccd.begin(s, fast, 1.0f / 60.0f, candidates);
+  ccd.find_first_events(s, scene, 0, fast.size());
+  ccd.resolve(s, scene, 0.2f, 16);
+  ccd.finish(s);
+  std::vector<float> state;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    state.insert(state.end(), {s.px[i], s.py[i], s.pz[i], s.vx[i], s.vy[i], s.vz[i], s.wx[i], s.wy[i], s.wz[i]});
+  return {state, ccd.stats().events};
+}
+
+}  // namespace
+
 TEST_CASE("Sweep candidates from the path-box scan and from the path-box BVH give the same impacts", "[ccd][broadphase]") {
   const std::shared_ptr<const Terrain> terrain = rain_terrain();
-  auto sweep_with = [&](SweepCandidates candidates) {
-    SphereSoA s;
-    std::mt19937 rng(21);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    for (int k = 0; k < 700; ++k) {
-      const float speed = k % 2 ? 0.0f : 200.0f + 800.0f * u(rng);  // every other one fast, the rest at rest
-      const float angle = 6.2831853f * u(rng);
-      s.add({.px = 100.0f + 40.0f * u(rng), .py = 12.0f + 20.0f * u(rng), .pz = 100.0f + 40.0f * u(rng),
-             .vx = 0.5f * speed * std::cos(angle), .vy = -speed, .vz = 0.5f * speed * std::sin(angle), .radius = 0.3f,
-             .inv_mass = 1.0f, .inv_inertia = 1.0f / (0.4f * 0.09f), .restitution = 0.5f, .friction = 0.5f});
-    }
-    std::vector<std::uint32_t> fast;
-    for (std::uint32_t i = 0; i < s.size(); ++i)
-      if (s.vy[i] != 0.0f) fast.push_back(i);
-    ContinuousCollision ccd;
-    const SweepScene scene{terrain.get(), 0.5f, 0.5f, {}, true};
-    ccd.begin(s, fast, 1.0f / 60.0f, candidates);
-    ccd.find_first_events(s, scene, 0, fast.size());
-    ccd.resolve(s, scene, 0.2f, 16);
-    ccd.finish(s);
-    std::vector<float> state;
-    for (std::size_t i = 0; i < s.size(); ++i)
-      state.insert(state.end(), {s.px[i], s.py[i], s.pz[i], s.vx[i], s.vy[i], s.vz[i], s.wx[i], s.wy[i], s.wz[i]});
-    return std::pair(state, ccd.stats().events);
-  };
-  const auto scan = sweep_with(SweepCandidates::Scan);
-  const auto bvh = sweep_with(SweepCandidates::Bvh);
+  const auto scan = sweep_crowd(*terrain, SweepCandidates::Scan, 200.0f, 800.0f, 40.0f);
+  const auto bvh = sweep_crowd(*terrain, SweepCandidates::Bvh, 200.0f, 800.0f, 40.0f);
   CHECK(scan.second > 20);  // sphere-sphere and terrain impacts both happen
   CHECK(bvh.second == scan.second);
   CHECK(bvh.first == scan.first);
+}
+
+// Found while testing kernel/changed_path_grid.h: in a crowd of short paths (10-40 m/s within
+// 6 m, about 4,500 impacts in one step) the two candidate sources disagree, 4,593 impacts with
+// the BVH against 4,522 with the scan, with or without the grid (the same 4,593 before it was
+// added). Which one misses or adds pairs is not known yet; kept failing here until it is fixed.
+TEST_CASE("Sweep candidates agree in a crowd of short paths (known to differ)", "[ccd][broadphase][!shouldfail]") {
+  const std::shared_ptr<const Terrain> terrain = rain_terrain();
+  const auto scan = sweep_crowd(*terrain, SweepCandidates::Scan, 10.0f, 30.0f, 6.0f);
+  const auto bvh = sweep_crowd(*terrain, SweepCandidates::Bvh, 10.0f, 30.0f, 6.0f);
+  REQUIRE(scan.second > 1000);
+  CHECK(bvh.second == scan.second);
+  CHECK(bvh.first == scan.first);
+}
+
+TEST_CASE("The changed-path grid reports every current path whose box meets the query, once", "[ccd][broadphase]") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  ChangedPathGrid grid;
+  for (int round = 0; round < 3; ++round) {
+    const std::uint32_t motions = 300;
+    grid.reset(0.5f + round, motions);
+    std::vector<std::uint32_t> version(motions, 0);
+    std::vector<std::array<float, 6>> box(motions);
+    // Paths change up to three times (older entries go stale); some boxes are long ("wide").
+    for (int change = 0; change < 600; ++change) {
+      const auto m = static_cast<std::uint32_t>(u(rng) * motions) % motions;
+      const float length = u(rng) < 0.1f ? 40.0f * u(rng) : 1.5f * u(rng);
+      for (int d = 0; d < 3; ++d) {
+        box[m][d] = 20.0f * u(rng) - 10.0f;
+        box[m][3 + d] = box[m][d] + (d == 1 ? length : 0.6f * u(rng));
+      }
+      ++version[m];
+      grid.insert(m, version[m], box[m].data(), box[m].data() + 3);
+    }
+    for (int q = 0; q < 400; ++q) {
+      float lo[3], hi[3];
+      const float size = q % 10 == 0 ? 30.0f : 2.0f * u(rng);
+      for (int d = 0; d < 3; ++d) lo[d] = 20.0f * u(rng) - 10.0f, hi[d] = lo[d] + size;
+      std::vector<int> reported(motions, 0);
+      grid.query(lo, hi, [&](std::uint32_t m) { return version[m]; }, [&](std::uint32_t m) { ++reported[m]; });
+      for (std::uint32_t m = 0; m < motions; ++m) {
+        REQUIRE(reported[m] <= 1);
+        if (version[m] == 0) {
+          REQUIRE(reported[m] == 0);  // never listed
+          continue;
+        }
+        bool meets = true;
+        for (int d = 0; d < 3; ++d) meets = meets && box[m][d] <= hi[d] && lo[d] <= box[m][3 + d];
+        if (meets) REQUIRE(reported[m] == 1);
+      }
+    }
+  }
 }
