@@ -29,6 +29,8 @@
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
 
+#include "soa/grow.h"
+
 namespace hail {
 
 class StageCrew {
@@ -46,7 +48,7 @@ class StageCrew {
       return;
     }
     max_stages_ = max_stages < kMaxStages ? max_stages : kMaxStages;
-    if (stages_.size() < max_stages_ + 1) stages_ = std::vector<Stage>(max_stages_ + 1);  // grows, never per step
+    if (stages_.size() < max_stages_ + 1) resize_geometric(stages_, max_stages_ + 1);  // O(log n) growths
     published_ = 0;
     claim_.store(0, std::memory_order_relaxed);
     done_.store(0, std::memory_order_relaxed);
