@@ -185,20 +185,7 @@ void SphereGrid::find_pairs_scalar(const SphereSoA& s, std::size_t first, std::s
       }
     };
     const GridWindow g = grid_window(v, xi, yi, zi, ri, ri_margin);
-    const std::uint32_t buckets = v.mask + 1, length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
-    for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
-      for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
-        // Cells lo .. hi of this row along x: consecutive buckets, split where they wrap.
-        const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
-        if (length >= buckets) {
-          scan(v.bucket_start[0], v.bucket_start[buckets]);
-        } else if (b1 <= buckets) {
-          scan(v.bucket_start[b0], v.bucket_start[b1]);
-        } else {
-          scan(v.bucket_start[b0], v.bucket_start[buckets]);
-          scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
-        }
-      }
+    for_each_window_run(v, g, scan);
     row.resize(sort_unique(row.data(), row.size()));
     for (std::uint32_t j : row) out.push_back({static_cast<std::uint32_t>(i), j});
   }

@@ -97,6 +97,26 @@ struct GridWindow {
   }
   return g;
 }
+
+/// Calls scan(first, last) for the sorted-slot ranges [first, last) that hold the window's
+/// cells: per (y, z) row, cells lo .. hi along x are consecutive buckets, split where they wrap.
+/// Shared by the scalar reference and every SIMD path, so both visit the same candidates.
+template <class Scan>
+inline void for_each_window_run(const SphereGridView& v, const GridWindow& g, Scan&& scan) {
+  const std::uint32_t buckets = v.mask + 1, length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
+  for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
+    for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
+      const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
+      if (length >= buckets) {
+        scan(v.bucket_start[0], v.bucket_start[buckets]);
+      } else if (b1 <= buckets) {
+        scan(v.bucket_start[b0], v.bucket_start[b1]);
+      } else {
+        scan(v.bucket_start[b0], v.bucket_start[buckets]);
+        scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
+      }
+    }
+}
 }  // namespace HAIL_SIMD_NS
 
 class SphereGrid {

@@ -31,7 +31,6 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
   constexpr std::size_t kPairBuffer = 256;
   SpherePair pairs[kPairBuffer];
   std::size_t pair_count = 0;
-  const std::uint32_t buckets = v.mask + 1;
   const batch factor(v.travel_factor), b_margin(margin);
   for (std::size_t i = first; i < last; ++i) {
     const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;  // brute force's order
@@ -68,20 +67,7 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
       }
     };
     const GridWindow g = grid_window(v, xi, yi, zi, ri, ri_margin);
-    const std::uint32_t length = static_cast<std::uint32_t>(g.hi[0] - g.lo[0]) + 1;
-    for (std::int32_t cz = g.lo[2]; cz <= g.hi[2]; ++cz)
-      for (std::int32_t cy = g.lo[1]; cy <= g.hi[1]; ++cy) {
-        // Cells lo .. hi of this row along x: consecutive buckets, split where they wrap.
-        const std::uint32_t b0 = grid_key(g.lo[0], cy, cz, v.stride_y, v.stride_z) & v.mask, b1 = b0 + length;
-        if (length >= buckets) {
-          scan(v.bucket_start[0], v.bucket_start[buckets]);
-        } else if (b1 <= buckets) {
-          scan(v.bucket_start[b0], v.bucket_start[b1]);
-        } else {
-          scan(v.bucket_start[b0], v.bucket_start[buckets]);
-          scan(v.bucket_start[0], v.bucket_start[b1 - buckets]);
-        }
-      }
+    for_each_window_run(v, g, scan);
     if (count == 0 && row.empty()) continue;
     if (!row.empty()) {  // a long row: sorted in base code
       append_slots(row, found, count);
