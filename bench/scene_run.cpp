@@ -177,6 +177,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.colours += weight * double(stats.colours);
       r.collision_passes += weight * stats.collision_passes;
       r.swept += weight * double(stats.sweep.swept);
+      r.swept_meeting_spheres += weight * double(stats.sweep.meets_spheres);
       r.sweep_events += weight * double(stats.sweep.events);
     }
     r.sweep_capped += world.last_step_stats().sweep.capped;
@@ -244,7 +245,7 @@ nlohmann::json to_json(const RunResult& r) {
       {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
                            {"warm_started", r.warm_started},
                            {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
-      {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept},
+      {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept}, {"swept_meeting_spheres_per_step", r.swept_meeting_spheres},
                                 {"impacts_per_step", r.sweep_events}, {"capped_total", r.sweep_capped}}},
       {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"simd_chosen_by", simd_origin()},
                    {"simd_supported", simd_supported()}, {"simd_flags", simd_flags()}, {"flags", build_flags()}}},

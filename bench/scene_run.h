@@ -27,6 +27,7 @@ struct RunResult {
   bool continuous_collision = true;
   bool tunnelled_tracked = false;  ///< errors.tunnelled_ever was counted (Scene::track_tunnelling)
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
+  double swept_meeting_spheres = 0;     ///< of the swept, those swept against spheres too (mean per timed step)
   std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
   /// Substeps in which each optional part of the step ran (StepStats::ran), over all steps.
   struct PartCounts {

@@ -80,7 +80,7 @@ void ContinuousCollision::push(const Event& e) {
   std::push_heap(heap_.begin(), heap_.end(), later);
 }
 
-void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_t> fast, float dt,
+void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_t> fast, float dt, float fast_fraction,
                                 SweepCandidates candidates) {
   for (const Motion& m : motions_) moved_[m.slot] = 0;  // last step's marks
   motions_.clear();
@@ -88,12 +88,13 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   impacts_.clear();
   stats_ = {};
   dt_ = dt;
+  fast_fraction_ = fast_fraction;
   fast_count_ = fast.size();
   any_ = !fast.empty();
   if (!any_) return;
   if (motion_of_.size() < s.size()) motion_of_.resize(s.size(), -1);
   if (moved_.size() < s.size()) moved_.resize(s.size(), 0);
-  for (std::uint32_t slot : fast) activate(s, slot);
+  for (std::uint32_t slot : fast) motions_[activate(s, slot)].meets_spheres = true;
   resize_geometric(first_events_, fast.size());
   stats_.fast = fast.size();
   use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
@@ -166,7 +167,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
     SweptHit hit;
     if (swept_sphere_plane(c, v, r, n, p.offset, t_left, hit)) offer(hit.t, Target::Plane, k, 0, hit.n);
   }
-  if (!scene.sphere_collisions) return best;
+  if (!scene.sphere_collisions || !mo.meets_spheres) return best;
   auto try_sphere = [&](std::uint32_t j) {
     double cj[3], vj[3];
     centre_at(s, j, mo.t0, cj, vj);
@@ -279,6 +280,10 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       Motion& mo = motions_[m];
       const float* vnew = m == ma ? bodies.va : bodies.vb;
       for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
+      if (!mo.meets_spheres) {
+        const float speed2 = vnew[0] * vnew[0] + vnew[1] * vnew[1] + vnew[2] * vnew[2];
+        mo.meets_spheres = is_fast(speed2, static_cast<float>(dt_), s.radius[mo.slot], fast_fraction_);
+      }
       ++mo.version;
       if (++mo.events >= max_events && !mo.stopped) {
         mo.stopped = true;
@@ -325,6 +330,8 @@ void ContinuousCollision::finish(SphereSoA& s) {
     motion_of_[i] = -1;
   }
   stats_.swept = motions_.size();
+  stats_.meets_spheres = static_cast<std::size_t>(
+      std::count_if(motions_.begin(), motions_.end(), [](const Motion& mo) { return mo.meets_spheres; }));
 }
 
 }  // namespace hail

@@ -18,9 +18,14 @@
 // Events are then taken earliest first: both spheres are advanced to the time of impact, the
 // impulse with restitution and friction is applied there (kernel/contact_impulse.h's
 // solve_impact, the rule the integrator uses for planes), and each sphere goes on with its new
-// velocity for the rest of the step. A sphere hit this way joins the swept set for the rest of
-// the step, so a slow sphere knocked into the ground or a neighbour is caught too. Events whose
-// spheres changed path since they were found are dropped and searched again.
+// velocity for the rest of the step. A sphere hit this way follows its new path for the rest of
+// the step and is swept against terrain and planes, so a slow sphere knocked into the ground is
+// caught too; it is swept against other spheres only if the impact made it fast. A struck
+// sphere that stays slow closes on a neighbour by less than the discrete step allows (see
+// WorldSettings::fast_travel_fraction), and the next step's contacts resolve that. Sweeping it
+// against spheres as well let impacts run through a resting pile sphere by sphere: terrain-rain
+// at 1M spheres spent minutes in one step when its top layers (34 m/s, just fast) landed.
+// Events whose spheres changed path since they were found are dropped and searched again.
 //
 // Nothing is lost silently: a sphere that reaches `max_events` impacts in one step stops where
 // its last impact left it for the rest of that step (its velocity kept), and is counted in
@@ -72,6 +77,7 @@ struct SweepScene {
 struct SweepStats {
   std::size_t fast = 0;    ///< spheres swept because they were fast
   std::size_t swept = 0;   ///< spheres swept in all (fast ones and those they hit)
+  std::size_t meets_spheres = 0;  ///< of those, swept against spheres too (fast at the start or after an impact)
   std::size_t events = 0;  ///< impacts resolved at their time
   std::size_t capped = 0;  ///< spheres that reached max_events and stopped for the rest of the step
 };
@@ -80,7 +86,9 @@ class ContinuousCollision {
  public:
   /// Starts a step's sweep of the fast spheres (slots, ascending) over dt. Clears the last
   /// step's marks. Allocates only when the sphere count grows.
-  void begin(const SphereSoA& spheres, std::span<const std::uint32_t> fast, float dt,
+  /// `fast_fraction` is is_fast's threshold: a struck sphere that it makes fast is swept
+  /// against spheres too.
+  void begin(const SphereSoA& spheres, std::span<const std::uint32_t> fast, float dt, float fast_fraction,
              SweepCandidates candidates = SweepCandidates::Automatic);
   /// Finds the first event of fast spheres [first, last) (positions in the fast list). Only
   /// reads shared state: ranges may run in parallel.
@@ -108,6 +116,7 @@ class ContinuousCollision {
     std::uint32_t version;  ///< +1 at every impact: events found before it are stale
     int events;
     bool stopped;  ///< reached max_events: stays at x for the rest of the step
+    bool meets_spheres;  ///< its search includes other spheres: fast at the start or after an impact
   };
   struct Event {
     double t;
@@ -123,6 +132,7 @@ class ContinuousCollision {
   [[nodiscard]] Event earliest_event(const SphereSoA& s, const SweepScene& scene, std::uint32_t m) const;
   void centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const;
   [[nodiscard]] std::uint32_t version_of(std::uint32_t slot) const;
+  /// The motion of `slot`, started on its current path if it has none (meets_spheres false).
   std::uint32_t activate(const SphereSoA& s, std::uint32_t slot);
   void push(const Event& e);
   /// Writes a swept sphere's current path into the SoA as the line p + v t it now follows
@@ -133,6 +143,7 @@ class ContinuousCollision {
   void list_changed_path(const SphereSoA& s, std::uint32_t m);
 
   double dt_ = 0;
+  float fast_fraction_ = 1.0f;
   bool any_ = false;
   std::size_t fast_count_ = 0;
   std::vector<Motion> motions_;
