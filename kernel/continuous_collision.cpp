@@ -276,25 +276,32 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
                           .pz = static_cast<float>(x[2] + n[2] * r), .nx = contact.nx, .ny = contact.ny, .nz = contact.nz,
                           .impulse = j});
     }
-    for (std::uint32_t m : {ma, mb}) {
-      Motion& mo = motions_[m];
-      const float* vnew = m == ma ? bodies.va : bodies.vb;
-      for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
-      if (!mo.meets_spheres) {
-        const float speed2 = vnew[0] * vnew[0] + vnew[1] * vnew[1] + vnew[2] * vnew[2];
-        mo.meets_spheres = is_fast(speed2, static_cast<float>(dt_), s.radius[mo.slot], fast_fraction_);
-      }
-      ++mo.version;
-      if (++mo.events >= max_events && !mo.stopped) {
-        mo.stopped = true;
-        ++stats_.capped;
-      }
-      sync_path(s, mo);
-      if (use_bvh_) list_changed_path(s, m);
-      push(earliest_event(s, scene, m));
-      if (mb == ma) break;
-    }
+    // Both spheres take their new paths before either searches. scatter_bodies (above) has
+    // written both new velocities into the SoA already: had a searched before b's path was
+    // synced, the scan would have seen b's old position with its new velocity, while
+    // centre_at, the BVH and the grid still followed b's old path, and the two candidate
+    // sources disagreed. Now a's search meets b where b really goes.
+    take_new_path(s, ma, bodies.va, max_events);
+    if (mb != ma) take_new_path(s, mb, bodies.vb, max_events);
+    push(earliest_event(s, scene, ma));
+    if (mb != ma) push(earliest_event(s, scene, mb));
   }
+}
+
+void ContinuousCollision::take_new_path(SphereSoA& s, std::uint32_t m, const float vnew[3], int max_events) {
+  Motion& mo = motions_[m];
+  for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
+  if (!mo.meets_spheres) {
+    const float speed2 = vnew[0] * vnew[0] + vnew[1] * vnew[1] + vnew[2] * vnew[2];
+    mo.meets_spheres = is_fast(speed2, static_cast<float>(dt_), s.radius[mo.slot], fast_fraction_);
+  }
+  ++mo.version;
+  if (++mo.events >= max_events && !mo.stopped) {
+    mo.stopped = true;
+    ++stats_.capped;
+  }
+  sync_path(s, mo);
+  if (use_bvh_) list_changed_path(s, m);
 }
 
 void ContinuousCollision::list_changed_path(const SphereSoA& s, std::uint32_t m) {

@@ -139,6 +139,9 @@ class ContinuousCollision {
   /// (p extrapolated back to t = 0), so that the SIMD path scan sees it like any other sphere.
   /// The SoA holds the real end-of-step state again after finish().
   static void sync_path(SphereSoA& s, const Motion& mo);
+  /// Motion m goes on at velocity vnew after an impact: a new version (its pending events go
+  /// stale), counted against max_events, synced into the SoA and listed as changed.
+  void take_new_path(SphereSoA& s, std::uint32_t m, const float vnew[3], int max_events);
   /// Lists motion m's new path in changed_paths_ (use_bvh_).
   void list_changed_path(const SphereSoA& s, std::uint32_t m);
 
