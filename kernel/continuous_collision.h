@@ -132,6 +132,8 @@ class ContinuousCollision {
   [[nodiscard]] Event earliest_event(const SphereSoA& s, const SweepScene& scene, std::uint32_t m) const;
   void centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const;
   [[nodiscard]] std::uint32_t version_of(std::uint32_t slot) const;
+  /// When the sphere's current straight path began: its last impact this step, else 0.
+  [[nodiscard]] double path_start(std::uint32_t slot) const;
   /// The motion of `slot`, started on its current path if it has none (meets_spheres false).
   std::uint32_t activate(const SphereSoA& s, std::uint32_t slot);
   void push(const Event& e);
