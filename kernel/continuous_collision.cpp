@@ -52,6 +52,11 @@ void ContinuousCollision::centre_at(const SphereSoA& s, std::uint32_t slot, doub
   }
 }
 
+double ContinuousCollision::path_start(std::uint32_t slot) const {
+  const std::int32_t m = motion_of_[slot];
+  return m >= 0 ? motions_[static_cast<std::size_t>(m)].t0 : 0.0;
+}
+
 std::uint32_t ContinuousCollision::activate(const SphereSoA& s, std::uint32_t slot) {
   if (motion_of_[slot] >= 0) return static_cast<std::uint32_t>(motion_of_[slot]);
   Motion m{};
@@ -130,8 +135,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   const double* v = mo.v;
   // Ties go to the smaller (target, other), so the result does not depend on the order in
   // which candidates are found (scan or BVH).
-  auto offer = [&](double t_rel, Target target, std::uint32_t other, std::uint32_t other_version, const double* n) {
-    const double t = mo.t0 + t_rel;
+  auto offer = [&](double t, Target target, std::uint32_t other, std::uint32_t other_version, const double* n) {
     if (best.t >= 0.0 && (t > best.t || (t == best.t && (target > best.target || (target == best.target && other >= best.other)))))
       return;
     best.t = t, best.target = target, best.other = other, best.other_version = other_version;
@@ -157,7 +161,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
       const double cc[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
       SweptHit hit;
       if (!swept_sphere_triangle(c, v, r, a, b, cc, n, tri.internal_edges[k], t_left, hit)) return -1.0f;
-      offer(hit.t, Target::Terrain, k, 0, hit.n);
+      offer(mo.t0 + hit.t, Target::Terrain, k, 0, hit.n);
       return static_cast<float>(hit.t);
     });
   }
@@ -165,15 +169,22 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
     const Plane& p = scene.planes[k];
     const double n[3] = {p.nx, p.ny, p.nz};
     SweptHit hit;
-    if (swept_sphere_plane(c, v, r, n, p.offset, t_left, hit)) offer(hit.t, Target::Plane, k, 0, hit.n);
+    if (swept_sphere_plane(c, v, r, n, p.offset, t_left, hit)) offer(mo.t0 + hit.t, Target::Plane, k, 0, hit.n);
   }
   if (!scene.sphere_collisions || !mo.meets_spheres) return best;
+  // The pair is timed from when the later of the two current paths began: a search that starts
+  // at this sphere's last impact (again, after its event went stale) must not follow j back
+  // along a path j took up only later. Such an impact, with where j never was, came before
+  // events already taken and moved j back in time; and the grid, which lists a changed path
+  // from its start on, could miss what the scan (every path over mo.t0..dt) found.
   auto try_sphere = [&](std::uint32_t j) {
-    double cj[3], vj[3];
-    centre_at(s, j, mo.t0, cj, vj);
-    const double dp[3] = {cj[0] - c[0], cj[1] - c[1], cj[2] - c[2]}, dv[3] = {vj[0] - v[0], vj[1] - v[1], vj[2] - v[2]};
-    const double t = sphere_sphere_time_of_impact(dp, dv, r + s.radius[j], t_left);
-    if (t >= 0.0) offer(t, Target::Sphere, j, version_of(j), nullptr);
+    const double start = std::max(mo.t0, path_start(j));
+    double ci[3], cj[3], vj[3];
+    centre_at(s, j, start, cj, vj);
+    for (int d = 0; d < 3; ++d) ci[d] = start == mo.t0 ? c[d] : c[d] + v[d] * (start - mo.t0);
+    const double dp[3] = {cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]}, dv[3] = {vj[0] - v[0], vj[1] - v[1], vj[2] - v[2]};
+    const double t = sphere_sphere_time_of_impact(dp, dv, r + s.radius[j], dt_ - start);
+    if (t >= 0.0) offer(start + t, Target::Sphere, j, version_of(j), nullptr);
   };
   PathBox box;
   for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
@@ -276,25 +287,32 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
                           .pz = static_cast<float>(x[2] + n[2] * r), .nx = contact.nx, .ny = contact.ny, .nz = contact.nz,
                           .impulse = j});
     }
-    for (std::uint32_t m : {ma, mb}) {
-      Motion& mo = motions_[m];
-      const float* vnew = m == ma ? bodies.va : bodies.vb;
-      for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
-      if (!mo.meets_spheres) {
-        const float speed2 = vnew[0] * vnew[0] + vnew[1] * vnew[1] + vnew[2] * vnew[2];
-        mo.meets_spheres = is_fast(speed2, static_cast<float>(dt_), s.radius[mo.slot], fast_fraction_);
-      }
-      ++mo.version;
-      if (++mo.events >= max_events && !mo.stopped) {
-        mo.stopped = true;
-        ++stats_.capped;
-      }
-      sync_path(s, mo);
-      if (use_bvh_) list_changed_path(s, m);
-      push(earliest_event(s, scene, m));
-      if (mb == ma) break;
-    }
+    // Both spheres take their new paths before either searches. scatter_bodies (above) has
+    // written both new velocities into the SoA already: had a searched before b's path was
+    // synced, the scan would have seen b's old position with its new velocity, while
+    // centre_at, the BVH and the grid still followed b's old path, and the two candidate
+    // sources disagreed. Now a's search meets b where b really goes.
+    take_new_path(s, ma, bodies.va, max_events);
+    if (mb != ma) take_new_path(s, mb, bodies.vb, max_events);
+    push(earliest_event(s, scene, ma));
+    if (mb != ma) push(earliest_event(s, scene, mb));
   }
+}
+
+void ContinuousCollision::take_new_path(SphereSoA& s, std::uint32_t m, const float vnew[3], int max_events) {
+  Motion& mo = motions_[m];
+  for (int d = 0; d < 3; ++d) mo.v[d] = vnew[d];
+  if (!mo.meets_spheres) {
+    const float speed2 = vnew[0] * vnew[0] + vnew[1] * vnew[1] + vnew[2] * vnew[2];
+    mo.meets_spheres = is_fast(speed2, static_cast<float>(dt_), s.radius[mo.slot], fast_fraction_);
+  }
+  ++mo.version;
+  if (++mo.events >= max_events && !mo.stopped) {
+    mo.stopped = true;
+    ++stats_.capped;
+  }
+  sync_path(s, mo);
+  if (use_bvh_) list_changed_path(s, m);
 }
 
 void ContinuousCollision::list_changed_path(const SphereSoA& s, std::uint32_t m) {

@@ -132,6 +132,8 @@ class ContinuousCollision {
   [[nodiscard]] Event earliest_event(const SphereSoA& s, const SweepScene& scene, std::uint32_t m) const;
   void centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const;
   [[nodiscard]] std::uint32_t version_of(std::uint32_t slot) const;
+  /// When the sphere's current straight path began: its last impact this step, else 0.
+  [[nodiscard]] double path_start(std::uint32_t slot) const;
   /// The motion of `slot`, started on its current path if it has none (meets_spheres false).
   std::uint32_t activate(const SphereSoA& s, std::uint32_t slot);
   void push(const Event& e);
@@ -139,6 +141,9 @@ class ContinuousCollision {
   /// (p extrapolated back to t = 0), so that the SIMD path scan sees it like any other sphere.
   /// The SoA holds the real end-of-step state again after finish().
   static void sync_path(SphereSoA& s, const Motion& mo);
+  /// Motion m goes on at velocity vnew after an impact: a new version (its pending events go
+  /// stale), counted against max_events, synced into the SoA and listed as changed.
+  void take_new_path(SphereSoA& s, std::uint32_t m, const float vnew[3], int max_events);
   /// Lists motion m's new path in changed_paths_ (use_bvh_).
   void list_changed_path(const SphereSoA& s, std::uint32_t m);
 
