@@ -452,7 +452,10 @@ struct StepPipeline {
       w.shock_.plan(w.contacts_, bodies);
       w.shock_.solve(w.contacts_, bodies, inv_dt, angular);
     }
-    batches.store_impulses(w.contacts_);
+    for_each_block(batches.batch_count(), kBatchChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      batches.store_impulses(w.contacts_, first, last);
+    });
     remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);

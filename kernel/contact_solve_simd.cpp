@@ -160,8 +160,12 @@ void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<S
 }
 
 void ContactBatches::store_impulses(std::span<Contact> contacts) const {
+  store_impulses(contacts, 0, batch_count());
+}
+
+void ContactBatches::store_impulses(std::span<Contact> contacts, std::size_t first, std::size_t last) const {
   const std::size_t W = width_;
-  for (std::size_t k = 0; k < first_contact_.size(); ++k)
+  for (std::size_t k = first; k < last; ++k)
     for (std::size_t l = 0; l < W; ++l) {
       Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;

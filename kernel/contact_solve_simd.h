@@ -88,6 +88,8 @@ class ContactBatches {
   /// Writes the batches' accumulated impulses (resting, friction and bounce) back to the
   /// contacts they were staged from.
   void store_impulses(std::span<Contact> contacts) const;
+  /// store_impulses of batches [first, last): disjoint ranges may run in parallel.
+  void store_impulses(std::span<Contact> contacts, std::size_t first, std::size_t last) const;
 
  private:
   [[nodiscard]] ContactBatchArrays arrays();
