@@ -172,7 +172,8 @@ void print_report(const RunResult& r) {
   std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
               r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
   if (r.continuous_collision)
-    std::printf("  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; %zu times a sphere reached the impact cap\n",
+    std::printf("  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "
+                "%zu times a sphere reached the impact cap\n",
                 r.swept, r.swept_meeting_spheres, r.sweep_events, r.sweep_capped);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
