@@ -13,7 +13,8 @@
 //
 // The scalar references stay beside the kernels' callers (find_sphere_pairs_scalar,
 // SphereGrid::find_pairs_scalar,
-// solve_*_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere), and
+// solve_*_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere,
+// closest_point_on_triangle), and
 // tests/test_simd_dispatch.cpp compares every path with them.
 
 #include <cstddef>
@@ -59,6 +60,12 @@ enum class PacketLeafTest : std::uint8_t {
   LeafBoxes,       ///< the leaf's primitive boxes are tested for all lanes at once (query_sphere_packet_exact)
 };
 
+/// Points and triangles (a, b, c), SoA: closest_points' input.
+struct TriangleQueries {
+  const float* q[3];
+  const float *a[3], *b[3], *c[3];
+};
+
 struct SimdKernels {
   SimdPath path;
   std::size_t width;  ///< floats per batch: contacts per staged batch, spheres per packet
@@ -94,6 +101,10 @@ struct SimdKernels {
   std::uint64_t (*count_packet_hits)(const FlatBvh& bvh, const Aabb* bounds, const float* x, const float* y,
                                      const float* z, const float* r, std::size_t count, PacketLeafTest test,
                                      std::uint64_t* nodes_tested);
+  /// For the tests: closest_point_on_triangle (kernel/sphere_triangle.h) of queries [0, count)
+  /// by the batch code of the terrain kernel (kernel/simd/sphere_triangle_lanes.h): the point
+  /// into p[0..2], the TriangleRegion into region.
+  void (*closest_points)(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);
 };
 
 /// The active path's kernels (active_simd_path()); InvalidArgument as active_simd_path.

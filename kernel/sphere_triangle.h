@@ -97,20 +97,14 @@ inline TrianglePoint closest_point_on_triangle(const float q[3], const float a[3
           TriangleRegion::Face};
 }
 
-/// Contact of sphere (centre, radius) with the triangle whose unit face normal is `face_normal`
-/// (pointing out of the solid) and plane offset face_d = face_normal . a. Returns false when
-/// the gap exceeds max_gap. Centres below the triangle's plane always get the face normal, so a
-/// sphere that sank is pushed out upwards, never through.
-inline bool sphere_triangle_contact(const float centre[3], float radius, const float a[3], const float b[3], const float c[3],
-                             const float face_normal[3], float face_d, std::uint8_t internal_edges, float max_gap,
-                             SphereTriangleContact& out) {
-  const float height = triangle_detail::dot3(face_normal, centre) - face_d;  // signed distance of the centre to the plane
-  if (height - radius > max_gap) return false;                // plane test first: cheap rejection
-  const TrianglePoint closest = closest_point_on_triangle(centre, a, b, c);
-  float d[3];
-  triangle_detail::sub3(closest.p, centre, d);
-  const float distance = std::sqrt(triangle_detail::dot3(d, d));  // depth before normalising
-  if (distance - radius > max_gap) return false;
+/// The second half of sphere_triangle_contact, once the closest point is known and within
+/// reach: `d` = closest.p - centre, `distance` = |d| (sqrt of its dot3), `height` = the signed
+/// distance of the centre to the face plane. Picks the normal; false where the neighbour owns
+/// the contact. The SIMD terrain kernels compute the first half for a batch of candidates
+/// (kernel/simd/sphere_triangle_lanes.h) and finish here, so both give the same bits.
+inline bool contact_from_closest_point(const float centre[3], float radius, const TrianglePoint& closest,
+                                       const float d[3], float distance, float height, const float face_normal[3],
+                                       float face_d, std::uint8_t internal_edges, SphereTriangleContact& out) {
   if (closest.region == TriangleRegion::Face || distance <= 1e-12f) {
     // Over the face, or sunk below it: push out along the face normal, never through.
     out.n[0] = -face_normal[0];
@@ -141,6 +135,23 @@ inline bool sphere_triangle_contact(const float centre[3], float radius, const f
   out.gap = distance - radius;
   out.surface_d = triangle_detail::dot3(out.n, closest.p);
   return true;
+}
+
+/// Contact of sphere (centre, radius) with the triangle whose unit face normal is `face_normal`
+/// (pointing out of the solid) and plane offset face_d = face_normal . a. Returns false when
+/// the gap exceeds max_gap. Centres below the triangle's plane always get the face normal, so a
+/// sphere that sank is pushed out upwards, never through.
+inline bool sphere_triangle_contact(const float centre[3], float radius, const float a[3], const float b[3], const float c[3],
+                             const float face_normal[3], float face_d, std::uint8_t internal_edges, float max_gap,
+                             SphereTriangleContact& out) {
+  const float height = triangle_detail::dot3(face_normal, centre) - face_d;  // signed distance of the centre to the plane
+  if (height - radius > max_gap) return false;                // plane test first: cheap rejection
+  const TrianglePoint closest = closest_point_on_triangle(centre, a, b, c);
+  float d[3];
+  triangle_detail::sub3(closest.p, centre, d);
+  const float distance = std::sqrt(triangle_detail::dot3(d, d));  // depth before normalising
+  if (distance - radius > max_gap) return false;
+  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges, out);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -70,15 +70,11 @@ struct ContactReduction {
   return fast ? (sweep_fast ? 0.0f : fast_fraction * s.radius[i]) : speed * dt;
 }
 
-/// Sphere i against terrain triangle k (BVH order): the contact goes to `reduction` when the
-/// gap is within `margin`. `restitution` and `friction` are the terrain's.
-inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const TerrainTriangles& t, std::uint32_t k,
-                                float margin, float restitution, float friction, ContactReduction& reduction) {
+/// Sphere i's contact `st` with terrain triangle k (BVH order) as a Contact, into `reduction`.
+/// `restitution` and `friction` are the terrain's.
+inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const SphereTriangleContact& st, std::uint32_t k,
+                                float restitution, float friction, ContactReduction& reduction) {
   const float centre[3] = {s.px[i], s.py[i], s.pz[i]};
-  const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
-  const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
-  SphereTriangleContact st;
-  if (!sphere_triangle_contact(centre, s.radius[i], a, b, c, n, t.d[k], t.internal_edges[k], margin, st)) return;
   Contact contact;
   contact.a = static_cast<std::uint32_t>(i);
   contact.b = kStaticBody;
@@ -91,6 +87,19 @@ inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const Terrain
   contact.friction = combine_friction(s.friction[i], friction);
   contact.feature = k;  // the first triangle of a merged normal names it
   reduction.add(contact, centre);
+}
+
+/// Sphere i against terrain triangle k (BVH order): the contact goes to `reduction` when the
+/// gap is within `margin`. The scalar reference's step; the SIMD kernels test a batch of
+/// candidates at once and call the overload above for the ones within reach.
+inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const TerrainTriangles& t, std::uint32_t k,
+                                float margin, float restitution, float friction, ContactReduction& reduction) {
+  const float centre[3] = {s.px[i], s.py[i], s.pz[i]};
+  const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
+  const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
+  SphereTriangleContact st;
+  if (!sphere_triangle_contact(centre, s.radius[i], a, b, c, n, t.d[k], t.internal_edges[k], margin, st)) return;
+  add_terrain_contact(s, i, st, k, restitution, friction, reduction);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -28,6 +28,7 @@ constexpr SimdKernels kTable{
     .terrain_contacts = &HAIL_SIMD_NS::terrain_contacts,
     .scan_path_boxes = &HAIL_SIMD_NS::scan_path_boxes,
     .count_packet_hits = &HAIL_SIMD_NS::count_packet_hits,
+    .closest_points = &HAIL_SIMD_NS::closest_points,
 };
 static_assert(kTable.width == (kPath == SimdPath::Sse42 ? 4 : kPath == SimdPath::Avx2 ? 8 : 16));
 

@@ -30,6 +30,7 @@ void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
 void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
+void closest_points(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);
 std::uint64_t count_packet_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x, const float* y, const float* z,
                                 const float* r, std::size_t count, PacketLeafTest test, std::uint64_t* nodes_tested);
 

@@ -1,38 +1,120 @@
 // Terrain::find_contacts (kernel/terrain.h) by the packet walk (kernel/bvh_packet_walk.h): a
 // batch of spheres goes down the stackless walk together, each leaf's triangle boxes tested
-// for all lanes at once. Compiled once per SIMD path (kernel/simd_arch.h); the scalar reference
+// for all lanes at once; the (sphere, triangle) candidates that pass are then tested a batch at
+// a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h); the scalar reference
 // is Terrain::find_contacts_scalar, and both share kernel/terrain_contacts.h.
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
+#include <algorithm>
+
 #include "kernel/bvh_packet_walk.h"
+#include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
+#include "kernel/simd/sphere_triangle_lanes.h"
 #include "kernel/terrain.h"
 #include "kernel/terrain_contacts.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
 
+namespace {
+
+using batch = xsimd::batch<float, simd_arch>;
+using index_batch = xsimd::batch<std::int32_t, simd_arch>;
+constexpr std::uint32_t W = kSpherePacketWidth;
+static_assert(W < 32, "lane masks are uint32");
+
+/// One packet's (lane, triangle) candidates from the walk, in the walk's order, tested a batch at
+/// a time: per lane, the triangles come in query_sphere's order, as the scalar reference sees them.
+struct TerrainCandidates {
+  static constexpr std::uint32_t kCapacity = 16 * W;  // a multiple of W; a full buffer is tested at once
+  alignas(64) std::int32_t lane[kCapacity];
+  alignas(64) std::int32_t triangle[kCapacity];
+  std::uint32_t count = 0;
+};
+
+/// A packet's spheres as the candidates' tests read them, by lane.
+struct PacketSpheres {
+  alignas(64) float x[W], y[W], z[W], radius[W], margin[W];
+  std::size_t first_sphere = 0;  ///< lane l is sphere first_sphere + l
+};
+
+/// Tests candidates [0, c.count) and empties the buffer: sphere_triangle_contact's first half for
+/// a batch at a time (kernel/simd/sphere_triangle_lanes.h), then, for the lanes within reach,
+/// its second half and the contact into the lane's reduction, in candidate order.
+void test_candidates(TerrainCandidates& c, const PacketSpheres& p, const TerrainTriangles& t, const SphereSoA& s,
+                     float restitution, float friction, ContactReduction* lanes) {
+  alignas(64) float px[W], py[W], pz[W], region[W], distance[W], height[W];
+  for (std::uint32_t o = 0; o < c.count; o += W) {
+    std::uint32_t valid = (1u << std::min(W, c.count - o)) - 1u;
+    if (c.count - o < W)  // inert lanes: sphere 0 against triangle 0, masked out below
+      for (std::uint32_t l = c.count - o; l < W; ++l) c.lane[o + l] = 0, c.triangle[o + l] = 0;
+    const index_batch lane = index_batch::load_aligned(c.lane + o), k = index_batch::load_aligned(c.triangle + o);
+    const batch q[3] = {gather_floats(p.x, lane), gather_floats(p.y, lane), gather_floats(p.z, lane)};
+    const batch radius = gather_floats(p.radius, lane), max_gap = gather_floats(p.margin, lane);
+    const batch n[3] = {gather_floats(t.nx.data(), k), gather_floats(t.ny.data(), k), gather_floats(t.nz.data(), k)};
+    // sphere_triangle_contact's plane test first: about a third of the candidates end here.
+    const batch h = (n[0] * q[0] + n[1] * q[1] + n[2] * q[2]) - gather_floats(t.d.data(), k);
+    valid &= lane_bits(!(h - radius > max_gap));
+    if (valid == 0) continue;
+    const batch a[3] = {gather_floats(t.v0x.data(), k), gather_floats(t.v0y.data(), k), gather_floats(t.v0z.data(), k)};
+    const batch b[3] = {gather_floats(t.v1x.data(), k), gather_floats(t.v1y.data(), k), gather_floats(t.v1z.data(), k)};
+    const batch v2[3] = {gather_floats(t.v2x.data(), k), gather_floats(t.v2y.data(), k), gather_floats(t.v2z.data(), k)};
+    const ClosestPointLanes closest = closest_points_on_triangles(q, a, b, v2);
+    const batch d[3] = {closest.p[0] - q[0], closest.p[1] - q[1], closest.p[2] - q[2]};
+    const batch dist = xsimd::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    valid &= lane_bits(!(dist - radius > max_gap));
+    if (valid == 0) continue;
+    closest.p[0].store_aligned(px), closest.p[1].store_aligned(py), closest.p[2].store_aligned(pz);
+    closest.region.store_aligned(region), dist.store_aligned(distance), h.store_aligned(height);
+    for (; valid != 0; valid &= valid - 1) {
+      const std::uint32_t l = lowest_lane(valid);
+      const std::uint32_t sphere_lane = static_cast<std::uint32_t>(c.lane[o + l]);
+      const std::uint32_t tri = static_cast<std::uint32_t>(c.triangle[o + l]);
+      const std::size_t i = p.first_sphere + sphere_lane;
+      const float centre[3] = {p.x[sphere_lane], p.y[sphere_lane], p.z[sphere_lane]};
+      const TrianglePoint at{{px[l], py[l], pz[l]}, static_cast<TriangleRegion>(static_cast<int>(region[l]))};
+      const float to[3] = {at.p[0] - centre[0], at.p[1] - centre[1], at.p[2] - centre[2]};
+      const float normal[3] = {t.nx[tri], t.ny[tri], t.nz[tri]};
+      SphereTriangleContact st;
+      if (contact_from_closest_point(centre, s.radius[i], at, to, distance[l], height[l], normal, t.d[tri],
+                                     t.internal_edges[tri], st))
+        add_terrain_contact(s, i, st, tri, restitution, friction, lanes[sphere_lane]);
+    }
+  }
+  c.count = 0;
+}
+
+}  // namespace
+
 void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast) {
   const TerrainTriangles& t = terrain.triangles();
   const std::span<const Aabb> bounds(terrain.triangle_bounds().data(), terrain.triangle_bounds().size());
   SpherePacket packet;
-  ContactReduction lanes[kSpherePacketWidth];
-  float margin[kSpherePacketWidth];
-  Contact found[kSpherePacketWidth * kMaxTerrainContactsPerSphere];
-  for (std::size_t p0 = first; p0 < last; p0 += kSpherePacketWidth) {
-    const std::size_t p1 = last - p0 < kSpherePacketWidth ? last : p0 + kSpherePacketWidth;
+  PacketSpheres spheres;
+  TerrainCandidates candidates;
+  ContactReduction lanes[W];
+  Contact found[W * kMaxTerrainContactsPerSphere];
+  for (std::size_t p0 = first; p0 < last; p0 += W) {
+    const std::size_t p1 = last - p0 < W ? last : p0 + W;
     packet.clear();
+    spheres.first_sphere = p0;
     for (std::size_t i = p0; i < p1; ++i) {
       const float reach = terrain_contact_reach(s, i, dt, fast_fraction, sweep_fast);
       const std::uint32_t lane = packet.add(s.px[i], s.py[i], s.pz[i], s.radius[i] + reach);
-      margin[lane] = reach;
+      spheres.x[lane] = s.px[i], spheres.y[lane] = s.py[i], spheres.z[lane] = s.pz[i];
+      spheres.radius[lane] = s.radius[i], spheres.margin[lane] = reach;
       lanes[lane].count = 0;
     }
     query_sphere_packet_exact(terrain.bvh(), bounds, packet, [&](std::uint32_t lane, std::uint32_t k) {
-      add_terrain_contact(s, p0 + lane, t, k, margin[lane], restitution, friction, lanes[lane]);
+      candidates.lane[candidates.count] = static_cast<std::int32_t>(lane);
+      candidates.triangle[candidates.count] = static_cast<std::int32_t>(k);
+      if (++candidates.count == TerrainCandidates::kCapacity)
+        test_candidates(candidates, spheres, t, s, restitution, friction, lanes);
     });
+    if (candidates.count > 0) test_candidates(candidates, spheres, t, s, restitution, friction, lanes);
     // In sphere order, as the scalar walk gives them.
     std::size_t count = 0;
     for (std::uint32_t lane = 0; lane < packet.count; ++lane)

@@ -1,0 +1,32 @@
+#pragma once
+// One float per lane from base[index[l]]: the hardware gather on AVX2 and AVX-512, element
+// loads on SSE4.2. xsimd 8.1's batch::gather never reaches its per-architecture overloads (it
+// passes two template arguments to functions that take one) and inserts the elements one by
+// one; measured in the terrain kernel, that emulation took more time than the tests it fed.
+// Pure data movement: every path loads the same floats.
+
+#include <cstdint>
+
+#include "kernel/simd_arch.h"
+
+namespace hail {
+inline namespace HAIL_SIMD_NS {
+
+[[nodiscard]] inline xsimd::batch<float, simd_arch> gather_floats(const float* base,
+                                                                  const xsimd::batch<std::int32_t, simd_arch>& index) {
+  using batch = xsimd::batch<float, simd_arch>;
+#if defined(HAIL_SIMD_PATH_AVX512)
+  return batch(_mm512_i32gather_ps(index, base, 4));
+#elif defined(HAIL_SIMD_PATH_AVX2)
+  return batch(_mm256_i32gather_ps(base, index, 4));
+#else
+  alignas(64) std::int32_t at[batch::size];
+  alignas(64) float lanes[batch::size];
+  index.store_aligned(at);
+  for (std::size_t l = 0; l < batch::size; ++l) lanes[l] = base[at[l]];
+  return batch::load_aligned(lanes);
+#endif
+}
+
+}  // namespace HAIL_SIMD_NS
+}  // namespace hail
