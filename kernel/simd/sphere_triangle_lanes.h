@@ -46,7 +46,7 @@ inline void take_vertex(const xsimd::batch_bool<float, simd_arch>& mask, const b
 }  // namespace triangle_lanes_detail
 
 /// Closest point of triangle (a, b, c) to q, per lane: closest_point_on_triangle's bits.
-inline ClosestPointLanes closest_points_on_triangles(const xsimd::batch<float, simd_arch> q[3],
+[[gnu::always_inline]] inline ClosestPointLanes closest_points_on_triangles(const xsimd::batch<float, simd_arch> q[3],
                                                      const xsimd::batch<float, simd_arch> a[3],
                                                      const xsimd::batch<float, simd_arch> b[3],
                                                      const xsimd::batch<float, simd_arch> c[3]) {

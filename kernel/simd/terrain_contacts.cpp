@@ -51,8 +51,8 @@ void test_candidates(TerrainCandidates& c, const PacketSpheres& p, const Terrain
     if (c.count - o < W)  // inert lanes: sphere 0 against triangle 0, masked out below
       for (std::uint32_t l = c.count - o; l < W; ++l) c.lane[o + l] = 0, c.triangle[o + l] = 0;
     const index_batch lane = index_batch::load_aligned(c.lane + o), k = index_batch::load_aligned(c.triangle + o);
-    const batch q[3] = {gather_floats(p.x, lane), gather_floats(p.y, lane), gather_floats(p.z, lane)};
-    const batch radius = gather_floats(p.radius, lane), max_gap = gather_floats(p.margin, lane);
+    const batch q[3] = {pick_lanes(p.x, lane), pick_lanes(p.y, lane), pick_lanes(p.z, lane)};
+    const batch radius = pick_lanes(p.radius, lane), max_gap = pick_lanes(p.margin, lane);
     const batch n[3] = {gather_floats(t.nx.data(), k), gather_floats(t.ny.data(), k), gather_floats(t.nz.data(), k)};
     // sphere_triangle_contact's plane test first: about a third of the candidates end here.
     const batch h = (n[0] * q[0] + n[1] * q[1] + n[2] * q[2]) - gather_floats(t.d.data(), k);
