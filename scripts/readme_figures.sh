@@ -1,38 +1,47 @@
 #!/usr/bin/env bash
 # Re-measures the README's figures: terrain-rain at 1k/4k/16k/64k spheres on 1 and 2 threads
-# (full 600 steps each), the terrain query microbenchmark (3 runs) and the BVH build times.
-# Needs a release build (./scripts/quickstart.sh bench makes one). Takes about 10 minutes on a
-# 2-core machine; keep the machine otherwise idle. Raw outputs and JSON go to $1 (default
-# build/figures); a markdown table of terrain-rain is printed at the end (needs python3).
+# (full 600 steps each, REPEATS rounds, default 3: each round runs every row once, so a slow
+# spell of a shared machine spreads over the rows instead of hitting one), the terrain query
+# microbenchmark (3 runs) and the BVH build times. Needs a release build
+# (./scripts/quickstart.sh bench makes one). Takes about 4 minutes on a 2-core machine; keep
+# the machine otherwise idle. Raw outputs and JSON go to $1 (default build/figures); a markdown
+# table of terrain-rain is printed at the end (needs python3): per row the median over the
+# rounds of the mean ms/step, its range, and the median phase times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-build/figures}"
 bench=./build/release/bench/hail-bench
 [ -x "$bench" ] || { echo "no $bench: build the release preset first" >&2; exit 1; }
 mkdir -p "$out"
-for n in 1000 4000 16000 64000; do
-  for t in 1 2; do
-    echo "terrain-rain $n spheres, $t threads" >&2
-    "$bench" run terrain-rain --spheres "$n" --threads "$t" --json "$out/terrain-rain-$n-$t.json" > "$out/terrain-rain-$n-$t.txt"
+repeats="${REPEATS:-3}"
+for r in $(seq "$repeats"); do
+  for n in 1000 4000 16000 64000; do
+    for t in 1 2; do
+      echo "round $r/$repeats: terrain-rain $n spheres, $t threads" >&2
+      "$bench" run terrain-rain --spheres "$n" --threads "$t" --json "$out/terrain-rain-$n-$t-$r.json" > "$out/terrain-rain-$n-$t-$r.txt"
+    done
   done
 done
 for r in 1 2 3; do "$bench" query > "$out/query-leaf4-$r.txt"; done
 "$bench" query --leaf 8 > "$out/query-leaf8.txt"
 "$bench" bvh-build > "$out/bvh-build.txt"
 if command -v python3 >/dev/null; then
-  python3 - "$out" <<'PY'
-import json, sys, glob, os
-out = sys.argv[1]
-print("| spheres | threads | ms/step mean | median | detect-terrain | detect-pairs | solve | depenetrate | max pen. spheres / ground (m) | tunnelled | fell off | NaN | KE at 10 s (J) | hash |")
+  python3 - "$out" "$repeats" <<'PY'
+import json, sys, os, statistics
+out, repeats = sys.argv[1], int(sys.argv[2])
+print("| spheres | threads | ms/step mean (median of rounds) | range | detect-terrain | detect-pairs | solve | depenetrate | max pen. spheres / ground (m) | tunnelled | fell off | NaN | KE at 10 s (J) | hash |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for n in (1000, 4000, 16000, 64000):
     for t in (1, 2):
-        j = json.load(open(os.path.join(out, f"terrain-rain-{n}-{t}.json")))
-        p = j["phases_ms"]
-        print(f"| {n:,} | {t} | {j['ms_per_step_mean']:.2f} | {j['ms_per_step_median']:.2f} | {p['detect_terrain']:.2f} | "
-              f"{p['detect_pairs']:.2f} | {p['solve']:.2f} | {p['depenetrate']:.2f} | "
-              f"{j['max_sphere_penetration']:.3f} / {j['max_terrain_penetration']:.3f} | {j['tunnelled']} | {j['fell_off']} | "
-              f"{j['nan_count']} | {j['kinetic_energy']:.0f} | {j['state_hash']} |")
+        runs = [json.load(open(os.path.join(out, f"terrain-rain-{n}-{t}-{r}.json"))) for r in range(1, repeats + 1)]
+        hashes = {j["state_hash"] for j in runs}
+        means = [j["ms_per_step_mean"] for j in runs]
+        phase = lambda name: statistics.median(j["phases_ms"][name] for j in runs)
+        j = runs[0]  # the error figures do not depend on the run (the same hash)
+        print(f"| {n:,} | {t} | {statistics.median(means):.2f} | {min(means):.2f}-{max(means):.2f} | {phase('detect_terrain'):.2f} | "
+              f"{phase('detect_pairs'):.2f} | {phase('solve'):.2f} | {phase('depenetrate'):.2f} | "
+              f"{j['max_sphere_penetration']:.3f} / {j['max_terrain_penetration']:.3f} | {j['tunnelled']} | {j['fell_off']:,} | "
+              f"{j['nan_count']} | {j['kinetic_energy']:,.0f} | {'/'.join(sorted(hashes))} |")
 PY
 fi
 grep -h "time / grid" "$out"/query-*.txt
