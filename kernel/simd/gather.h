@@ -32,11 +32,10 @@ inline namespace HAIL_SIMD_NS {
 /// W: a lane permute on AVX2 and AVX-512 (one instruction, where a gather loads each element).
 [[nodiscard]] inline xsimd::batch<float, simd_arch> pick_lanes(const float* table,
                                                                const xsimd::batch<std::int32_t, simd_arch>& index) {
-  using batch = xsimd::batch<float, simd_arch>;
 #if defined(HAIL_SIMD_PATH_AVX512)
-  return batch(_mm512_permutexvar_ps(index, _mm512_load_ps(table)));
+  return xsimd::batch<float, simd_arch>(_mm512_permutexvar_ps(index, _mm512_load_ps(table)));
 #elif defined(HAIL_SIMD_PATH_AVX2)
-  return batch(_mm256_permutevar8x32_ps(_mm256_load_ps(table), index));
+  return xsimd::batch<float, simd_arch>(_mm256_permutevar8x32_ps(_mm256_load_ps(table), index));
 #else
   return gather_floats(table, index);
 #endif
