@@ -151,7 +151,8 @@ inline bool sphere_triangle_contact(const float centre[3], float radius, const f
   triangle_detail::sub3(closest.p, centre, d);
   const float distance = std::sqrt(triangle_detail::dot3(d, d));  // depth before normalising
   if (distance - radius > max_gap) return false;
-  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges, out);
+  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges,
+                                    out);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -152,7 +152,8 @@ TEST_CASE("The SIMD path-box scan visits exactly the scalar reference's spheres"
   std::uniform_real_distribution<float> u(-20.0f, 20.0f), speed(-300.0f, 300.0f), radius(0.05f, 1.0f);
   for (int k = 0; k < 1003; ++k)
     s.add({.px = u(rng), .py = u(rng), .pz = u(rng), .vx = speed(rng), .vy = speed(rng), .vz = speed(rng),
-           .radius = radius(rng), .inv_mass = 1.0f, .inv_inertia = 1.0f});
+           .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = radius(rng), .inv_mass = 1.0f, .inv_inertia = 1.0f,
+           .restitution = 0.0f, .friction = 0.0f, .flags = 0});
   for (int trial = 0; trial < 50; ++trial) {
     PathBox box;
     for (int d = 0; d < 3; ++d) {
@@ -433,8 +434,9 @@ CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float
     const float speed = k % 2 ? 0.0f : low + span * u(rng);  // every other one fast, the rest at rest
     const float angle = 6.2831853f * u(rng);
     s.add({.px = 100.0f + extent * u(rng), .py = 12.0f + 0.5f * extent * u(rng), .pz = 100.0f + extent * u(rng),
-           .vx = 0.5f * speed * std::cos(angle), .vy = -speed, .vz = 0.5f * speed * std::sin(angle), .radius = 0.3f,
-           .inv_mass = 1.0f, .inv_inertia = 1.0f / (0.4f * 0.09f), .restitution = 0.5f, .friction = 0.5f});
+           .vx = 0.5f * speed * std::cos(angle), .vy = -speed, .vz = 0.5f * speed * std::sin(angle), .wx = 0.0f,
+           .wy = 0.0f, .wz = 0.0f, .radius = 0.3f, .inv_mass = 1.0f, .inv_inertia = 1.0f / (0.4f * 0.09f),
+           .restitution = 0.5f, .friction = 0.5f, .flags = 0});
   }
   std::vector<std::uint32_t> fast;
   for (std::uint32_t i = 0; i < s.size(); ++i)

@@ -33,8 +33,8 @@ using batch = xsimd::batch<float, simd_arch>;
 inline batch dot3(const batch u[3], const batch v[3]) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
 inline batch region_value(TriangleRegion region) { return batch(static_cast<float>(region)); }
 /// Lanes of `mask` take `point` (from + t dir, as triangle_detail::along) and `region`.
-inline void take(const xsimd::batch_bool<float, simd_arch>& mask, const batch from[3], const batch dir[3], const batch& t,
-                 TriangleRegion region, ClosestPointLanes& out) {
+inline void take(const xsimd::batch_bool<float, simd_arch>& mask, const batch from[3], const batch dir[3],
+                 const batch& t, TriangleRegion region, ClosestPointLanes& out) {
   for (int d = 0; d < 3; ++d) out.p[d] = xsimd::select(mask, from[d] + t * dir[d], out.p[d]);
   out.region = xsimd::select(mask, region_value(region), out.region);
 }
@@ -46,10 +46,9 @@ inline void take_vertex(const xsimd::batch_bool<float, simd_arch>& mask, const b
 }  // namespace triangle_lanes_detail
 
 /// Closest point of triangle (a, b, c) to q, per lane: closest_point_on_triangle's bits.
-[[gnu::always_inline]] inline ClosestPointLanes closest_points_on_triangles(const xsimd::batch<float, simd_arch> q[3],
-                                                     const xsimd::batch<float, simd_arch> a[3],
-                                                     const xsimd::batch<float, simd_arch> b[3],
-                                                     const xsimd::batch<float, simd_arch> c[3]) {
+[[gnu::always_inline]] inline ClosestPointLanes closest_points_on_triangles(
+    const xsimd::batch<float, simd_arch> q[3], const xsimd::batch<float, simd_arch> a[3],
+    const xsimd::batch<float, simd_arch> b[3], const xsimd::batch<float, simd_arch> c[3]) {
   using namespace triangle_lanes_detail;
   const batch zero(0.0f);
   batch ab[3], ac[3], ap[3], bp[3], cp[3], bc[3];

@@ -1,8 +1,8 @@
 // Terrain::find_contacts (kernel/terrain.h) by the packet walk (kernel/bvh_packet_walk.h): a
 // batch of spheres goes down the stackless walk together, each leaf's triangle boxes tested
 // for all lanes at once; the (sphere, triangle) candidates that pass are then tested a batch at
-// a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h); the scalar reference
-// is Terrain::find_contacts_scalar, and both share kernel/terrain_contacts.h.
+// a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h);
+// the scalar reference is Terrain::find_contacts_scalar, and both share kernel/terrain_contacts.h.
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
@@ -60,7 +60,8 @@ void test_candidates(TerrainCandidates& c, const PacketSpheres& p, const Terrain
     if (valid == 0) continue;
     const batch a[3] = {gather_floats(t.v0x.data(), k), gather_floats(t.v0y.data(), k), gather_floats(t.v0z.data(), k)};
     const batch b[3] = {gather_floats(t.v1x.data(), k), gather_floats(t.v1y.data(), k), gather_floats(t.v1z.data(), k)};
-    const batch v2[3] = {gather_floats(t.v2x.data(), k), gather_floats(t.v2y.data(), k), gather_floats(t.v2z.data(), k)};
+    const batch v2[3] = {gather_floats(t.v2x.data(), k), gather_floats(t.v2y.data(), k),
+                         gather_floats(t.v2z.data(), k)};
     const ClosestPointLanes closest = closest_points_on_triangles(q, a, b, v2);
     const batch d[3] = {closest.p[0] - q[0], closest.p[1] - q[1], closest.p[2] - q[2]};
     const batch dist = xsimd::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
