@@ -34,24 +34,25 @@ struct TerrainCandidates {
   std::uint32_t count = 0;
 };
 
-/// A packet's spheres as the candidates' tests read them, by lane.
+/// What the candidates' tests read of a packet's spheres beside SpherePacket's centres, by lane.
 struct PacketSpheres {
-  alignas(64) float x[W], y[W], z[W], radius[W], margin[W];
+  alignas(64) float radius[W];
+  alignas(64) float margin[W];
   std::size_t first_sphere = 0;  ///< lane l is sphere first_sphere + l
 };
 
 /// Tests candidates [0, c.count) and empties the buffer: sphere_triangle_contact's first half for
 /// a batch at a time (kernel/simd/sphere_triangle_lanes.h), then, for the lanes within reach,
 /// its second half and the contact into the lane's reduction, in candidate order.
-void test_candidates(TerrainCandidates& c, const PacketSpheres& p, const TerrainTriangles& t, const SphereSoA& s,
-                     float restitution, float friction, ContactReduction* lanes) {
+void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p, const TerrainTriangles& t,
+                     const SphereSoA& s, float restitution, float friction, ContactReduction* lanes) {
   alignas(64) float px[W], py[W], pz[W], region[W], distance[W], height[W];
   for (std::uint32_t o = 0; o < c.count; o += W) {
     std::uint32_t valid = (1u << std::min(W, c.count - o)) - 1u;
     if (c.count - o < W)  // inert lanes: sphere 0 against triangle 0, masked out below
       for (std::uint32_t l = c.count - o; l < W; ++l) c.lane[o + l] = 0, c.triangle[o + l] = 0;
     const index_batch lane = index_batch::load_aligned(c.lane + o), k = index_batch::load_aligned(c.triangle + o);
-    const batch q[3] = {pick_lanes(p.x, lane), pick_lanes(p.y, lane), pick_lanes(p.z, lane)};
+    const batch q[3] = {pick_lanes(packet.cx, lane), pick_lanes(packet.cy, lane), pick_lanes(packet.cz, lane)};
     const batch radius = pick_lanes(p.radius, lane), max_gap = pick_lanes(p.margin, lane);
     const batch n[3] = {gather_floats(t.nx.data(), k), gather_floats(t.ny.data(), k), gather_floats(t.nz.data(), k)};
     // sphere_triangle_contact's plane test first: about a third of the candidates end here.
@@ -74,7 +75,7 @@ void test_candidates(TerrainCandidates& c, const PacketSpheres& p, const Terrain
       const std::uint32_t sphere_lane = static_cast<std::uint32_t>(c.lane[o + l]);
       const std::uint32_t tri = static_cast<std::uint32_t>(c.triangle[o + l]);
       const std::size_t i = p.first_sphere + sphere_lane;
-      const float centre[3] = {p.x[sphere_lane], p.y[sphere_lane], p.z[sphere_lane]};
+      const float centre[3] = {packet.cx[sphere_lane], packet.cy[sphere_lane], packet.cz[sphere_lane]};
       const TrianglePoint at{{px[l], py[l], pz[l]}, static_cast<TriangleRegion>(static_cast<int>(region[l]))};
       const float to[3] = {at.p[0] - centre[0], at.p[1] - centre[1], at.p[2] - centre[2]};
       const float normal[3] = {t.nx[tri], t.ny[tri], t.nz[tri]};
@@ -105,7 +106,6 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
     for (std::size_t i = p0; i < p1; ++i) {
       const float reach = terrain_contact_reach(s, i, dt, fast_fraction, sweep_fast);
       const std::uint32_t lane = packet.add(s.px[i], s.py[i], s.pz[i], s.radius[i] + reach);
-      spheres.x[lane] = s.px[i], spheres.y[lane] = s.py[i], spheres.z[lane] = s.pz[i];
       spheres.radius[lane] = s.radius[i], spheres.margin[lane] = reach;
       lanes[lane].count = 0;
     }
@@ -113,9 +113,9 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
       candidates.lane[candidates.count] = static_cast<std::int32_t>(lane);
       candidates.triangle[candidates.count] = static_cast<std::int32_t>(k);
       if (++candidates.count == TerrainCandidates::kCapacity)
-        test_candidates(candidates, spheres, t, s, restitution, friction, lanes);
+        test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
     });
-    if (candidates.count > 0) test_candidates(candidates, spheres, t, s, restitution, friction, lanes);
+    if (candidates.count > 0) test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
     // In sphere order, as the scalar walk gives them.
     std::size_t count = 0;
     for (std::uint32_t lane = 0; lane < packet.count; ++lane)
