@@ -74,6 +74,12 @@ CommandOptions parse(const std::vector<std::string>& args) {
     } else if (flag == "--resting") {
       o.params.resting_iterations = parse_number<int>(flag, value());
       if (o.params.resting_iterations < 0) usage_error("--resting must be >= 0 (resting-contact passes per step)");
+    } else if (flag == "--tile") {
+      const double n = parse_number<double>(flag, value());
+      if (!(n == 0 || (n >= kMinSolverTileSpheres && n <= 1e8)))
+        usage_error("--tile must be 0 (no solver tiles) or spheres per tile in [" + std::to_string(kMinSolverTileSpheres) +
+                    ", 1e8]");
+      o.params.solver_tile_spheres = static_cast<std::size_t>(n);
     } else if (flag == "--warm-start") {
       const std::string& v = value();
       if (v == "on" || v == "off") {
@@ -130,6 +136,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--dt")) v.dt = o.params.dt;
   if (given("--reorder")) v.reorder_interval = o.params.reorder_interval;
   if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
+  if (given("--tile")) v.solver_tile_spheres = o.params.solver_tile_spheres;
   if (given("--pairs")) v.pair_search = o.params.pair_search;
   if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
   if (given("--rotation")) v.rotation = o.params.rotation;

@@ -235,6 +235,8 @@ void read_settings(const Object& o, WorldSettings& s) {
   s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
   s.depenetration_iterations = static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
+  s.solver_tile_spheres = static_cast<std::size_t>(
+      o.integer("solver_tile_spheres", static_cast<std::int64_t>(s.solver_tile_spheres), 0, 100000000));
   if (o.has("depenetration")) {
     const Object d(o["depenetration"], o.at("depenetration"), {"fraction", "slop_fraction"});
     d.reject_unknown_keys();
@@ -535,7 +537,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   settings.threads = static_cast<int>(top.integer("threads", 0, 0, 4096));
   if (top.has("settings")) read_settings(Object(top["settings"], top.at("settings"),
                                                 {"time_scale", "integrator", "collision_iterations", "resting_iterations",
-                                                 "depenetration_iterations", "depenetration", "restitution_threshold",
+                                                 "depenetration_iterations", "solver_tile_spheres", "depenetration",
+                                                 "restitution_threshold",
                                                  "sphere_collisions", "pair_search", "speculative_radii", "pair_margin_travel",
                                                  "reorder_interval", "warm_start", "warm_start_factor",
                                                  "continuous_collision", "fast_travel_fraction", "max_sweep_events",
@@ -612,6 +615,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.dt) scene.dt = *overrides.dt;
   if (overrides.reorder_interval) settings.reorder_interval = *overrides.reorder_interval;
   if (overrides.resting_iterations) settings.resting_iterations = *overrides.resting_iterations;
+  if (overrides.solver_tile_spheres) settings.solver_tile_spheres = *overrides.solver_tile_spheres;
   if (overrides.pair_search) settings.pair_search = *overrides.pair_search;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
   if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;

@@ -28,6 +28,7 @@ struct SceneOverrides {
   std::optional<float> dt = std::nullopt;
   std::optional<int> reorder_interval = std::nullopt;
   std::optional<int> resting_iterations = std::nullopt;
+  std::optional<std::size_t> solver_tile_spheres = std::nullopt;
   std::optional<PairSearch> pair_search = std::nullopt;
   std::optional<bool> warm_start = std::nullopt;
   std::optional<float> warm_start_factor = std::nullopt;

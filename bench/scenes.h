@@ -20,6 +20,7 @@ struct SceneParams {
   bool warm_start = WorldSettings{}.warm_start;              ///< --warm-start on|off|FACTOR
   float warm_start_factor = WorldSettings{}.warm_start_factor;
   int resting_iterations = WorldSettings{}.resting_iterations;  ///< --resting N
+  std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
   bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
   bool rotation = WorldSettings{}.rotation;  ///< --rotation on|off
 };
@@ -33,6 +34,7 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.warm_start = p.warm_start;
   s.warm_start_factor = p.warm_start_factor;
   s.resting_iterations = p.resting_iterations;
+  s.solver_tile_spheres = p.solver_tile_spheres;
   s.continuous_collision = p.continuous_collision;
   s.rotation = p.rotation;
   return s;

@@ -324,16 +324,10 @@ struct StepPipeline {
     });
   }
 
-  /// Runs f(run, independent) over the contacts, colour after colour, in runs of at most
-  /// kContactChunk contacts (runs of one colour in parallel). `independent` says the run's
-  /// contacts share no sphere (false only for the serial overflow colour), which the SIMD
-  /// passes need. Runs start at fixed offsets, so they do not depend on the thread count.
-  template <class F>
-  void for_each_run_by_colour(Phase phase, F&& f) {
-    for (std::size_t colour = 0; colour < w.colouring_.colour_count(); ++colour) for_each_run_of_colour(colour, phase, f);
-  }
-
-  /// for_each_run_by_colour's runs of one colour.
+  /// Runs f(run, independent) over the contacts of colour `colour`, in runs of at most
+  /// kContactChunk contacts (in parallel). `independent` says the run's contacts share no
+  /// sphere (false only for a serial overflow colour, run whole). Runs start at fixed offsets,
+  /// so they do not depend on the thread count.
   template <class F>
   void for_each_run_of_colour(std::size_t colour, Phase phase, F&& f) {
     const ContactColouring& col = w.colouring_;
@@ -350,38 +344,77 @@ struct StepPipeline {
     }
   }
 
-  /// Runs f(first_batch, last_batch, scalar_contacts) over the staged contact batches, colour
-  /// after colour, chunks of one colour in parallel (one crew stage per colour); each colour's
-  /// scalar tail goes with its last chunk, and the serial overflow colour is all scalar. Chunks
-  /// are fixed by the batch count, not the thread count.
-  template <class F>
-  void for_each_batch_chunk(StageCrew& crew, F&& f) {
+  /// Runs f(tile, first_batch, last_batch, scalar_contacts) over the staged contact batches:
+  /// first every tile t (kernel/contact_colouring.h) for which tile_wanted(t), as one block, its
+  /// colours in order, tiles in parallel (one crew stage for all of them); then the shared
+  /// colours (tile = tile_count()) one after another, the chunks of each in parallel (one crew
+  /// stage per colour). A serial overflow colour is all scalar contacts (a batched colour has
+  /// none). Chunks are fixed by the batch count, not the thread count.
+  template <class TileWanted, class F>
+  void for_each_batch_chunk(StageCrew& crew, TileWanted&& tile_wanted, F&& f) {
     const ContactColouring& col = w.colouring_;
     const ContactBatches& batches = w.contact_batches_;
-    for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
-      const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
-      if (col.is_serial(colour)) {
+    const std::size_t tiles = col.tile_count();
+    auto whole_colour = [&](std::size_t tile, std::size_t colour) {
+      const std::size_t end = col.colour_begin[colour + 1], tail = batches.tail_begin(colour);
+      f(tile, batches.batch_begin(colour), batches.batch_end(colour), std::span<Contact>(w.contacts_.data() + tail, end - tail));
+    };
+    crew.stage(tiles, [&](std::size_t t) {
+      if (!tile_wanted(t)) return;
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) whole_colour(t, colour);
+    });
+    for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour) {
+      const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+      if (col.is_serial(colour) || count <= kBatchChunk) {
         crew.stage(1, [&](std::size_t) {
           ScopedTraceRecord record(w.trace_, Phase::Solve);
-          f(std::size_t{0}, std::size_t{0}, std::span<Contact>(w.contacts_.data() + begin, end - begin));
+          whole_colour(tiles, colour);
         });
         continue;
       }
-      const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
-      const std::span<Contact> tail(w.contacts_.data() + batches.tail_begin(colour), end - batches.tail_begin(colour));
-      const std::size_t chunks = std::max<std::size_t>(block_count(count, kBatchChunk), 1);
+      const std::size_t chunks = block_count(count, kBatchChunk);
       crew.stage(chunks, [&](std::size_t k) {
         ScopedTraceRecord record(w.trace_, Phase::Solve);
-        f(first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk),
-          k + 1 == chunks ? tail : std::span<Contact>());
+        f(tiles, first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk), std::span<Contact>());
       });
     }
+  }
+
+  /// for_each_batch_chunk over every tile.
+  template <class F>
+  void for_each_batch_chunk(StageCrew& crew, F&& f) {
+    for_each_batch_chunk(crew, [](std::size_t) { return true; }, f);
+  }
+
+  /// After collision pass `pass` applied impulses to some contacts in shared batches [first,
+  /// last) or `scalar`: each tile with a body the pass changed (stamp pass + 1) gets that stamp
+  /// too, so that the next pass runs the tile (tile_changed_ is the most recent stamp of any of
+  /// the tile's bodies). Chunks of one colour may mark one tile at once, with the same value.
+  void mark_changed_tiles(std::size_t first, std::size_t last, std::span<const Contact> scalar,
+                          std::span<const SolverBody> bodies, std::uint32_t pass, std::size_t tile_spheres) {
+    const std::uint32_t stamp = pass + 1;
+    const std::size_t n = bodies.size() - 1;  // the static body is last
+    auto mark = [&](std::uint32_t slot) {
+      if (slot < n && bodies[slot].changed_in_pass == stamp)
+        std::atomic_ref<std::uint32_t>(w.tile_changed_[slot / tile_spheres]).store(stamp, std::memory_order_relaxed);
+    };
+    auto mark_contacts = [&](std::span<const Contact> run) {
+      for (const Contact& c : run) {
+        mark(c.a);
+        if (c.b != kStaticBody) mark(c.b);
+      }
+    };
+    const auto [begin, end] = w.contact_batches_.contact_range(first, last);
+    mark_contacts(std::span<const Contact>(w.contacts_.data() + begin, end - begin));
+    mark_contacts(scalar);
   }
 
   void solve() {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
-    colour_contacts(w.contacts_, n, w.colouring_);
+    const std::size_t tile_spheres = w.settings_.solver_tile_spheres;
+    colour_contacts(w.contacts_, n, w.colouring_, tile_spheres);
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.
     resize_geometric(w.coloured_contacts_, w.contacts_.size());
@@ -405,27 +438,36 @@ struct StepPipeline {
     });
     const ContactColouring& col = w.colouring_;
     ContactBatches& batches = w.contact_batches_;
-    batches.plan(col.colour_begin, std::min<std::size_t>(col.colour_count(), kMaxParallelColours));
+    batches.plan(col.colour_begin, col.serial);
     for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       batches.fill(first, last, w.contacts_, bodies);
     });
-    w.stats_.colours = col.colour_count();
+    w.stats_.colours = col.sequential_colours();
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
     const float inv_dt = 1.0f / params.dt;
-    // The passes below are about (collision + 1 + resting) x colours short stages: one crew
-    // for all of them (jobs/stage_crew.h) instead of a parallel loop each.
+    // The passes below are about (collision + 1 + resting) x (1 + shared colours) short
+    // stages: one crew for all of them (jobs/stage_crew.h) instead of a parallel loop each.
+    const std::size_t tiles = col.tile_count();
+    const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
+    assign_geometric(w.tile_changed_, tiles, std::uint32_t{0});
     const std::size_t stages = (static_cast<std::size_t>(w.settings_.collision_iterations) + 1 +
-                                static_cast<std::size_t>(w.settings_.resting_iterations)) * col.colour_count();
+                                static_cast<std::size_t>(w.settings_.resting_iterations)) * stages_per_pass;
     w.crew_.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
-        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
-          const auto number = static_cast<std::uint32_t>(pass);
+        const auto number = static_cast<std::uint32_t>(pass);
+        // A tile none of whose bodies changed since the previous pass began would skip every
+        // batch (ContactBatches::solve_collision): skipped whole, without reading its batches.
+        auto tile_wanted = [&](std::size_t t) { return pass == 0 || w.tile_changed_[t] >= number; };
+        for_each_batch_chunk(crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
           const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
-          if (simd || rest) any.store(true, std::memory_order_relaxed);
+          if (!(simd || rest)) return;
+          any.store(true, std::memory_order_relaxed);
+          if (tile < tiles) w.tile_changed_[tile] = number + 1;  // only this tile's block writes it
+          else if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
         });
         if (!any.load()) break;
         ++w.stats_.collision_passes;
@@ -435,12 +477,12 @@ struct StepPipeline {
       // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of
       // jitter that way, 1.4 J this way).
       if (w.settings_.warm_start && w.stats_.warm_started > 0)
-        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.warm_start(first, last, bodies, work);
           warm_start_run_scalar(scalar, bodies, work);
         });
       for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
-        for_each_batch_chunk(crew, [&](std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.solve_resting(first, last, bodies, inv_dt, work);
           solve_resting_run_scalar(scalar, bodies, inv_dt, work);
         });
@@ -494,23 +536,32 @@ struct StepPipeline {
   /// per sphere, the number of the last (pass, colour) that moved it, 1-based.
   void depenetrate() {
     SphereSoA& s = w.spheres_;
-    const std::size_t colours = w.colouring_.colour_count();
+    const ContactColouring& col = w.colouring_;
+    const std::size_t colours = col.colour_count();
     assign_geometric(w.moved_at_, s.size(), std::uint32_t{0});
     std::uint32_t* const moved = w.moved_at_.data();
     for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
-      for (std::size_t colour = 0; colour < colours; ++colour) {
-        const auto now = static_cast<std::uint32_t>(pass * colours + colour + 1);
+      auto push_colour = [&](std::size_t colour, std::span<Contact> run) {
+        const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
         const std::uint32_t previous = pass == 0 ? 0 : now - static_cast<std::uint32_t>(colours);
-        for_each_run_of_colour(colour, Phase::Depenetrate, [&](std::span<Contact> run, bool) {
-          for (const Contact& c : run) {
-            const bool dynamic_b = c.b != kStaticBody;
-            if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
-            if (!push_apart(s, c, w.settings_.depenetration)) continue;
-            moved[c.a] = now;
-            if (dynamic_b) moved[c.b] = now;
-          }
-        });
-      }
+        for (const Contact& c : run) {
+          const bool dynamic_b = c.b != kStaticBody;
+          if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
+          if (!push_apart(s, c, w.settings_.depenetration)) continue;
+          moved[c.a] = now;
+          if (dynamic_b) moved[c.b] = now;
+        }
+      };
+      // Tiles in parallel, each its colours in order (they share no sphere), then the shared colours.
+      for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
+        ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+        for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) {
+          const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
+          push_colour(colour, std::span<Contact>(w.contacts_.data() + begin, end - begin));
+        }
+      });
+      for (std::size_t colour = col.shared_colour_begin(); colour < colours; ++colour)
+        for_each_run_of_colour(colour, Phase::Depenetrate, [&](std::span<Contact> run, bool) { push_colour(colour, run); });
     }
   }
 

@@ -1,36 +1,73 @@
 #include "kernel/contact_colouring.h"
 
+#include <algorithm>
 #include <bit>
 
 #include "soa/grow.h"
 
 namespace hail {
 
-void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out) {
+namespace {
+
+constexpr std::uint32_t kColourSlots = kMaxParallelColours + 1;  // the parallel colours, then the serial one
+
+/// The greedy rule: the lowest colour neither sphere has yet (kMaxParallelColours when all
+/// are taken: the serial colour, which marks nothing).
+std::uint32_t take_colour(const Contact& c, std::uint64_t* mask) {
+  std::uint64_t used = mask[c.a];
+  if (c.b != kStaticBody) used |= mask[c.b];
+  if (~used == 0) return kMaxParallelColours;
+  const auto colour = static_cast<std::uint32_t>(std::countr_zero(~used));
+  mask[c.a] |= std::uint64_t{1} << colour;
+  if (c.b != kStaticBody) mask[c.b] |= std::uint64_t{1} << colour;
+  return colour;
+}
+
+}  // namespace
+
+std::size_t ContactColouring::sequential_colours() const {
+  std::size_t most = 0;
+  for (std::size_t t = 0; t < tile_count(); ++t) most = std::max<std::size_t>(most, tile_colour_begin[t + 1] - tile_colour_begin[t]);
+  return most + (colour_count() - shared_colour_begin());
+}
+
+void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
+                     std::size_t tile_spheres) {
+  const std::size_t tiles = tile_spheres == 0 ? 0 : (sphere_count + tile_spheres - 1) / tile_spheres;
+  // Keys: tile t's colour c is t * kColourSlots + c; the shared colour c is tiles * kColourSlots + c.
+  const std::size_t keys = (tiles + 1) * kColourSlots;
   assign_geometric(out.body_mask, sphere_count, std::uint64_t{0});
-  resize_geometric(out.colour_of, contacts.size());
-  std::uint32_t counts[kMaxParallelColours + 1] = {};
-  std::uint32_t used_colours = 0;
+  if (tiles > 0) assign_geometric(out.shared_mask, sphere_count, std::uint64_t{0});
+  resize_geometric(out.key_of, contacts.size());
+  assign_geometric(out.counts, keys, std::uint32_t{0});
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
-    std::uint64_t used = out.body_mask[c.a];
-    if (c.b != kStaticBody) used |= out.body_mask[c.b];
-    const std::uint32_t colour = ~used == 0 ? kMaxParallelColours : static_cast<std::uint32_t>(std::countr_zero(~used));
-    if (colour < kMaxParallelColours) {
-      out.body_mask[c.a] |= std::uint64_t{1} << colour;
-      if (c.b != kStaticBody) out.body_mask[c.b] |= std::uint64_t{1} << colour;
+    std::size_t tile = tiles;  // shared
+    if (tiles > 0) {
+      const std::size_t ta = c.a / tile_spheres;
+      if (c.b == kStaticBody || c.b / tile_spheres == ta) tile = ta;
     }
-    out.colour_of[k] = static_cast<std::uint8_t>(colour);
-    ++counts[colour];
-    if (colour + 1 > used_colours) used_colours = colour + 1;
+    const std::uint32_t colour = take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
+    const auto key = static_cast<std::uint32_t>(tile * kColourSlots + colour);
+    out.key_of[k] = key;
+    ++out.counts[key];
   }
-  assign_geometric(out.colour_begin, used_colours + 1, std::uint32_t{0});
-  for (std::uint32_t k = 0; k < used_colours; ++k) out.colour_begin[k + 1] = out.colour_begin[k] + counts[k];
+  // Colours in key order, empty ones dropped; counts[key] becomes the key's first position.
+  out.colour_begin.assign(1, 0);
+  out.serial.clear();
+  out.tile_colour_begin.clear();
+  std::uint32_t position = 0;
+  for (std::size_t key = 0; key < keys; ++key) {
+    if (key % kColourSlots == 0 && tiles > 0) out.tile_colour_begin.push_back(static_cast<std::uint32_t>(out.serial.size()));
+    const std::uint32_t count = out.counts[key];
+    out.counts[key] = position;
+    if (count == 0) continue;
+    position += count;
+    out.colour_begin.push_back(position);
+    out.serial.push_back(key % kColourSlots == kMaxParallelColours ? 1 : 0);
+  }
   resize_geometric(out.order, contacts.size());
-  std::vector<std::uint32_t>& begin = out.colour_begin;
-  std::uint32_t cursor[kMaxParallelColours + 1];
-  for (std::uint32_t k = 0; k < used_colours; ++k) cursor[k] = begin[k];
-  for (std::size_t k = 0; k < contacts.size(); ++k) out.order[cursor[out.colour_of[k]]++] = static_cast<std::uint32_t>(k);
+  for (std::size_t k = 0; k < contacts.size(); ++k) out.order[out.counts[out.key_of[k]]++] = static_cast<std::uint32_t>(k);
 }
 
 }  // namespace hail

@@ -2,6 +2,17 @@
 // Graph colouring of contacts so that no two contacts of one colour share a sphere: each colour
 // can then be solved in parallel with no race, and solving colours in a fixed order makes the
 // result independent of the thread count. Greedy, in contact order, so it is deterministic.
+//
+// Tiles (optional): the spheres' slots are cut into tiles of `tile_spheres` consecutive slots
+// (slots are in Morton order, so a tile is a compact region of space). A contact whose spheres
+// are both in one tile (or whose other side is static) is that tile's; the others (across a
+// tile edge) are shared. Each tile's contacts are coloured on their own, and the shared
+// contacts after them. A pass then runs every tile's colours one after another on one thread,
+// tiles in parallel (they share no sphere), and the shared colours last, each in parallel:
+// a tile's bodies stay in that core's cache through all its colours, where untiled colours
+// each sweep the whole body array (measured in the README), and a pass has one parallel stage
+// for all tiles instead of one per colour. Without tiles (tile_spheres 0) every contact is
+// shared: the plain colouring.
 
 #include <cstdint>
 #include <span>
@@ -11,20 +22,34 @@
 
 namespace hail {
 
-/// Contacts of colours 0..kMaxParallelColours-1 are independent within their colour; any
-/// contact that finds all of them taken goes to one last colour solved serially.
+/// Contacts of colours 0..kMaxParallelColours-1 (of a tile, or of the shared contacts) are
+/// independent within their colour; any contact that finds all of them taken goes to one last
+/// colour of its tile (or of the shared ones) solved serially.
 inline constexpr std::uint32_t kMaxParallelColours = 64;
 
 struct ContactColouring {
   std::vector<std::uint32_t> order;         ///< contact indices grouped by colour, in contact order within one
   std::vector<std::uint32_t> colour_begin;  ///< colour k spans order[colour_begin[k] .. colour_begin[k+1])
+  /// Tile t's colours are [tile_colour_begin[t], tile_colour_begin[t+1]); the shared colours
+  /// are [shared_colour_begin(), colour_count()). Colours of different tiles share no sphere.
+  std::vector<std::uint32_t> tile_colour_begin;
+  std::vector<std::uint8_t> serial;         ///< per colour: 1 for an overflow colour (its contacts may share spheres)
   std::vector<std::uint64_t> body_mask;     ///< scratch: colours used per sphere
-  std::vector<std::uint8_t> colour_of;      ///< scratch: colour per contact
+  std::vector<std::uint64_t> shared_mask;   ///< scratch: shared colours used per sphere
+  std::vector<std::uint32_t> key_of;        ///< scratch: (tile or shared) and colour per contact
+  std::vector<std::uint32_t> counts;        ///< scratch: contacts per (tile or shared, colour)
   [[nodiscard]] std::size_t colour_count() const { return colour_begin.empty() ? 0 : colour_begin.size() - 1; }
-  [[nodiscard]] bool is_serial(std::size_t colour) const { return colour == kMaxParallelColours; }
+  [[nodiscard]] std::size_t tile_count() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.size() - 1; }
+  [[nodiscard]] std::size_t shared_colour_begin() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.back(); }
+  [[nodiscard]] bool is_serial(std::size_t colour) const { return serial[colour] != 0; }
+  /// Colours one after another on a pass's critical path: the most colours of any tile, then
+  /// the shared colours.
+  [[nodiscard]] std::size_t sequential_colours() const;
 };
 
-/// Colours `contacts` over `sphere_count` spheres. Reuses the colouring's storage.
-void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out);
+/// Colours `contacts` over `sphere_count` spheres, in tiles of `tile_spheres` slots (0: no
+/// tiles). Reuses the colouring's storage.
+void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
+                     std::size_t tile_spheres = 0);
 
 }  // namespace hail

@@ -2,6 +2,7 @@
 
 #include "soa/grow.h"
 
+#include <algorithm>
 #include <cstddef>
 
 #include "kernel/contact_impulse.h"
@@ -86,19 +87,23 @@ ContactBatchArrays ContactBatches::arrays() {
           static_b_.data()};
 }
 
-void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours) {
+void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span<const std::uint8_t> serial) {
   kernels_ = &simd_kernels();
   const std::size_t W = kernels_->width;
   width_ = W;
   colour_batches_.assign(1, 0);
   tail_begin_.clear();
   first_contact_.clear();
-  for (std::size_t c = 0; c < batched_colours; ++c) {
+  batch_lanes_.clear();
+  for (std::size_t c = 0; c + 1 < colour_begin.size(); ++c) {
     const std::size_t begin = colour_begin[c], end = colour_begin[c + 1];
-    const std::size_t full = (end - begin) / W;
-    for (std::size_t k = 0; k < full; ++k) first_contact_.push_back(static_cast<std::uint32_t>(begin + k * W));
-    colour_batches_.push_back(colour_batches_.back() + full);
-    tail_begin_.push_back(begin + full * W);
+    const std::size_t batches = serial[c] ? 0 : (end - begin + W - 1) / W;
+    for (std::size_t k = 0; k < batches; ++k) {
+      first_contact_.push_back(static_cast<std::uint32_t>(begin + k * W));
+      batch_lanes_.push_back(static_cast<std::uint8_t>(std::min(W, end - begin - k * W)));
+    }
+    colour_batches_.push_back(colour_batches_.back() + batches);
+    tail_begin_.push_back(serial[c] ? begin : end);
   }
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
@@ -114,7 +119,8 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
   const std::size_t W = width_;
   for (std::size_t k = first; k < last; ++k) {
     bool all_static = true;
-    for (std::size_t l = 0; l < W; ++l) {
+    const std::size_t used = batch_lanes_[k];
+    for (std::size_t l = 0; l < used; ++l) {
       const Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
       const SolverBody& a = bodies[c.a];
@@ -131,13 +137,25 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
       bounce_impulse_[i] = c.bounce_impulse;
     }
+    // Padding lanes of a colour's last batch: both sides the static body, so the lane's
+    // inverse masses are zero and every rule leaves it inactive (kn <= 0); no store writes
+    // the static body.
+    for (std::size_t l = used; l < W; ++l) {
+      const std::size_t i = k * W + l;
+      a_[i] = b_[i] = static_slot;
+      ra_[i] = rb_[i] = nx_[i] = ny_[i] = nz_[i] = gap_[i] = restitution_[i] = friction_[i] = 0.0f;
+      normal_impulse_[i] = tx_[i] = ty_[i] = tz_[i] = bounce_impulse_[i] = 0.0f;
+    }
     static_b_[k] = all_static ? 1 : 0;
   }
 }
 
 void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
                            std::size_t batched_colours, std::span<const SolverBody> bodies) {
-  plan(colour_begin, batched_colours);
+  std::vector<std::uint8_t>& serial = stage_serial_;
+  serial.assign(colour_begin.empty() ? 0 : colour_begin.size() - 1, 0);
+  for (std::size_t c = batched_colours; c < serial.size(); ++c) serial[c] = 1;
+  plan(colour_begin, serial);
   fill(0, batch_count(), contacts, bodies);
 }
 
@@ -166,7 +184,7 @@ void ContactBatches::store_impulses(std::span<Contact> contacts) const {
 void ContactBatches::store_impulses(std::span<Contact> contacts, std::size_t first, std::size_t last) const {
   const std::size_t W = width_;
   for (std::size_t k = first; k < last; ++k)
-    for (std::size_t l = 0; l < W; ++l) {
+    for (std::size_t l = 0; l < batch_lanes_[k]; ++l) {
       Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
       c.normal_impulse = normal_impulse_[i], c.tx = tx_[i], c.ty = ty_[i], c.tz = tz_[i];

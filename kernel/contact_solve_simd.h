@@ -5,21 +5,24 @@
 //
 // Once per step ContactBatches::stage copies each colour's contacts into SoA batches: normal,
 // gap, material, the bodies' slots and mass properties, and the accumulated impulses. A pass
-// then only gathers the bodies' velocities (AVX2/AVX-512 gathers from the 64-byte SolverBody
-// lines), runs the rule on all lanes and scatters the velocities back; what never changes
-// within a step is not re-read from the contacts on every pass. A colour's last size % W
-// contacts (its tail) stay with the scalar rules. The passes themselves are in
+// then only gathers the bodies' velocities (from the 64-byte SolverBody lines), runs the rule
+// on all lanes and scatters the velocities back; what never changes within a step is not
+// re-read from the contacts on every pass. A colour's last batch is filled up with padding
+// lanes (both sides the static body: zero inverse masses, so every rule leaves them inactive),
+// so small colours (the solver's tiles have many) run in SIMD too; only a serial overflow
+// colour stays with the scalar rules. The passes themselves are in
 // kernel/simd/contact_solve.cpp, compiled once per SIMD path.
 //
 // Each lane performs the scalar rule's float operations in the scalar rule's order, and a lane
 // the scalar code would skip (an early return) keeps its values through a select, so the result
 // is bitwise the scalar result: the scalar functions stay the reference, and
 // tests/test_contact_solve_simd.cpp and tests/test_simd_dispatch.cpp compare the two on random
-// contacts. Since the contacts of a colour share no sphere, which of them run in batches and
-// which in the tail changes nothing either: the result does not depend on W.
+// contacts. Since the contacts of a colour share no sphere, how they fall into batches changes
+// nothing either: the result does not depend on W.
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kernel/contact.h"
@@ -52,26 +55,33 @@ struct ContactBatchArrays {
 class ContactBatches {
  public:
   /// Stages contacts[colour_begin[c] .. colour_begin[c+1]) for the colours c < batched_colours
-  /// (each must share no sphere) in full batches; later colours and every colour's tail are
-  /// left to the scalar rules. `bodies` must end with one static body (zero velocity and
+  /// (each must share no sphere) in batches, the last one padded; later colours are left to
+  /// the scalar rules. `bodies` must end with one static body (zero velocity and
   /// inverse mass), whose slot static contacts gather from. Allocates only on growth.
   void stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin, std::size_t batched_colours,
              std::span<const SolverBody> bodies);
   /// stage() in two parts, so that the copying can run in parallel: plan() lays out the
   /// batches (serial, cheap), fill() copies batches [first, last) (disjoint ranges in parallel).
-  /// plan() takes the active SIMD path's width and kernels; the passes until the next plan()
-  /// use those, whatever path is made active meanwhile.
-  void plan(std::span<const std::uint32_t> colour_begin, std::size_t batched_colours);
+  /// Colour c is batched unless serial[c] is non-zero (its contacts may share spheres: all of
+  /// them are left to the scalar rules, as its "tail"). plan() takes the active SIMD path's
+  /// width and kernels; the passes until the next plan() use those, whatever path is made
+  /// active meanwhile.
+  void plan(std::span<const std::uint32_t> colour_begin, std::span<const std::uint8_t> serial);
   void fill(std::size_t first, std::size_t last, std::span<const Contact> contacts, std::span<const SolverBody> bodies);
   [[nodiscard]] std::size_t batch_count() const { return first_contact_.size(); }
   /// Contacts per batch, as the last plan() laid them out.
   [[nodiscard]] std::size_t width() const { return width_; }
 
   /// Batches of colour c: [batch_begin(c), batch_end(c)). Its scalar tail is contacts
-  /// [tail_begin(c), colour_begin[c + 1]).
+  /// [tail_begin(c), colour_begin[c + 1]): empty for a batched colour, all of a serial one.
   [[nodiscard]] std::size_t batch_begin(std::size_t c) const { return colour_batches_[c]; }
   [[nodiscard]] std::size_t batch_end(std::size_t c) const { return colour_batches_[c + 1]; }
   [[nodiscard]] std::size_t tail_begin(std::size_t c) const { return tail_begin_[c]; }
+  /// The contacts of batches [first, last) (of one colour): [first index, end index).
+  [[nodiscard]] std::pair<std::size_t, std::size_t> contact_range(std::size_t first, std::size_t last) const {
+    if (first >= last) return {0, 0};
+    return {first_contact_[first], first_contact_[last - 1] + batch_lanes_[last - 1]};
+  }
 
   /// Collision pass number `pass` (0, 1, ...) (solve_collision) over batches [first, last);
   /// true when any lane applied an impulse. Batches of one colour may run in parallel. From
@@ -97,15 +107,17 @@ class ContactBatches {
   std::size_t width_ = 1;
   std::vector<std::size_t> colour_batches_, tail_begin_;
   std::vector<std::uint32_t> first_contact_;  // per batch: index of its lane-0 contact
+  std::vector<std::uint8_t> batch_lanes_;     // per batch: its contacts (W, or fewer in a colour's last batch)
   AlignedArray<std::int32_t> a_, b_;          // body slots (b: the static body for static contacts)
   std::vector<std::uint8_t> static_b_;        // per batch: every lane's b is the static body
+  std::vector<std::uint8_t> stage_serial_;    // stage()'s per-colour flags for plan()
   AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
   AlignedArray<float> ra_, rb_;
   AlignedArray<float> normal_impulse_, tx_, ty_, tz_, bounce_impulse_;
 };
 
-/// The scalar rules over a run of contacts: the reference, and the path for tails and for the
-/// serial colour (whose contacts may share spheres).
+/// The scalar rules over a run of contacts: the reference, and the path for a serial overflow
+/// colour (whose contacts may share spheres).
 /// `pass` marks the bodies it changes (SolverBody::changed_in_pass = pass + 1); it evaluates
 /// every contact. `work` (kernel/contact_impulse.h): kNoFriction when no contact has friction
 /// (no friction and no angular work), kLinearFriction without rotation (friction on linear

@@ -48,6 +48,10 @@ void World::validate(const WorldSettings& s) {
   require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
   require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
+  require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
+    return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
+           ", got " + std::to_string(s.solver_tile_spheres);
+  });
   require(std::isfinite(s.depenetration.fraction) && s.depenetration.fraction >= 0.0f && s.depenetration.fraction <= 1.0f,
           describe("WorldSettings::depenetration.fraction must be in [0, 1], got", s.depenetration.fraction));
   require(std::isfinite(s.depenetration.slop_fraction) && s.depenetration.slop_fraction >= 0.0f,

@@ -80,6 +80,10 @@ inline constexpr float kMixedRadiusSpread = 4.0f;
 inline constexpr float kGiantRadiusSpread = 20.0f;
 inline constexpr std::size_t kGiantPairSearchMinSpheres = 16000;
 
+/// Smallest WorldSettings::solver_tile_spheres other than 0: below it tiles hold too few
+/// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
+inline constexpr std::size_t kMinSolverTileSpheres = 64;
+
 /// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
 /// `morton_ordered` (the world keeps its slots in Morton order, reorder_interval > 0) no longer
 /// changes the choice since the grid's rewrite; it stays for callers.
@@ -113,6 +117,14 @@ struct WorldSettings {
   int resting_iterations = 8;
   /// Position-correction passes after integration.
   int depenetration_iterations = 4;
+  /// The solver's tiles (kernel/contact_colouring.h): runs of this many slots (in Morton order,
+  /// so compact regions) whose contacts among themselves are solved together, one tile per
+  /// thread at a time, before the contacts between tiles. A tile's bodies stay in its core's
+  /// cache through all its colours, and a pass has one parallel stage for all tiles instead of
+  /// one per colour. 0: no tiles (every colour spans all spheres). The order in which contacts
+  /// are solved depends on it, so states differ bitwise between tile sizes (never between
+  /// thread counts). The default and its measurements: README, "Solver tiles".
+  std::size_t solver_tile_spheres = 4096;
   DepenetrationParams depenetration{};
   /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
   /// a sphere lying on the ground closes at |g| dt every step and must not hop.
@@ -374,6 +386,7 @@ class World {
   std::vector<Impact> impacts_;                     ///< last_impacts(): sweep's, then impact_blocks_ in order
   std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_
   ContactColouring colouring_;
+  std::vector<std::uint32_t> tile_changed_;  ///< solve phase: per solver tile, the latest stamp of its bodies (changed_in_pass)
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
   std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch: n bodies and a static one
   ContactBatches contact_batches_;  ///< solve phase scratch: contacts staged for SIMD

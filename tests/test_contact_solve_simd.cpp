@@ -1,8 +1,8 @@
 // The staged SIMD collision and resting passes (ContactBatches) give bitwise the state of their
 // scalar reference (the per-contact rules of kernel/contact_impulse.h in a loop), on random runs
 // of contacts that share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
-// mass (lanes the rules skip), accumulated impulses carried over, and runs whose tail does not
-// fill a batch; in each FrictionWork mode (no friction, friction without rotation, the full
+// mass (lanes the rules skip), accumulated impulses carried over, and runs whose last batch is
+// only partly filled (padding lanes); in each FrictionWork mode (no friction, friction without rotation, the full
 // rules). The cradle chain runs on every SIMD path this CPU supports (the rest on the active
 // one; tests/test_simd_dispatch.cpp compares every path).
 
@@ -31,7 +31,7 @@ using hail::testing::same_bits;
 Problem random_run(std::size_t count, std::uint32_t seed) { return hail::testing::random_contacts(count, seed); }
 
 /// Warm start, 4 collision and 4 resting passes over one colour holding every contact of p:
-/// SIMD batches plus the scalar tail, or (simd false) the scalar rules alone.
+/// SIMD batches (the last padded), or (simd false) the scalar rules alone.
 void run_passes(Problem& p, bool simd, FrictionWork work, float threshold = 0.5f) {
   const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(p.contacts.size())};
   const float dt = 1.0f / 60.0f;
@@ -68,12 +68,14 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   INFO(count << " contacts, restitution threshold " << threshold << ", friction mode " << int(work));
   Problem simd = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
   Problem scalar = simd;
-  // One colour holding every contact: full batches, then the tail through the scalar rules.
+  // One colour holding every contact: all in batches, the last one padded when count % W != 0
+  // (the padding lanes must change nothing); no scalar tail.
   const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
   ContactBatches batches;
   batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
-  REQUIRE(batches.batch_end(0) == count / contact_batch_width());
-  REQUIRE(batches.tail_begin(0) == batches.batch_end(0) * contact_batch_width());
+  const std::size_t W = contact_batch_width();
+  REQUIRE(batches.batch_end(0) == (count + W - 1) / W);
+  REQUIRE(batches.tail_begin(0) == count);
   const std::span<Contact> tail = std::span(simd.contacts).subspan(batches.tail_begin(0));
   const float dt = 1.0f / 60.0f;
   bool simd_any = false, scalar_any = false;

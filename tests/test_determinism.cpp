@@ -9,10 +9,11 @@ namespace {
 
 /// A 2,000-sphere cloud over a floor: mixed radii, random velocities, falling into a pile.
 std::uint64_t run_cloud(int threads, int steps, hail::PairSearch search = hail::PairSearch::Automatic,
-                        float radius_spread = 0.1f) {
+                        float radius_spread = 0.1f, std::size_t tile_spheres = hail::WorldSettings{}.solver_tile_spheres) {
   hail::WorldSettings settings;
   settings.threads = threads;
   settings.pair_search = search;
+  settings.solver_tile_spheres = tile_spheres;
   hail::World world(settings);
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.3f, .friction = 0.6f});
   world.add_plane({.normal = {1, 0, 0}, .offset = -12, .restitution = 0.3f, .friction = 0.6f});
@@ -45,6 +46,17 @@ TEST_CASE("A 2,000-sphere cloud is bitwise identical for 1 and 2 threads and acr
 TEST_CASE("More threads than cores still give the same state", "[determinism]") {
   CHECK(run_cloud(1, 120) == run_cloud(3, 120));
   CHECK(run_cloud(1, 120) == run_cloud(8, 120));
+}
+
+TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", "[determinism][solver]") {
+  // 256 spheres per tile: 8 tiles solved in parallel, then the contacts between them. (The
+  // default tile holds more spheres than this cloud has: the tests above run one tile.)
+  const std::uint64_t one = run_cloud(1, 240, hail::PairSearch::Automatic, 0.1f, 256);
+  CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
+  CHECK(run_cloud(3, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
+  CHECK(run_cloud(8, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
+  // Tiles change the order in which contacts are solved, so the state: the tiles were used.
+  CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 0) != one);
 }
 
 TEST_CASE("Every pair search gives bitwise the same simulation", "[determinism][pairs]") {

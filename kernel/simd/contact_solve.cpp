@@ -66,13 +66,13 @@ struct Lanes {
     for (int d = 0; d < 3; ++d) n[d] = batch::load_aligned((d == 0 ? c.nx : d == 1 ? c.ny : c.nz) + o);
   }
 
-  /// Writes the velocities back: every a (never the static body), and b where it is not the
-  /// static body.
+  /// Writes the velocities back, except to the static body: it is every static contact's b,
+  /// and both sides of the padding lanes that fill a colour's last batch.
   [[gnu::always_inline]] void scatter() const {
-    store(body_a, nullptr, kLinearGroup, va, ima);
+    store(body_a, static_body, kLinearGroup, va, ima);
     if (!b_static) store(body_b, static_body, kLinearGroup, vb, imb);
     if constexpr (kFriction) {
-      store(body_a, nullptr, kAngularGroup, wa, iia);
+      store(body_a, static_body, kAngularGroup, wa, iia);
       if (!b_static) store(body_b, static_body, kAngularGroup, wb, iib);
     }
   }

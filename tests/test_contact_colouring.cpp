@@ -1,0 +1,144 @@
+// The contact colouring (kernel/contact_colouring.h), with and without solver tiles: every
+// contact in exactly one colour; no two contacts of a parallel colour share a sphere; a tile's
+// colours hold only contacts within the tile, the shared colours only contacts across tiles;
+// the overflow colour past kMaxParallelColours; without tiles, the plain greedy colouring.
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "catch.h"
+#include "kernel/contact_colouring.h"
+
+using namespace hail;
+
+namespace {
+
+/// Contacts over `spheres` spheres: mostly between near slots (as Morton order makes them),
+/// some between far ones, 25% static.
+std::vector<Contact> random_contacts(std::size_t spheres, std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::uint32_t> slot(0, static_cast<std::uint32_t>(spheres - 1));
+  std::uniform_int_distribution<int> near(-40, 40);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<Contact> contacts;
+  while (contacts.size() < count) {
+    Contact c;
+    c.a = slot(rng);
+    const float kind = unit(rng);
+    if (kind < 0.25f) {
+      c.b = kStaticBody;
+    } else if (kind < 0.9f) {
+      const long b = static_cast<long>(c.a) + near(rng);
+      if (b < 0 || b >= static_cast<long>(spheres) || b == static_cast<long>(c.a)) continue;
+      c.b = static_cast<std::uint32_t>(b);
+    } else {
+      c.b = slot(rng);
+      if (c.b == c.a) continue;
+    }
+    contacts.push_back(c);
+  }
+  return contacts;
+}
+
+/// Checks the colouring's invariants; returns the number of shared contacts.
+std::size_t check_colouring(std::span<const Contact> contacts, const ContactColouring& col, std::size_t tile_spheres) {
+  REQUIRE(col.colour_begin.front() == 0);
+  REQUIRE(col.colour_begin.back() == contacts.size());
+  REQUIRE(col.serial.size() == col.colour_count());
+  // Every contact exactly once, and in contact order within each colour.
+  std::vector<int> seen(contacts.size(), 0);
+  for (std::uint32_t k : col.order) ++seen[k];
+  CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
+  for (std::size_t colour = 0; colour < col.colour_count(); ++colour)
+    for (std::uint32_t k = col.colour_begin[colour] + 1; k < col.colour_begin[colour + 1]; ++k)
+      CHECK(col.order[k - 1] < col.order[k]);
+  // No shared sphere within a parallel colour; no empty colour.
+  for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
+    CHECK(col.colour_begin[colour] < col.colour_begin[colour + 1]);
+    if (col.is_serial(colour)) continue;
+    std::set<std::uint32_t> spheres;
+    for (std::uint32_t k = col.colour_begin[colour]; k < col.colour_begin[colour + 1]; ++k) {
+      const Contact& c = contacts[col.order[k]];
+      CHECK(spheres.insert(c.a).second);
+      if (c.b != kStaticBody) CHECK(spheres.insert(c.b).second);
+    }
+  }
+  if (tile_spheres == 0) {
+    CHECK(col.tile_count() == 0);
+    CHECK(col.shared_colour_begin() == 0);
+    return contacts.size();
+  }
+  // Tile t's colours: contacts with a in tile t and b in it or static. Shared: the others.
+  for (std::size_t t = 0; t < col.tile_count(); ++t)
+    for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
+      for (std::uint32_t k = col.colour_begin[colour]; k < col.colour_begin[colour + 1]; ++k) {
+        const Contact& c = contacts[col.order[k]];
+        CHECK(c.a / tile_spheres == t);
+        CHECK((c.b == kStaticBody || c.b / tile_spheres == t));
+      }
+  for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour)
+    for (std::uint32_t k = col.colour_begin[colour]; k < col.colour_begin[colour + 1]; ++k) {
+      const Contact& c = contacts[col.order[k]];
+      CHECK(c.b != kStaticBody);
+      CHECK(c.a / tile_spheres != c.b / tile_spheres);
+    }
+  return contacts.size() - col.colour_begin[col.shared_colour_begin()];
+}
+
+}  // namespace
+
+TEST_CASE("Tiled contact colouring keeps every contact once, colours independent, tiles apart", "[solver][colouring]") {
+  const std::size_t spheres = 5000;
+  const std::vector<Contact> contacts = random_contacts(spheres, 12000, 17);
+  ContactColouring col;
+  for (std::size_t tile : {std::size_t{0}, std::size_t{64}, std::size_t{1000}, std::size_t{4096}, std::size_t{8192}}) {
+    INFO("tile spheres " << tile);
+    colour_contacts(contacts, spheres, col, tile);  // reused storage: the previous run must not leak in
+    const std::size_t shared = check_colouring(contacts, col, tile);
+    CHECK(col.tile_count() == (tile == 0 ? 0 : (spheres + tile - 1) / tile));
+    if (tile == 64) CHECK(shared > 1000);  // the test covers both kinds
+    if (tile == 1000) CHECK((shared > 0 && shared < contacts.size() / 2));
+    if (tile == 8192) CHECK(shared == 0);  // one tile holds every sphere
+    // The critical path: the largest tile's colours, then the shared ones.
+    std::size_t most = 0;
+    for (std::size_t t = 0; t < col.tile_count(); ++t)
+      most = std::max<std::size_t>(most, col.tile_colour_begin[t + 1] - col.tile_colour_begin[t]);
+    CHECK(col.sequential_colours() == most + col.colour_count() - col.shared_colour_begin());
+  }
+}
+
+TEST_CASE("One tile holding every sphere colours exactly as no tiles", "[solver][colouring]") {
+  const std::vector<Contact> contacts = random_contacts(3000, 7000, 5);
+  ContactColouring plain, one_tile;
+  colour_contacts(contacts, 3000, plain, 0);
+  colour_contacts(contacts, 3000, one_tile, 4096);
+  CHECK(plain.order == one_tile.order);
+  CHECK(plain.colour_begin == one_tile.colour_begin);
+  CHECK(plain.serial == one_tile.serial);
+  REQUIRE(one_tile.tile_count() == 1);
+  CHECK(one_tile.tile_colour_begin[1] == one_tile.colour_count());
+}
+
+TEST_CASE("A sphere with more contacts than parallel colours overflows into a serial colour of its tile",
+          "[solver][colouring]") {
+  // Sphere 10 touches 70 others of its tile (0..127) and 70 of the next tile: 64 parallel
+  // colours and one serial colour each, in the tile and among the shared contacts.
+  std::vector<Contact> contacts;
+  for (std::uint32_t k = 0; k < 70; ++k) contacts.push_back(Contact{.a = 10, .b = k < 10 ? k : k + 1});
+  for (std::uint32_t k = 0; k < 70; ++k) contacts.push_back(Contact{.a = 10, .b = 128 + k});
+  contacts.push_back(Contact{.a = 200, .b = kStaticBody});
+  ContactColouring col;
+  colour_contacts(contacts, 256, col, 128);
+  check_colouring(contacts, col, 128);
+  REQUIRE(col.tile_count() == 2);
+  const std::size_t tile0 = col.tile_colour_begin[1] - col.tile_colour_begin[0];
+  CHECK(tile0 == kMaxParallelColours + 1);
+  CHECK(col.is_serial(col.tile_colour_begin[1] - 1));
+  CHECK(col.colour_begin[col.tile_colour_begin[1]] - col.colour_begin[col.tile_colour_begin[1] - 1] == 70 - 64);
+  CHECK(col.tile_colour_begin[2] - col.tile_colour_begin[1] == 1);  // sphere 200's ground contact
+  CHECK(col.colour_count() - col.shared_colour_begin() == kMaxParallelColours + 1);
+  CHECK(col.is_serial(col.colour_count() - 1));
+  CHECK(std::count(col.serial.begin(), col.serial.end(), 1) == 2);
+}
