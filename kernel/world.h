@@ -124,7 +124,7 @@ struct WorldSettings {
   /// one per colour. 0: no tiles (every colour spans all spheres). The order in which contacts
   /// are solved depends on it, so states differ bitwise between tile sizes (never between
   /// thread counts). The default and its measurements: README, "Solver tiles".
-  std::size_t solver_tile_spheres = 4096;
+  std::size_t solver_tile_spheres = 2048;
   DepenetrationParams depenetration{};
   /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
   /// a sphere lying on the ground closes at |g| dt every step and must not hop.
