@@ -178,6 +178,8 @@ void print_report(const RunResult& r) {
   std::printf("  parts     %s\n", describe_parts(r).c_str());
   std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
               r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
+  std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n", r.tile_contacts,
+              r.shared_contacts);
   if (r.continuous_collision)
     std::printf("  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "
                 "%zu times a sphere reached the impact cap\n",

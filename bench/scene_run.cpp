@@ -175,6 +175,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.sphere_contacts += weight * double(stats.sphere_contacts);
       r.warm_started += weight * double(stats.warm_started);
       r.colours += weight * double(stats.colours);
+      r.tile_contacts += weight * double(stats.tile_contacts);
+      r.shared_contacts += weight * double(stats.shared_contacts);
       r.collision_passes += weight * stats.collision_passes;
       r.swept += weight * double(stats.sweep.swept);
       r.swept_meeting_spheres += weight * double(stats.sweep.meets_spheres);
@@ -244,7 +246,8 @@ nlohmann::json to_json(const RunResult& r) {
       {"warm_start", r.warm_start},
       {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
                            {"warm_started", r.warm_started},
-                           {"colours", r.colours}, {"collision_passes", r.collision_passes}}},
+                           {"colours", r.colours}, {"tile_contacts", r.tile_contacts},
+                           {"shared_contacts", r.shared_contacts}, {"collision_passes", r.collision_passes}}},
       {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept},
                                 {"swept_meeting_spheres_per_step", r.swept_meeting_spheres},
                                 {"impacts_per_step", r.sweep_events}, {"capped_total", r.sweep_capped}}},

@@ -444,6 +444,8 @@ struct StepPipeline {
       batches.fill(first, last, w.contacts_, bodies);
     });
     w.stats_.colours = col.sequential_colours();
+    w.stats_.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
+    w.stats_.tile_contacts = w.contacts_.size() - w.stats_.shared_contacts;
     w.stats_.collision_passes = 0;
     const float threshold = params.restitution_threshold;
     const float inv_dt = 1.0f / params.dt;
@@ -620,7 +622,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       solve();
     } else {
-      w.stats_.colours = 0;
+      w.stats_.colours = w.stats_.tile_contacts = w.stats_.shared_contacts = 0;
       w.stats_.collision_passes = 0;
       if (w.settings_.warm_start) w.contact_cache_.clear();  // nothing touched: nothing to carry over
     }

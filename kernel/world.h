@@ -245,7 +245,9 @@ struct StepParts {
 struct StepStats {
   std::size_t static_contacts = 0;
   std::size_t sphere_contacts = 0;
-  std::size_t colours = 0;
+  std::size_t colours = 0;        ///< colours on a pass's critical path: the largest solver tile's, then the shared ones
+  std::size_t tile_contacts = 0;   ///< contacts solved within a solver tile (WorldSettings::solver_tile_spheres)
+  std::size_t shared_contacts = 0; ///< contacts across tile edges (every contact without tiles)
   int collision_passes = 0;  ///< collision passes that applied an impulse
   PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
   std::size_t warm_started = 0;  ///< contacts that found their last-step impulses

@@ -59,6 +59,26 @@ TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", 
   CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 0) != one);
 }
 
+TEST_CASE("Step stats split the contacts into those within solver tiles and those across them", "[solver]") {
+  hail::WorldSettings settings;
+  settings.threads = 2;
+  settings.solver_tile_spheres = 64;
+  hail::World world(settings);
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.3f, .friction = 0.6f});
+  // A 10 x 10 x 4 stack of touching spheres on the floor: every sphere has neighbours in its
+  // tile and, at tile edges, in the next.
+  for (int y = 0; y < 4; ++y)
+    for (int z = 0; z < 10; ++z)
+      for (int x = 0; x < 10; ++x)
+        world.add_sphere({.position = {float(x), 0.5f + float(y), float(z)}, .radius = 0.5f, .mass = 1.0f});
+  for (int k = 0; k < 3; ++k) world.step(1.0f / 60.0f);
+  const hail::StepStats& stats = world.last_step_stats();
+  CHECK(stats.tile_contacts + stats.shared_contacts == stats.static_contacts + stats.sphere_contacts);
+  CHECK(stats.shared_contacts > 0);
+  CHECK(stats.tile_contacts > stats.shared_contacts);
+  CHECK(stats.tile_contacts >= stats.static_contacts);  // a static contact is always its sphere's tile's
+}
+
 TEST_CASE("Every pair search gives bitwise the same simulation", "[determinism][pairs]") {
   // Equal-ish radii and a 1:8 mix (0.15 .. 1.25 m), 2 threads.
   for (float spread : {0.1f, 0.55f}) {
