@@ -413,7 +413,7 @@ struct StepPipeline {
   void solve() {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
-    const std::size_t tile_spheres = w.settings_.solver_tile_spheres;
+    const std::size_t tile_spheres = solver_tile_size(w.settings_.solver_tile_spheres, n);
     colour_contacts(w.contacts_, n, w.colouring_, tile_spheres);
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.

@@ -21,6 +21,7 @@
 // accessors return views or values and never allocate. The constructors, add_plane,
 // set_terrain and enable_trace allocate, and while a trace records it grows every step.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -84,6 +85,15 @@ inline constexpr std::size_t kGiantPairSearchMinSpheres = 16000;
 /// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
 inline constexpr std::size_t kMinSolverTileSpheres = 64;
 
+/// Spheres per solver tile for `spheres` spheres: WorldSettings::solver_tile_spheres, or half the
+/// spheres (rounded up, at least kMinSolverTileSpheres) when that is smaller; 0 without tiles.
+/// It depends on the sphere count alone, never on the thread count.
+[[nodiscard]] constexpr std::size_t solver_tile_size(std::size_t setting, std::size_t spheres) {
+  if (setting == 0) return 0;
+  const std::size_t half = std::max<std::size_t>((spheres + 1) / 2, kMinSolverTileSpheres);
+  return std::min(setting, half);
+}
+
 /// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
 /// `morton_ordered` (the world keeps its slots in Morton order, reorder_interval > 0) no longer
 /// changes the choice since the grid's rewrite; it stays for callers.
@@ -117,12 +127,14 @@ struct WorldSettings {
   int resting_iterations = 8;
   /// Position-correction passes after integration.
   int depenetration_iterations = 4;
-  /// The solver's tiles (kernel/contact_colouring.h): runs of this many slots (in Morton order,
-  /// so compact regions) whose contacts among themselves are solved together, one tile per
-  /// thread at a time, before the contacts between tiles. A tile's bodies stay in its core's
-  /// cache through all its colours, and a pass has one parallel stage for all tiles instead of
-  /// one per colour. 0: no tiles (every colour spans all spheres). The order in which contacts
-  /// are solved depends on it, so states differ bitwise between tile sizes (never between
+  /// The solver's tiles (kernel/contact_colouring.h): runs of at most this many slots (in
+  /// Morton order, so compact regions) whose contacts among themselves are solved together,
+  /// one tile per thread at a time, before the contacts between tiles. A tile's bodies stay in
+  /// its core's cache through all its colours, and a pass has one parallel stage for all tiles
+  /// instead of one per colour. A world of fewer than twice this many spheres is cut into two
+  /// tiles of half its spheres (solver_tile_size), so that two threads still share the tiles.
+  /// 0: no tiles (every colour spans all spheres). The order in which contacts are solved
+  /// depends on the tile size, so states differ bitwise between tile sizes (never between
   /// thread counts). The default and its measurements: README, "Solver tiles".
   std::size_t solver_tile_spheres = 2048;
   DepenetrationParams depenetration{};

@@ -49,14 +49,24 @@ TEST_CASE("More threads than cores still give the same state", "[determinism]") 
 }
 
 TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", "[determinism][solver]") {
-  // 256 spheres per tile: 8 tiles solved in parallel, then the contacts between them. (The
-  // default tile holds more spheres than this cloud has: the tests above run one tile.)
+  // 256 spheres per tile: 8 tiles solved in parallel, then the contacts between them. (With
+  // the default, the tests above run two tiles of 1,000.)
   const std::uint64_t one = run_cloud(1, 240, hail::PairSearch::Automatic, 0.1f, 256);
   CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
   CHECK(run_cloud(3, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
   CHECK(run_cloud(8, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
   // Tiles change the order in which contacts are solved, so the state: the tiles were used.
   CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 0) != one);
+}
+
+TEST_CASE("Solver tiles hold the setting's spheres, or half a smaller world's", "[solver]") {
+  CHECK(hail::solver_tile_size(0, 100000) == 0);  // tiles off
+  CHECK(hail::solver_tile_size(2048, 100000) == 2048);
+  CHECK(hail::solver_tile_size(2048, 4096) == 2048);
+  CHECK(hail::solver_tile_size(2048, 4000) == 2000);  // two tiles, not one of 2,048 and one of 1,952
+  CHECK(hail::solver_tile_size(2048, 1001) == 501);
+  CHECK(hail::solver_tile_size(2048, 100) == hail::kMinSolverTileSpheres);
+  CHECK(hail::solver_tile_size(64, 1000) == 64);
 }
 
 TEST_CASE("Step stats split the contacts into those within solver tiles and those across them", "[solver]") {
