@@ -251,7 +251,7 @@ struct StepPipeline {
 #if HAIL_WITH_CONTINUOUS_COLLISION
     ContinuousCollision& ccd = w.sweep_motion_;
     SphereSoA& s = w.spheres_;
-    ccd.begin(s, w.fast_, params.dt, fast_fraction);
+    ccd.begin(s, w.fast_, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings_.reorder_interval > 0);
     if (w.fast_.empty()) return;
     const SweepScene scene{w.terrain_.get(), w.terrain_restitution_, w.terrain_friction_, w.planes_,
                            w.settings_.sphere_collisions, rotation};

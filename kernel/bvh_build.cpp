@@ -63,7 +63,8 @@ class Builder {
     const std::size_t nodes = median_node_count(n, leaf_size_);
     if (nodes_.capacity() == 0) nodes_.reserve(nodes);
     else reserve_geometric(nodes_, nodes);
-    emit_preorder(n);
+    if (options_.split == BvhSplit::InputOrder) (void)emit_input_order(0, n);
+    else emit_preorder(n);
     link_skips();
   }
 
@@ -102,6 +103,26 @@ class Builder {
       pending[top++] = Range{range.first + left, range.count - left, range.depth + 1};
       range = Range{range.first, left, range.depth + 1};
     }
+  }
+
+  // BvhSplit::InputOrder: the node for [first, first + count) and its subtree in pre-order, the
+  // left child the first count / 2 primitives (the median split's shape, so median_node_count
+  // reserved exactly); returns its box. Recursion depth log2(n / leaf_size) + 1.
+  Aabb emit_input_order(std::uint32_t first, std::uint32_t count) {
+    const std::size_t at = nodes_.size();
+    nodes_.emplace_back();
+    Aabb box = empty_aabb();
+    std::uint32_t leaf = 0;
+    if (count <= leaf_size_) {
+      for (std::uint32_t k = first; k < first + count; ++k) grow(box, bounds_[k]);
+      leaf = encode_leaf(first, count);
+    } else {
+      const std::uint32_t left = count / 2;
+      grow(box, emit_input_order(first, left));
+      grow(box, emit_input_order(first + left, count - left));
+    }
+    nodes_[at] = FlatNode{{box.min[0], box.min[1], box.min[2]}, 0, {box.max[0], box.max[1], box.max[2]}, leaf};
+    return box;
   }
 
   // Puts the lower half (by centroid on the centroids' longest axis, ties by index) first.
@@ -196,7 +217,7 @@ void check(std::span<const Aabb> bounds, const BvhBuildOptions& options) {
   if (options.leaf_size < 1 || options.leaf_size > static_cast<int>(kMaxLeafSize))
     throw InvalidArgument("hail: BVH leaf_size must be in 1.." + std::to_string(kMaxLeafSize) + ", got " +
                           std::to_string(options.leaf_size));
-  if (options.split != BvhSplit::Median && options.split != BvhSplit::BinnedSah)
+  if (options.split != BvhSplit::Median && options.split != BvhSplit::BinnedSah && options.split != BvhSplit::InputOrder)
     throw InvalidArgument("hail: unknown BvhSplit " + std::to_string(static_cast<int>(options.split)));
   if (bounds.size() > kMaxBvhPrimitives)
     throw InvalidArgument("hail: BVH over " + std::to_string(bounds.size()) + " primitives exceeds " +

@@ -87,9 +87,11 @@ class ContinuousCollision {
   /// Starts a step's sweep of the fast spheres (slots, ascending) over dt. Clears the last
   /// step's marks. Allocates only when the sphere count grows.
   /// `fast_fraction` is is_fast's threshold: a struck sphere that it makes fast is swept
-  /// against spheres too.
+  /// against spheres too. `slots_coherent`: the slots are in a spatially coherent (Morton)
+  /// order, so the path-box BVH is built in slot order (BvhSplit::InputOrder, O(n)) instead of
+  /// by median splits; its candidates, and so the result, are the same either way.
   void begin(const SphereSoA& spheres, std::span<const std::uint32_t> fast, float dt, float fast_fraction,
-             SweepCandidates candidates = SweepCandidates::Automatic);
+             SweepCandidates candidates = SweepCandidates::Automatic, bool slots_coherent = false);
   /// Finds the first event of fast spheres [first, last) (positions in the fast list). Only
   /// reads shared state: ranges may run in parallel.
   void find_first_events(const SphereSoA& spheres, const SweepScene& scene, std::size_t first, std::size_t last);

@@ -4,6 +4,7 @@
 // determinism; and its argument checks.
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -208,7 +209,9 @@ struct OnceCheck {
   }
 };
 
-const char* split_name(BvhSplit split) { return split == BvhSplit::Median ? "median" : "binned SAH"; }
+const char* split_name(BvhSplit split) {
+  return split == BvhSplit::Median ? "median" : split == BvhSplit::BinnedSah ? "binned SAH" : "input order";
+}
 
 }  // namespace
 
@@ -223,7 +226,7 @@ TEST_CASE("Sphere and box queries return exactly the brute-force primitive sets"
       const Aabb box{{s.c[0] - s.r, s.c[1] - s.r, s.c[2] - s.r}, {s.c[0] + s.r, s.c[1] + s.r, s.c[2] + s.r}};
       brute_force_aabb(set.bounds, box, [&](std::uint32_t i) { expected_box[q].push_back(i); });
     }
-    for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah})
+    for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah, BvhSplit::InputOrder})
       for (int leaf_size : {1, 4, 8}) {
         INFO(set.name << ", " << split_name(split) << ", leaf size " << leaf_size);
         FlatBvh bvh;
@@ -314,7 +317,7 @@ TEST_CASE("The ray query finds the brute-force nearest triangle", "[bvh]") {
       const Triangle& t = set.triangles[p];
       return ray_triangle(ray.o, ray.d, t.v[0], t.v[1], t.v[2]);
     };
-    for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah})
+    for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah, BvhSplit::InputOrder})
       for (int leaf_size : {1, 4, 8}) {
         INFO(set.name << ", " << split_name(split) << ", leaf size " << leaf_size);
         FlatBvh bvh;
@@ -375,7 +378,7 @@ TEST_CASE("Binned SAH on degenerate boxes stays within the walk's stack depth", 
 
 TEST_CASE("BVH builds are deterministic and reuse their storage", "[bvh]") {
   const PrimitiveSet set = random_boxes(5000, 99);
-  for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah}) {
+  for (BvhSplit split : {BvhSplit::Median, BvhSplit::BinnedSah, BvhSplit::InputOrder}) {
     FlatBvh a, b;
     a.build(set.bounds, {.split = split});
     b.build(set.bounds, {.split = split});
@@ -392,6 +395,15 @@ TEST_CASE("BVH builds are deterministic and reuse their storage", "[bvh]") {
   median.build(set.bounds, {});
   CHECK(median.nodes.size() == median.nodes.capacity());
   CHECK(check_structure(median, set.bounds, 4).max_depth <= 11);  // ceil(log2(5000 / 4)) = 11
+  // Input order: nothing moved, the median split's shape (so its exact reservation).
+  FlatBvh in_order;
+  in_order.build(set.bounds, {.split = BvhSplit::InputOrder});
+  std::vector<std::uint32_t> identity(set.bounds.size());
+  std::iota(identity.begin(), identity.end(), 0u);
+  CHECK(in_order.primitive_order == identity);
+  CHECK(in_order.nodes.size() == median.nodes.size());
+  CHECK(in_order.nodes.size() == in_order.nodes.capacity());
+  CHECK(check_structure(in_order, set.bounds, 4).max_depth <= 11);
 }
 
 TEST_CASE("Empty and one-primitive BVHs", "[bvh]") {

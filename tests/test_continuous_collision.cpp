@@ -425,8 +425,10 @@ bool impacts_forward_per_sphere(std::span<const Impact> impacts, std::size_t sph
 }
 
 // 700 spheres near terrain-rain's ground, every other one fast (speeds in [low, low + span],
-// spread over `extent` metres), swept once with the given candidates.
-CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float low, float span, float extent) {
+// spread over `extent` metres), swept once with the given candidates (`in_slot_order`: the
+// path-box BVH built in slot order, BvhSplit::InputOrder, as for a Morton-ordered World).
+CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float low, float span, float extent,
+                       bool in_slot_order = false) {
   SphereSoA s;
   std::mt19937 rng(21);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -443,7 +445,7 @@ CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float
     if (s.vy[i] != 0.0f) fast.push_back(i);
   ContinuousCollision ccd;
   const SweepScene scene{&terrain, 0.5f, 0.5f, {}, true};
-  ccd.begin(s, fast, 1.0f / 60.0f, 1.0f, candidates);
+  ccd.begin(s, fast, 1.0f / 60.0f, 1.0f, candidates, in_slot_order);
   ccd.find_first_events(s, scene, 0, fast.size());
   ccd.resolve(s, scene, 0.2f, 16);
   ccd.finish(s);
@@ -461,9 +463,12 @@ TEST_CASE("Sweep candidates from the path-box scan and from the path-box BVH giv
   const std::shared_ptr<const Terrain> terrain = rain_terrain();
   const auto scan = sweep_crowd(*terrain, SweepCandidates::Scan, 200.0f, 800.0f, 40.0f);
   const auto bvh = sweep_crowd(*terrain, SweepCandidates::Bvh, 200.0f, 800.0f, 40.0f);
+  const auto in_order = sweep_crowd(*terrain, SweepCandidates::Bvh, 200.0f, 800.0f, 40.0f, true);
   CHECK(scan.events > 20);  // sphere-sphere and terrain impacts both happen
   CHECK(bvh.events == scan.events);
   CHECK(bvh.state == scan.state);
+  CHECK(in_order.events == scan.events);
+  CHECK(in_order.state == scan.state);
 }
 
 // A crowd of short paths (10-40 m/s within 6 m): about 2,750 impacts in one step, most of them
@@ -475,9 +480,12 @@ TEST_CASE("Sweep candidates agree in a crowd of short paths", "[ccd][broadphase]
   const std::shared_ptr<const Terrain> terrain = rain_terrain();
   const auto scan = sweep_crowd(*terrain, SweepCandidates::Scan, 10.0f, 30.0f, 6.0f);
   const auto bvh = sweep_crowd(*terrain, SweepCandidates::Bvh, 10.0f, 30.0f, 6.0f);
+  const auto in_order = sweep_crowd(*terrain, SweepCandidates::Bvh, 10.0f, 30.0f, 6.0f, true);
   REQUIRE(scan.events > 1000);
   CHECK(bvh.events == scan.events);
   CHECK(bvh.state == scan.state);
+  CHECK(in_order.events == scan.events);
+  CHECK(in_order.state == scan.state);
 }
 
 // A sphere searched again (its event went stale) searches from its own last impact, which may
