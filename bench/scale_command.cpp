@@ -101,8 +101,8 @@ int scale_command(const std::vector<std::string>& args) {
   std::printf("hail-bench scale %s: %zu..%zu spheres (doubling), 1..%d threads, %d steps each (timed from step %d)\n",
               o.scene.c_str(), o.min_spheres, o.max_spheres, o.max_threads, o.steps, o.steps > 120 ? 60 : 0);
   std::printf("  machine %s, SIMD %s; output in %s/\n", cpu_model().c_str(), simd_path().c_str(), o.out_dir.c_str());
-  std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr", "ms/step",
-              "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "integr", "depen", "pen.sph",
+  std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr",
+              "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
               "pen.grnd", "tunnel", "felloff", "NaN", "hash");
 
   std::ofstream csv(o.out_dir + "/scale.csv");
@@ -131,9 +131,9 @@ int scale_command(const std::vector<std::string>& args) {
       const double speedup = one_thread_ms / r.mean_ms;
       const PhaseTimes& p = r.phase_ms;
       const ErrorFigures& e = r.errors;
-      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s\n",
+      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s\n",
                   r.spheres, t, r.mean_ms, ns, r.median_ms, speedup, p.reorder, p.detect_terrain, p.detect_pairs, p.solve,
-                  p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off,
+                  p.sweep, p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off,
                   e.nan_count, r.state_hash.c_str());
       std::fflush(stdout);
       csv << r.spheres << ',' << t << ',' << r.mean_ms << ',' << r.median_ms << ',' << ns << ',' << speedup << ','

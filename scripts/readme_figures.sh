@@ -29,8 +29,8 @@ if command -v python3 >/dev/null; then
   python3 - "$out" "$repeats" <<'PY'
 import json, sys, os, statistics
 out, repeats = sys.argv[1], int(sys.argv[2])
-print("| spheres | threads | ms/step mean (median of rounds) | range | detect-terrain | detect-pairs | solve | depenetrate | max pen. spheres / ground (m) | tunnelled | fell off | NaN | KE at 10 s (J) | hash |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| spheres | threads | ms/step mean (median of rounds) | range | detect-terrain | detect-pairs | solve | sweep | depenetrate | max pen. spheres / ground (m) | tunnelled | fell off | NaN | KE at 10 s (J) | hash |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for n in (1000, 4000, 16000, 64000):
     for t in (1, 2):
         runs = [json.load(open(os.path.join(out, f"terrain-rain-{n}-{t}-{r}.json"))) for r in range(1, repeats + 1)]
@@ -39,7 +39,7 @@ for n in (1000, 4000, 16000, 64000):
         phase = lambda name: statistics.median(j["phases_ms"][name] for j in runs)
         j = runs[0]  # the error figures do not depend on the run (the same hash)
         print(f"| {n:,} | {t} | {statistics.median(means):.2f} | {min(means):.2f}-{max(means):.2f} | {phase('detect_terrain'):.2f} | "
-              f"{phase('detect_pairs'):.2f} | {phase('solve'):.2f} | {phase('depenetrate'):.2f} | "
+              f"{phase('detect_pairs'):.2f} | {phase('solve'):.2f} | {phase('sweep'):.2f} | {phase('depenetrate'):.2f} | "
               f"{j['max_sphere_penetration']:.3f} / {j['max_terrain_penetration']:.3f} | {j['tunnelled']} | {j['fell_off']:,} | "
               f"{j['nan_count']} | {j['kinetic_energy']:,.0f} | {'/'.join(sorted(hashes))} |")
 PY
