@@ -135,7 +135,7 @@ struct WorldSettings {
   /// tiles of half its spheres (solver_tile_size), so that two threads still share the tiles.
   /// 0: no tiles (every colour spans all spheres). The order in which contacts are solved
   /// depends on the tile size, so states differ bitwise between tile sizes (never between
-  /// thread counts). The default and its measurements: README, "Solver tiles".
+  /// thread counts). The default and its measurements: README, "Solver tiles (measured)".
   std::size_t solver_tile_spheres = 2048;
   DepenetrationParams depenetration{};
   /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
