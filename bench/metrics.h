@@ -15,6 +15,11 @@ struct ErrorFigures {
   std::size_t tunnelled = 0;           ///< centres below the ground at their (x, z)
   std::size_t fell_off = 0;            ///< centres outside the ground's x/z extent
   std::size_t tunnelled_ever = 0;      ///< spheres below the ground after any step (Scene::track_tunnelling)
+  /// m, the deepest overlap any timed step's contacts started from (-gap at detection, so the
+  /// state the previous step left), between spheres and against static geometry: the worst over
+  /// the run, where the two above are the end state alone.
+  double worst_sphere_penetration = 0;
+  double worst_static_penetration = 0;
   std::size_t nan_count = 0;
   double kinetic_energy = 0;           ///< J
 };

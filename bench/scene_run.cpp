@@ -163,12 +163,17 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   auto last_progress = clock::now();
   const auto run_start = clock::now();
   std::vector<std::uint8_t> went_below;  // by SphereId index, for Scene::track_tunnelling
+  double worst_sphere = 0.0, worst_static = 0.0;  // ErrorFigures::worst_*_penetration
   for (int k = 0; k < r.steps; ++k) {
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
     if (scene.track_tunnelling) mark_below_ground(scene, went_below);
     if (k >= r.warmup) {
+      for (const Contact& c : world.last_contacts()) {  // untimed, like the tunnelling check
+        double& worst = c.b == kStaticBody ? worst_static : worst_sphere;
+        worst = std::max(worst, -static_cast<double>(c.gap));
+      }
       add(r.phase_ms, world.last_phase_times(), weight);
       const StepStats& stats = world.last_step_stats();
       r.static_contacts += weight * double(stats.static_contacts);
@@ -196,6 +201,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.median_ms = median(timed);
   r.errors = measure_errors(scene);
   r.errors.tunnelled_ever = static_cast<std::size_t>(std::count(went_below.begin(), went_below.end(), std::uint8_t{1}));
+  r.errors.worst_sphere_penetration = worst_sphere;
+  r.errors.worst_static_penetration = worst_static;
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
   r.state_hash = hex_hash(world.state_hash());
@@ -225,6 +232,8 @@ nlohmann::json to_json(const RunResult& r) {
       {"max_penetration", std::max(e.max_sphere_penetration, e.max_terrain_penetration)},
       {"max_sphere_penetration", e.max_sphere_penetration},
       {"max_terrain_penetration", e.max_terrain_penetration},
+      {"worst_sphere_penetration", e.worst_sphere_penetration},
+      {"worst_static_penetration", e.worst_static_penetration},
       {"tunnelled", e.tunnelled},
       {"tunnelled_ever", e.tunnelled_ever},
       {"fell_off", e.fell_off},
