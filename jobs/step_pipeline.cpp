@@ -4,13 +4,14 @@
 //                speculative contact margin); the fast ones listed for the sweep
 //   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
 //                time; per-block buffers merged in block order
-//   solve        contacts coloured so that a colour has no shared sphere; colours solved one
-//                after another, each in parallel and a SIMD batch of contacts (4, 8 or 16 by
-//                path) per instruction:
-//                collision passes, then resting passes
+//   solve        contacts coloured so that a colour has no shared sphere, per solver tile
+//                (kernel/contact_colouring.h) and then across tiles; each pass runs the tiles
+//                in parallel, each its colours in order, then the shared colours one after
+//                another, each in parallel; a SIMD batch of contacts (4, 8 or 16 by path) per
+//                instruction: collision passes, then resting passes
 //   sweep        fast spheres moved along their paths impact by impact (continuous collision)
 //   integrate    positions of the others, with exact time-of-impact bounces on planes
-//   depenetrate  push overlapping spheres apart, colour by colour
+//   depenetrate  push overlapping spheres apart, colour by colour (tiles in parallel)
 //
 // Nothing here depends on the thread count except which thread runs a block, so the state
 // after a step is bitwise the same for any number of threads.
