@@ -426,9 +426,9 @@ struct StepPipeline {
     std::swap(w.contacts_, w.coloured_contacts_);
     // What the passes compute: no friction (no contact has any), friction on linear velocities
     // (rotation off), or friction with the angular terms. Angular velocities are loaded only
-    // for the last, and for the shock pass, which takes the full rule whenever rotation is on.
+    // for the last: normal impulses (the shock pass's too) never turn a sphere.
     const FrictionWork work = friction_work(friction_needed_, rotation);
-    const bool angular = rotation && (friction_needed_ || shock);
+    const bool angular = rotation && friction_needed_;
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
     if (w.solver_bodies_.size() < n + 1) resize_geometric(w.solver_bodies_, n + 1);
     const std::span<SolverBody> bodies(w.solver_bodies_.data(), n + 1);
@@ -495,7 +495,7 @@ struct StepPipeline {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       w.shock_.plan(w.contacts_, bodies);
-      w.shock_.solve(w.contacts_, bodies, inv_dt, angular);
+      w.shock_.solve(w.contacts_, bodies, inv_dt);
     }
     for_each_block(batches.batch_count(), kBatchChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
@@ -628,7 +628,7 @@ struct StepPipeline {
       if (w.settings_.warm_start) w.contact_cache_.clear();  // nothing touched: nothing to carry over
     }
     ran.friction = ran.solve && friction_needed_;
-    ran.rotation = ran.solve && rotation && (friction_needed_ || shock);
+    ran.rotation = ran.solve && rotation && friction_needed_;
     ran.shock = ran.solve && shock;
     ran.sweep = sweeping && !w.fast_.empty();
     if (sweeping) {

@@ -22,11 +22,12 @@
 
 namespace hail {
 
-/// Which terms a solver rule computes. Without friction (no contact of the step has any)
-/// nothing turns a sphere: a normal impulse passes through the centre (r x n = 0) and w x r is
-/// perpendicular to n, so those passes drop the angular terms altogether (kNoFriction). That is
-/// the exact answer; with the terms the float products of parallel vectors leave spins of
-/// rounding size. Without rotation (WorldSettings::rotation false) friction acts on the linear
+/// Which terms a solver rule computes. A normal impulse passes through both centres (r x n = 0)
+/// and w x r is perpendicular to n, so every rule takes the normal part on linear velocities
+/// alone (normal_relative_velocity, apply_linear_impulse): that is the exact answer, where the
+/// angular terms would leave spins of rounding size from the float products of parallel
+/// vectors. Without friction (no contact of the step has any) nothing turns a sphere, and the
+/// passes drop the angular terms altogether (kNoFriction). Without rotation (WorldSettings::rotation false) friction acts on the linear
 /// velocities alone, with the effective mass 1 / (1/m_a + 1/m_b) (kLinearFriction): spheres
 /// slide and never spin. kWithFriction is the full rule: friction with the angular impulse that
 /// makes spheres spin and roll.
@@ -101,24 +102,37 @@ inline void relative_contact_velocity(const Contact& c, const ContactBodies& k, 
   for (int d = 0; d < 3; ++d) out[d] = (k.vb[d] + wb_x_rb[d]) - (k.va[d] + wa_x_ra[d]);
 }
 
-/// Applies impulse p (N s) to b at its contact point and -p to a at its contact point.
-template <FrictionWork kFriction = kWithFriction>
-inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
-  if constexpr (!has_rotation(kFriction)) {  // p is along n (or rotation is off): no torque
-    for (int d = 0; d < 3; ++d) k.va[d] -= p[d] * k.ima, k.vb[d] += p[d] * k.imb;
-    return;
-  }
+/// The normal component of relative_contact_velocity, (vb - va) . n: for spheres the lever arms
+/// lie along n, so w x r is perpendicular to n and drops out. Computed without it, it is the
+/// exact answer; through w x r the float products of parallel vectors add rounding-size terms.
+inline float normal_relative_velocity(const Contact& c, const ContactBodies& k) {
+  const float v[3] = {k.vb[0] - k.va[0], k.vb[1] - k.va[1], k.vb[2] - k.va[2]};
+  return v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
+}
+
+/// The linear part of an impulse p (N s): +p on b, -p on a.
+inline void apply_linear_impulse(ContactBodies& k, const float p[3]) {
+  for (int d = 0; d < 3; ++d) k.va[d] -= p[d] * k.ima, k.vb[d] += p[d] * k.imb;
+}
+
+/// The angular part of an impulse p (N s) applied at the contact points (+n ra from a's centre,
+/// -n rb from b's): only p's component across n turns anything.
+inline void apply_angular_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
   const float n[3] = {c.nx, c.ny, c.nz};
   const float ra[3] = {n[0] * k.ra, n[1] * k.ra, n[2] * k.ra};
   const float rb[3] = {-n[0] * k.rb, -n[1] * k.rb, -n[2] * k.rb};
   const float ra_x_p[3] = {ra[1] * p[2] - ra[2] * p[1], ra[2] * p[0] - ra[0] * p[2], ra[0] * p[1] - ra[1] * p[0]};
   const float rb_x_p[3] = {rb[1] * p[2] - rb[2] * p[1], rb[2] * p[0] - rb[0] * p[2], rb[0] * p[1] - rb[1] * p[0]};
-  for (int d = 0; d < 3; ++d) {
-    k.va[d] -= p[d] * k.ima;
-    k.wa[d] -= ra_x_p[d] * k.iia;
-    k.vb[d] += p[d] * k.imb;
-    k.wb[d] += rb_x_p[d] * k.iib;
-  }
+  for (int d = 0; d < 3; ++d) k.wa[d] -= ra_x_p[d] * k.iia, k.wb[d] += rb_x_p[d] * k.iib;
+}
+
+/// Applies impulse p (N s) to b at its contact point and -p to a at its contact point. A normal
+/// impulse (p along n) passes through both centres: the rules apply it with
+/// apply_linear_impulse alone, which is exact (see normal_relative_velocity).
+template <FrictionWork kFriction = kWithFriction>
+inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
+  apply_linear_impulse(k, p);
+  if constexpr (has_rotation(kFriction)) apply_angular_impulse(c, k, p);
 }
 
 /// Effective mass denominators: along the normal (no lever arm for spheres) and tangentially
@@ -161,15 +175,13 @@ inline void apply_friction(const Contact& c, ContactBodies& k, float limit, floa
 template <FrictionWork kWork = kWithFriction>
 inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_threshold) {
   static_assert(has_friction(kWork));
-  float v[3];
-  relative_contact_velocity<kWork>(c, k, v);
-  const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
+  const float closing = -normal_relative_velocity(c, k);
   const float kn = normal_mass_denominator(k);
   if (closing <= 0.0f || kn <= 0.0f) return 0.0f;
   const float e = closing > restitution_threshold ? c.restitution : 0.0f;
   const float j = (1.0f + e) * closing / kn;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_impulse<kWork>(c, k, p);
+  apply_linear_impulse(k, p);
   float fresh[3] = {0, 0, 0};
   apply_friction<kWork>(c, k, c.friction * j, fresh);
   return j;
@@ -182,11 +194,16 @@ inline void apply_warm_start(const Contact& c, ContactBodies& k) {
   if (normal_mass_denominator(k) <= 0.0f) return;
   if constexpr (!has_friction(kFriction)) {
     const float p[3] = {c.normal_impulse * c.nx, c.normal_impulse * c.ny, c.normal_impulse * c.nz};
-    apply_impulse<kNoFriction>(c, k, p);
+    apply_linear_impulse(k, p);
     return;
   }
   const float p[3] = {c.normal_impulse * c.nx + c.tx, c.normal_impulse * c.ny + c.ty, c.normal_impulse * c.nz + c.tz};
-  apply_impulse<kFriction>(c, k, p);
+  apply_linear_impulse(k, p);
+  // Only the friction part turns the spheres (the normal part passes through their centres).
+  if constexpr (has_rotation(kFriction)) {
+    const float t[3] = {c.tx, c.ty, c.tz};
+    apply_angular_impulse(c, k, t);
+  }
 }
 
 /// Collision pass on one contact. Returns true when it applied an impulse, whose normal part j
@@ -194,9 +211,7 @@ inline void apply_warm_start(const Contact& c, ContactBodies& k) {
 /// A speculative contact (gap > 0) collides only if it closes the gap within dt.
 template <FrictionWork kFriction = kWithFriction>
 inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
-  float v[3];
-  relative_contact_velocity<kFriction>(c, k, v);
-  const float closing = -(v[0] * c.nx + v[1] * c.ny + v[2] * c.nz);
+  const float closing = -normal_relative_velocity(c, k);
   if (closing <= restitution_threshold) return false;
   if (c.gap > 0.0f && closing * dt <= c.gap) return false;
   const float kn = normal_mass_denominator(k);
@@ -204,7 +219,7 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
   const float j = (1.0f + c.restitution) * closing / kn;
   c.bounce_impulse += j;
   const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_impulse<kFriction>(c, k, p);
+  apply_linear_impulse(k, p);
   if constexpr (has_friction(kFriction)) {
     float fresh[3] = {0, 0, 0};
     apply_friction<kFriction>(c, k, c.friction * j, fresh);
@@ -216,9 +231,7 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
 /// most gap/dt (zero for overlapping contacts), then friction within mu * that impulse.
 template <FrictionWork kFriction = kWithFriction>
 inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
-  float v[3];
-  relative_contact_velocity<kFriction>(c, k, v);
-  const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
+  const float vn = normal_relative_velocity(c, k);
   const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f) return;
@@ -227,7 +240,7 @@ inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
   const float dj = clamped - c.normal_impulse;
   c.normal_impulse = clamped;
   const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
-  apply_impulse<kFriction>(c, k, p);
+  apply_linear_impulse(k, p);
   if constexpr (has_friction(kFriction)) {
     float accumulated[3] = {c.tx, c.ty, c.tz};
     apply_friction<kFriction>(c, k, c.friction * c.normal_impulse, accumulated);

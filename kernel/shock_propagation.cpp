@@ -63,12 +63,11 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
 
 namespace {
 
-template <FrictionWork kWork>
 void shock_pass(std::span<const std::uint32_t> order, std::span<const std::uint32_t> level,
                 std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
   for (const std::uint32_t index : order) {
     const Contact& c = contacts[index];
-    ContactBodies k = gather_bodies<kWork>(bodies, c);
+    ContactBodies k = gather_bodies<kLinearFriction>(bodies, c);
     if (c.b != kStaticBody) {
       // The lower body holds still: it was settled earlier in this pass, or is the ground.
       if (level[c.a] < level[c.b]) k.ima = 0.0f, k.iia = 0.0f;
@@ -76,26 +75,20 @@ void shock_pass(std::span<const std::uint32_t> order, std::span<const std::uint3
     }
     const float kn = normal_mass_denominator(k);
     if (kn <= 0.0f) continue;
-    float v[3];
-    relative_contact_velocity<kWork>(c, k, v);
-    const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
+    const float vn = normal_relative_velocity(c, k);
     const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
     const float j = -(vn + allowed_closing) / kn;
     if (!(j > 0.0f)) continue;  // not closing faster than its gap allows
     const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-    apply_impulse<kWork>(c, k, p);
-    scatter_bodies<kWork>(bodies, c, k);
+    apply_linear_impulse(k, p);  // along n: through both centres, no torque
+    scatter_bodies<kLinearFriction>(bodies, c, k);
   }
 }
 
 }  // namespace
 
-void ShockPropagation::solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
-                             bool angular) const {
-  // The angular rule is kWithFriction's (rotation's, when compiled in); the linear one
-  // kLinearFriction's, which for a normal impulse is kNoFriction's as well.
-  if (angular) shock_pass<kRotationWork>(order_, level_, contacts, bodies, inv_dt);
-  else shock_pass<kLinearFriction>(order_, level_, contacts, bodies, inv_dt);
+void ShockPropagation::solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) const {
+  shock_pass(order_, level_, contacts, bodies, inv_dt);
 }
 
 }  // namespace hail

@@ -32,11 +32,9 @@ class ShockPropagation {
 
   /// The pass over the planned contacts (bodies as for plan; the last is the static body):
   /// each contact's closing speed is brought to at most gap / dt by a normal impulse; where the
-  /// two levels differ only the upper body moves. `angular` (rotation on): the full rule of
-  /// kernel/contact_impulse.h, with the angular terms (through which a normal impulse turns a
-  /// sphere only by rounding); false (rotation off): linear velocities only, w neither read nor
-  /// written.
-  void solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt, bool angular = true) const;
+  /// two levels differ only the upper body moves. A normal impulse passes through both
+  /// centres, so only linear velocities change (w is neither read nor written).
+  void solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) const;
 
   /// Contacts the pass visits (those with a level), in order.
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }

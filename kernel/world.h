@@ -200,8 +200,8 @@ struct WorldSettings {
   /// 1 / (1/m_a + 1/m_b), as along the normal), so a sliding sphere slows to a stop instead of
   /// rolling, and no angular velocity is read, changed or integrated: every angular velocity
   /// stays 0 (add_sphere refuses a non-zero one) and the step does no angular work
-  /// (StepParts::rotation). A scene without friction and of equal masses (no shock pass) runs
-  /// the same passes either way and steps bitwise the same. Default: on when compiled in
+  /// (StepParts::rotation). A scene without friction runs the same passes either way and
+  /// steps bitwise the same. Default: on when compiled in
   /// (HAIL_WITH_ROTATION); true is refused otherwise.
   bool rotation = HAIL_WITH_ROTATION != 0;
 };
@@ -246,7 +246,7 @@ struct StepParts {
   bool detect_pairs = false;    ///< sphere-sphere pair search
   bool solve = false;           ///< contact impulses
   bool friction = false;        ///< friction within the solve (some contact has friction > 0)
-  bool rotation = false;        ///< angular work in the solve: WorldSettings::rotation on, and friction or shock
+  bool rotation = false;        ///< angular work in the solve: WorldSettings::rotation on, and friction
   bool sweep = false;           ///< continuous collision of fast spheres
   bool shock = false;           ///< shock propagation (masses differ more than shock_mass_ratio)
   bool depenetrate = false;     ///< position correction

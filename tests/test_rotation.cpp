@@ -129,3 +129,33 @@ TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off"
   if (HAIL_WITH_ROTATION) CHECK(run(true) == run(false));
   else CHECK(run(false) != 0);
 }
+
+TEST_CASE("A normal impulse never spins a sphere, though friction elsewhere turns the angular passes on",
+          "[rotation][sphere-sphere]") {
+  // A frictionless head-on collision along a slanted line: the impulses pass through both
+  // centres, so no spin. The passes take the normal part on linear velocities alone
+  // (normal_relative_velocity, apply_linear_impulse); through r x p the float products of
+  // parallel vectors would leave spins of rounding size. A sphere resting with friction on a
+  // plane far below makes every step run the angular passes (kWithFriction) for every contact.
+  // Gravity pulls both colliding spheres alike, so their relative motion stays along d.
+  World world({.threads = 1});
+  world.add_plane({.normal = {0, 1, 0}, .offset = -100.0f, .restitution = 0.5f, .friction = 0.5f});
+  const Vec3 d = Vec3(1.0f, 2.0f, 3.0f).normalized();
+  const SphereId hit = world.add_sphere({.position = {0, 0, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.7f, .friction = 0.0f});
+  const SphereId mover = world.add_sphere(
+      {.position = 3.0f * d, .velocity = -4.0f * d, .radius = 0.5f, .mass = 2.0f, .restitution = 0.7f, .friction = 0.0f});
+  world.add_sphere({.position = {50, -99.5f, 0}, .radius = 0.5f, .mass = 1.0f, .friction = 0.5f});
+  bool angular_passes = false;
+  for (int step = 0; step < 60; ++step) {
+    world.step(1.0f / 60.0f);
+    angular_passes |= world.last_step_stats().ran.rotation;
+  }
+  CHECK(angular_passes == (HAIL_WITH_ROTATION != 0));
+  CHECK(world.velocity(hit).dot(d) < -1.0f);  // they collided: the hit sphere moves off along -d
+  for (const SphereId id : {hit, mover}) {
+    const Vec3 w = world.angular_velocity(id);
+    CHECK(w.x() == 0.0f);
+    CHECK(w.y() == 0.0f);
+    CHECK(w.z() == 0.0f);
+  }
+}

@@ -88,10 +88,11 @@ struct Lanes {
     store_body_group(body, skip, group, rows);
   }
 
-  // The functions below are relative_contact_velocity, apply_impulse and apply_friction of
+  // The functions below are relative_contact_velocity, normal_relative_velocity,
+  // apply_linear_impulse, apply_angular_impulse, apply_impulse and apply_friction of
   // kernel/contact_impulse.h, operation for operation; `active` lanes change, others keep.
 
-  void relative_velocity(batch out[3]) const {
+  [[gnu::always_inline]] void relative_velocity(batch out[3]) const {
     if constexpr (!kFriction) {
       for (int d = 0; d < 3; ++d) out[d] = vb[d] - va[d];
       return;
@@ -103,27 +104,36 @@ struct Lanes {
     for (int d = 0; d < 3; ++d) out[d] = (vb[d] + wb_x_rb[d]) - (va[d] + wa_x_ra[d]);
   }
 
-  void apply_impulse(const batch p[3], const lane_mask& active) {
-    if constexpr (!kFriction) {  // p is along n: no torque
-      for (int d = 0; d < 3; ++d) {
-        va[d] = xsimd::select(active, va[d] - p[d] * ima, va[d]);
-        vb[d] = xsimd::select(active, vb[d] + p[d] * imb, vb[d]);
-      }
-      return;
+  /// normal_relative_velocity: (vb - va) . n, w x r dropping out along n.
+  [[nodiscard, gnu::always_inline]] batch normal_velocity() const {
+    const batch v[3] = {vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]};
+    return v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+  }
+
+  [[gnu::always_inline]] void apply_linear_impulse(const batch p[3], const lane_mask& active) {
+    for (int d = 0; d < 3; ++d) {
+      va[d] = xsimd::select(active, va[d] - p[d] * ima, va[d]);
+      vb[d] = xsimd::select(active, vb[d] + p[d] * imb, vb[d]);
     }
+  }
+
+  [[gnu::always_inline]] void apply_angular_impulse(const batch p[3], const lane_mask& active) {
     const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
     const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
     const batch ra_x_p[3] = {r_a[1] * p[2] - r_a[2] * p[1], r_a[2] * p[0] - r_a[0] * p[2], r_a[0] * p[1] - r_a[1] * p[0]};
     const batch rb_x_p[3] = {r_b[1] * p[2] - r_b[2] * p[1], r_b[2] * p[0] - r_b[0] * p[2], r_b[0] * p[1] - r_b[1] * p[0]};
     for (int d = 0; d < 3; ++d) {
-      va[d] = xsimd::select(active, va[d] - p[d] * ima, va[d]);
       wa[d] = xsimd::select(active, wa[d] - ra_x_p[d] * iia, wa[d]);
-      vb[d] = xsimd::select(active, vb[d] + p[d] * imb, vb[d]);
       wb[d] = xsimd::select(active, wb[d] + rb_x_p[d] * iib, wb[d]);
     }
   }
 
-  void apply_friction(const batch& limit, batch accumulated[3], lane_mask active) {
+  [[gnu::always_inline]] void apply_impulse(const batch p[3], const lane_mask& active) {
+    apply_linear_impulse(p, active);
+    if constexpr (kFriction) apply_angular_impulse(p, active);
+  }
+
+  [[gnu::always_inline]] void apply_friction(const batch& limit, batch accumulated[3], lane_mask active) {
     batch v[3];
     relative_velocity(v);
     const batch vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
@@ -175,9 +185,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
     Lanes<kFriction> L(c, k, o, bodies, body_count);
-    batch v[3];
-    L.relative_velocity(v);
-    const batch closing = -(v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2]);
+    const batch closing = -L.normal_velocity();
     const batch gap = batch::load_aligned(c.gap + o);
     const batch kn = L.ima + L.imb;
     const lane_mask closing_fast = !(closing <= batch(restitution_threshold));
@@ -191,7 +199,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     const batch bounce = batch::load_aligned(c.bounce_impulse + o);
     xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
     const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
-    L.apply_impulse(p, active);
+    L.apply_linear_impulse(p, active);
     if constexpr (has_friction(kWork)) {
       batch fresh[3] = {zero, zero, zero};
       L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
@@ -212,9 +220,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   const batch zero(0.0f);
   for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
-    batch v[3];
-    L.relative_velocity(v);
-    const batch vn = v[0] * L.n[0] + v[1] * L.n[1] + v[2] * L.n[2];
+    const batch vn = L.normal_velocity();
     const batch gap = batch::load_aligned(c.gap + o);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
@@ -225,7 +231,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
     const batch dj = clamped - impulse;
     const batch new_impulse = xsimd::select(active, clamped, impulse);
     const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
-    L.apply_impulse(p, active);
+    L.apply_linear_impulse(p, active);
     new_impulse.store_aligned(c.normal_impulse + o);
     if constexpr (has_friction(kWork)) {
       batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
@@ -244,12 +250,13 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
     const lane_mask active = !((L.ima + L.imb) <= zero);
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
     if constexpr (has_friction(kWork)) {
-      const batch p[3] = {impulse * L.n[0] + batch::load_aligned(c.tx + o), impulse * L.n[1] + batch::load_aligned(c.ty + o),
-                          impulse * L.n[2] + batch::load_aligned(c.tz + o)};
-      L.apply_impulse(p, active);
+      const batch t[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+      const batch p[3] = {impulse * L.n[0] + t[0], impulse * L.n[1] + t[1], impulse * L.n[2] + t[2]};
+      L.apply_linear_impulse(p, active);
+      if constexpr (kFriction) L.apply_angular_impulse(t, active);  // apply_warm_start's
     } else {
       const batch p[3] = {impulse * L.n[0], impulse * L.n[1], impulse * L.n[2]};
-      L.apply_impulse(p, active);
+      L.apply_linear_impulse(p, active);
     }
   });
 }
