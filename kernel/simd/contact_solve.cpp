@@ -37,9 +37,12 @@ struct Lanes {
   bool b_static;  // every lane's b is the static body (ContactBatchArrays::static_b)
 
   /// Lanes of batch k (lane offset o = k W): staged data, velocities loaded from bodies
-  /// (kernel/simd/body_rows.h). `bodies` ends with the static body.
+  /// (kernel/simd/body_rows.h). `bodies` ends with the static body. With `angular` false
+  /// (kDeferAngular) the angular group is left for load_angular(): a collision pass decides
+  /// from the linear velocities alone whether a batch does anything (normal_velocity).
+  static constexpr bool kDeferAngular = false;
   [[gnu::always_inline]] Lanes(const ContactBatchArrays& c, std::size_t k, std::size_t o, SolverBody* bodies,
-                               std::size_t body_count)
+                               std::size_t body_count, bool angular = true)
       : ra(batch::load_aligned(c.ra + o)),
         rb(batch::load_aligned(c.rb + o)),
         static_body(bodies + body_count - 1),
@@ -53,6 +56,12 @@ struct Lanes {
     } else {
       load(body_b, kLinearGroup, vb, imb);
     }
+    if (angular) load_angular();
+    for (int d = 0; d < 3; ++d) n[d] = batch::load_aligned((d == 0 ? c.nx : d == 1 ? c.ny : c.nz) + o);
+  }
+
+  /// The angular group of both sides (with kFriction; else the inverse inertias are zero).
+  [[gnu::always_inline]] void load_angular() {
     if constexpr (kFriction) {
       load(body_a, kAngularGroup, wa, iia);
       if (b_static) {
@@ -63,7 +72,6 @@ struct Lanes {
     } else {
       iia = iib = batch(0.0f);  // no angular work reads them
     }
-    for (int d = 0; d < 3; ++d) n[d] = batch::load_aligned((d == 0 ? c.nx : d == 1 ? c.ny : c.nz) + o);
   }
 
   /// Writes the velocities back, except to the static body: it is every static contact's b,
@@ -184,7 +192,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       const index_batch sa = load_body_stamps(bodies, c.a + o), sb = load_body_stamps(bodies, c.b + o);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
-    Lanes<kFriction> L(c, k, o, bodies, body_count);
+    Lanes<kFriction> L(c, k, o, bodies, body_count, Lanes<kFriction>::kDeferAngular);
     const batch closing = -L.normal_velocity();
     const batch gap = batch::load_aligned(c.gap + o);
     const batch kn = L.ima + L.imb;
@@ -194,6 +202,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     const lane_mask active = closing_fast & !gap_stays_open & movable;
     const std::uint32_t lanes = lane_bits(active);
     if (lanes == 0) continue;  // nothing changes: no scatter needed
+    L.load_angular();
     any = true;
     const batch j = (one + batch::load_aligned(c.restitution + o)) * closing / kn;
     const batch bounce = batch::load_aligned(c.bounce_impulse + o);
