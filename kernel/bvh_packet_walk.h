@@ -135,5 +135,49 @@ void query_sphere_packet_exact(const FlatBvh& bvh, std::span<const Aabb> bounds,
       count);
 }
 
+/// query_sphere_packet_exact in stretches, for a visitor that fills a bounded buffer and
+/// empties it between stretches: run() walks on from where the last one stopped and stops
+/// before a leaf whose primitives could need more than free_slots() (a primitive takes at most
+/// one slot per lane). Over all stretches, visit(lane, k) gets exactly the pairs, in exactly the
+/// order, of query_sphere_packet_exact. Emptying the buffer outside the walk keeps any call out
+/// of its loop, so the packet's registers stay in registers (a call inside the loop makes the
+/// compiler keep them on the stack).
+class PacketWalkExact {
+ public:
+  PacketWalkExact(const FlatBvh& bvh, std::span<const Aabb> bounds, const SpherePacket& packet)
+      : bvh_(bvh), bounds_(bounds), touches_(packet),
+        next_(bvh.nodes.empty() || packet.count == 0 ? kFlatBvhEnd : 0) {}
+
+  [[nodiscard]] bool done() const { return next_ == kFlatBvhEnd; }
+
+  template <class Visit, class FreeSlots>
+  void run(Visit&& visit, FreeSlots&& free_slots) {
+    const FlatNode* node = bvh_.nodes.data();
+    std::uint32_t i = next_;
+    while (i != kFlatBvhEnd) {
+      const FlatNode& n = node[i];
+      if (const std::uint32_t leaf_lanes = touches_(n)) {
+        if (!is_leaf(n)) {
+          i = i + 1;
+          continue;
+        }
+        const std::uint32_t first = leaf_first(n), count = leaf_count(n);
+        if (count * kSpherePacketWidth > free_slots()) break;  // resume at this leaf
+        for (std::uint32_t k = first; k < first + count; ++k)
+          for (std::uint32_t lanes = touches_(bounds_[k]) & leaf_lanes; lanes != 0; lanes &= lanes - 1)
+            visit(lowest_lane(lanes), k);
+      }
+      i = n.skip;
+    }
+    next_ = i;
+  }
+
+ private:
+  const FlatBvh& bvh_;
+  std::span<const Aabb> bounds_;
+  detail::PacketBoxTest touches_;
+  std::uint32_t next_;
+};
+
 }  // namespace HAIL_SIMD_NS
 }  // namespace hail

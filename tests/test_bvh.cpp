@@ -213,6 +213,15 @@ const char* split_name(BvhSplit split) {
   return split == BvhSplit::Median ? "median" : split == BvhSplit::BinnedSah ? "binned SAH" : "input order";
 }
 
+/// Builds `bvh` over the set's boxes and returns the boxes in BVH order (what the packet walks'
+/// leaf tests read).
+std::vector<Aabb> build_with_bvh_order_bounds(FlatBvh& bvh, const PrimitiveSet& set, int leaf_size) {
+  bvh.build(set.bounds, {.leaf_size = leaf_size});
+  std::vector<Aabb> bvh_bounds(set.bounds.size());
+  for (std::size_t k = 0; k < bvh_bounds.size(); ++k) bvh_bounds[k] = set.bounds[bvh.primitive_order[k]];
+  return bvh_bounds;
+}
+
 }  // namespace
 
 TEST_CASE("Sphere and box queries return exactly the brute-force primitive sets", "[bvh]") {
@@ -469,9 +478,7 @@ TEST_CASE("Packet walks give each lane exactly its single-sphere walk, in order"
     for (int leaf_size : {1, 4, 8}) {
       INFO(set.name << ", leaf size " << leaf_size);
       FlatBvh bvh;
-      bvh.build(set.bounds, {.leaf_size = leaf_size});
-      std::vector<Aabb> bvh_bounds(set.bounds.size());
-      for (std::size_t k = 0; k < bvh_bounds.size(); ++k) bvh_bounds[k] = set.bounds[bvh.primitive_order[k]];
+      const std::vector<Aabb> bvh_bounds = build_with_bvh_order_bounds(bvh, set, leaf_size);
       std::vector<std::uint32_t> stamp(bvh.nodes.size(), 0xFFFFFFFFu);
       std::uint64_t visits = 0;
       bool twice = false;
@@ -511,6 +518,46 @@ TEST_CASE("Packet walks give each lane exactly its single-sphere walk, in order"
       CHECK_FALSE(twice);  // each node tested at most once per packet
     }
   }
+}
+
+TEST_CASE("The packet walk in stretches gives query_sphere_packet_exact's pairs in its order", "[bvh]") {
+  // PacketWalkExact stops before a leaf that might not fit the buffer and resumes there; with
+  // buffers from one leaf's worst case up to twice that, it stops often, mid-walk.
+  const std::uint32_t leaf_slots = kMaxLeafSize * kSpherePacketWidth;
+  std::size_t stretches = 0, packets = 0;  // over all sets: small sets' walks fit one buffer
+  for (const PrimitiveSet& set : primitive_sets()) {
+    const std::vector<Sphere> spheres = random_spheres(set, 515, 7);
+    for (int leaf_size : {1, 4, 8}) {
+      INFO(set.name << ", leaf size " << leaf_size);
+      FlatBvh bvh;
+      const std::vector<Aabb> bvh_bounds = build_with_bvh_order_bounds(bvh, set, leaf_size);
+      std::size_t mismatches = 0, pairs = 0;
+      for (const std::uint32_t capacity : {leaf_slots, leaf_slots + 5, 2 * leaf_slots}) {
+        SpherePacket packet;
+        for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth, ++packets) {
+          packet.clear();
+          const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
+          for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+          std::vector<std::pair<std::uint32_t, std::uint32_t>> whole, stretched, buffer;
+          query_sphere_packet_exact(bvh, bvh_bounds, packet, [&](std::uint32_t lane, std::uint32_t k) { whole.emplace_back(lane, k); });
+          PacketWalkExact walk(bvh, bvh_bounds, packet);
+          while (!walk.done()) {
+            walk.run([&](std::uint32_t lane, std::uint32_t k) { buffer.emplace_back(lane, k); },
+                     [&] { return capacity - static_cast<std::uint32_t>(buffer.size()); });
+            REQUIRE(buffer.size() <= capacity);
+            stretched.insert(stretched.end(), buffer.begin(), buffer.end());
+            buffer.clear();
+            ++stretches;
+          }
+          pairs += whole.size();
+          mismatches += stretched != whole;
+        }
+      }
+      CHECK(pairs > 0);
+      CHECK(mismatches == 0);
+    }
+  }
+  CHECK(stretches > packets);  // some walks were cut and resumed
 }
 
 TEST_CASE("Morton codes interleave x, y, z on cubic cells and clamp what lies outside", "[bvh]") {

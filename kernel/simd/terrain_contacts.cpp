@@ -109,13 +109,19 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
       spheres.radius[lane] = s.radius[i], spheres.margin[lane] = reach;
       lanes[lane].count = 0;
     }
-    query_sphere_packet_exact(terrain.bvh(), bounds, packet, [&](std::uint32_t lane, std::uint32_t k) {
-      candidates.lane[candidates.count] = static_cast<std::int32_t>(lane);
-      candidates.triangle[candidates.count] = static_cast<std::int32_t>(k);
-      if (++candidates.count == TerrainCandidates::kCapacity)
-        test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
-    });
-    if (candidates.count > 0) test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
+    // The walk stops when the buffer could overflow at the next leaf; the buffer is tested and
+    // emptied here, outside the walk's loop (PacketWalkExact).
+    PacketWalkExact walk(terrain.bvh(), bounds, packet);
+    while (!walk.done()) {
+      walk.run(
+          [&](std::uint32_t lane, std::uint32_t k) {
+            candidates.lane[candidates.count] = static_cast<std::int32_t>(lane);
+            candidates.triangle[candidates.count] = static_cast<std::int32_t>(k);
+            ++candidates.count;
+          },
+          [&] { return TerrainCandidates::kCapacity - candidates.count; });
+      if (candidates.count > 0) test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
+    }
     // In sphere order, as the scalar walk gives them.
     std::size_t count = 0;
     for (std::uint32_t lane = 0; lane < packet.count; ++lane)
