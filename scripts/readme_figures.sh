@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Re-measures the README's figures: terrain-rain at 1k/4k/16k/64k spheres on 1 and 2 threads
-# (full 600 steps each, REPEATS rounds, default 3: each round runs every row once, so a slow
+# Re-measures the README's figures: terrain-rain at 1k/4k/16k/64k spheres on 1 and 2 threads,
+# and at 4k/64k on 1 thread with the AVX2 path forced (what the users' AVX2-only CPUs run; only
+# where this CPU has AVX2) (full 600 steps each, REPEATS rounds, default 3: each round runs every row once, so a slow
 # spell of a shared machine spreads over the rows instead of hitting one), the terrain query
 # microbenchmark (3 runs) and the BVH build times. Needs a release build
 # (./scripts/quickstart.sh bench makes one). Takes about 4 minutes on a 2-core machine; keep
@@ -14,12 +15,18 @@ bench=./build/release/bench/hail-bench
 [ -x "$bench" ] || { echo "no $bench: build the release preset first" >&2; exit 1; }
 mkdir -p "$out"
 repeats="${REPEATS:-3}"
+avx2=0
+grep -qw avx2 /proc/cpuinfo 2>/dev/null && avx2=1
 for r in $(seq "$repeats"); do
   for n in 1000 4000 16000 64000; do
     for t in 1 2; do
       echo "round $r/$repeats: terrain-rain $n spheres, $t threads" >&2
       "$bench" run terrain-rain --spheres "$n" --threads "$t" --json "$out/terrain-rain-$n-$t-$r.json" > "$out/terrain-rain-$n-$t-$r.txt"
     done
+    if [ "$avx2" = 1 ] && { [ "$n" = 4000 ] || [ "$n" = 64000 ]; }; then
+      echo "round $r/$repeats: terrain-rain $n spheres, 1 thread, AVX2 path" >&2
+      "$bench" run terrain-rain --spheres "$n" --threads 1 --simd avx2 --json "$out/terrain-rain-$n-1avx2-$r.json" > "$out/terrain-rain-$n-1avx2-$r.txt"
+    fi
   done
 done
 for r in 1 2 3; do "$bench" query > "$out/query-leaf4-$r.txt"; done
@@ -32,13 +39,17 @@ out, repeats = sys.argv[1], int(sys.argv[2])
 print("| spheres | threads | ms/step mean (median of rounds) | range | detect-terrain | detect-pairs | solve | sweep | depenetrate | max pen. spheres / ground (m) | tunnelled | fell off | NaN | KE at 10 s (J) | hash |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for n in (1000, 4000, 16000, 64000):
-    for t in (1, 2):
-        runs = [json.load(open(os.path.join(out, f"terrain-rain-{n}-{t}-{r}.json"))) for r in range(1, repeats + 1)]
+    for t in ("1", "2", "1avx2"):
+        paths = [os.path.join(out, f"terrain-rain-{n}-{t}-{r}.json") for r in range(1, repeats + 1)]
+        if not all(os.path.exists(p) for p in paths):
+            continue  # the AVX2 rows: only 4k and 64k, only where the CPU has AVX2
+        runs = [json.load(open(p)) for p in paths]
         hashes = {j["state_hash"] for j in runs}
         means = [j["ms_per_step_mean"] for j in runs]
         phase = lambda name: statistics.median(j["phases_ms"][name] for j in runs)
         j = runs[0]  # the error figures do not depend on the run (the same hash)
-        print(f"| {n:,} | {t} | {statistics.median(means):.2f} | {min(means):.2f}-{max(means):.2f} | {phase('detect_terrain'):.2f} | "
+        label = "1 (AVX2 path)" if t == "1avx2" else t
+        print(f"| {n:,} | {label} | {statistics.median(means):.2f} | {min(means):.2f}-{max(means):.2f} | {phase('detect_terrain'):.2f} | "
               f"{phase('detect_pairs'):.2f} | {phase('solve'):.2f} | {phase('sweep'):.2f} | {phase('depenetrate'):.2f} | "
               f"{j['max_sphere_penetration']:.3f} / {j['max_terrain_penetration']:.3f} | {j['tunnelled']} | {j['fell_off']:,} | "
               f"{j['nan_count']} | {j['kinetic_energy']:,.0f} | {'/'.join(sorted(hashes))} |")
