@@ -27,10 +27,11 @@ namespace hail {
 /// alone (normal_relative_velocity, apply_linear_impulse): that is the exact answer, where the
 /// angular terms would leave spins of rounding size from the float products of parallel
 /// vectors. Without friction (no contact of the step has any) nothing turns a sphere, and the
-/// passes drop the angular terms altogether (kNoFriction). Without rotation (WorldSettings::rotation false) friction acts on the linear
-/// velocities alone, with the effective mass 1 / (1/m_a + 1/m_b) (kLinearFriction): spheres
-/// slide and never spin. kWithFriction is the full rule: friction with the angular impulse that
-/// makes spheres spin and roll.
+/// passes drop the angular terms altogether (kNoFriction). Without rotation
+/// (WorldSettings::rotation false) friction acts on the linear velocities alone, with the
+/// effective mass 1 / (1/m_a + 1/m_b) (kLinearFriction): spheres slide and never spin.
+/// kWithFriction is the full rule: friction with the angular impulse that makes spheres spin
+/// and roll.
 enum FrictionWork : std::uint8_t { kNoFriction, kLinearFriction, kWithFriction };
 
 /// kWithFriction where rotation is compiled in (HAIL_WITH_ROTATION, kernel/features.h). Without
