@@ -222,10 +222,16 @@ int run_both(const CommandOptions& o) {
   for (const auto* runs : {&on, &off}) {
     const RunResult& r = runs->back();
     const std::vector<double> m = medians(*runs);
-    std::string spread;
-    for (double x : m) spread += (spread.empty() ? "" : " ") + std::to_string(x).substr(0, 5);
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, a known false positive) about
+    // "literal" + std::string temporaries here.
+    std::string spread = "(";
+    for (double x : m) {
+      if (spread.size() > 1) spread += ' ';
+      spread += std::to_string(x).substr(0, 5);
+    }
+    spread += ')';
     std::printf("  %-4s %10.3f %10s %9.1f %9.1f %10.4g %10.4g %9zu %9s %9zu %5zu  %s\n", runs == &on ? "on" : "off",
-                median_of(m), ("(" + spread + ")").c_str(), r.swept, r.sweep_events, r.errors.max_sphere_penetration,
+                median_of(m), spread.c_str(), r.swept, r.sweep_events, r.errors.max_sphere_penetration,
                 r.errors.max_terrain_penetration, r.errors.tunnelled,
                 r.tunnelled_tracked ? std::to_string(r.errors.tunnelled_ever).c_str() : "-", r.errors.fell_off,
                 r.errors.nan_count, r.state_hash.c_str());
@@ -255,7 +261,11 @@ int run_command(const std::vector<std::string>& args) {
   if (repeat > 1) {
     std::vector<double> m;
     std::string all;
-    for (const RunResult& x : runs) m.push_back(x.median_ms), all += " " + std::to_string(x.median_ms).substr(0, 6);
+    for (const RunResult& x : runs) {
+      m.push_back(x.median_ms);
+      all += ' ';
+      all += std::to_string(x.median_ms).substr(0, 6);
+    }
     std::printf("  repeats   median of %d runs' medians: %.3f ms/step (runs:%s)\n", repeat, median_of(m), all.c_str());
   }
   if (!o.dump_state_path.empty()) std::printf("  dump      final state of every sphere written to %s\n", o.dump_state_path.c_str());
