@@ -159,7 +159,10 @@ TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
     REQUIRE(stats.ran.solve);
     REQUIRE(stats.ran.friction);
     REQUIRE(stats.ran.shock);
-    REQUIRE(stats.static_contacts > 100);
+    // Static contacts in quantity: the terrain's bowl holds over 100; on the box's flat floor
+    // alone (a build without terrain) the pile spreads to about 90, more than its first layer
+    // of 64 would make.
+    REQUIRE(stats.static_contacts > (HAIL_WITH_TERRAIN ? 100u : 64u));
     REQUIRE(stats.sphere_contacts > 300);
     // 120 more steps, past several Morton re-sorts (every 16 steps).
     const std::size_t allocations = allocations_during([&] {
