@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <limits>
 
+#include "kernel/slot_divider.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -40,12 +42,15 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
   if (tiles > 0) assign_geometric(out.shared_mask, sphere_count, std::uint64_t{0});
   resize_geometric(out.key_of, contacts.size());
   assign_geometric(out.counts, keys, std::uint32_t{0});
+  // Slots are uint32, so a tile wider than that holds them all: the largest divisor does too.
+  const SlotDivider tile_of(static_cast<std::uint32_t>(
+      std::min<std::size_t>(std::max<std::size_t>(tile_spheres, 1), std::numeric_limits<std::uint32_t>::max())));
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
     std::size_t tile = tiles;  // shared
     if (tiles > 0) {
-      const std::size_t ta = c.a / tile_spheres;
-      if (c.b == kStaticBody || c.b / tile_spheres == ta) tile = ta;
+      const std::uint32_t ta = tile_of(c.a);
+      if (c.b == kStaticBody || tile_of(c.b) == ta) tile = ta;
     }
     const std::uint32_t colour = take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
     const auto key = static_cast<std::uint32_t>(tile * kColourSlots + colour);

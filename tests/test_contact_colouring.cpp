@@ -10,6 +10,7 @@
 
 #include "catch.h"
 #include "kernel/contact_colouring.h"
+#include "kernel/slot_divider.h"
 
 using namespace hail;
 
@@ -141,4 +142,26 @@ TEST_CASE("A sphere with more contacts than parallel colours overflows into a se
   CHECK(col.colour_count() - col.shared_colour_begin() == kMaxParallelColours + 1);
   CHECK(col.is_serial(col.colour_count() - 1));
   CHECK(std::count(col.serial.begin(), col.serial.end(), 1) == 2);
+}
+
+TEST_CASE("SlotDivider divides every slot exactly as the division does", "[colouring]") {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<std::uint32_t> any_slot;
+  for (const std::uint32_t d : {1u, 2u, 3u, 5u, 7u, 64u, 100u, 641u, 2047u, 2048u, 2049u, 65535u, 1u << 20, (1u << 31) - 1u,
+                                1u << 31, 0xFFFFFFFFu}) {
+    INFO("d = " << d);
+    const hail::SlotDivider divide(d);
+    std::size_t wrong = 0;
+    auto check = [&](std::uint32_t slot) { wrong += divide(slot) != slot / d; };
+    for (std::uint32_t slot = 0; slot < 20000; ++slot) check(slot);
+    // Around the multiples of d, at the top of the fast range and above it.
+    for (std::uint64_t q = 1; q < 64; ++q)
+      for (std::int64_t e = -2; e <= 2; ++e) {
+        const std::int64_t slot = static_cast<std::int64_t>(q * d) + e;
+        if (slot >= 0 && slot <= 0xFFFFFFFFll) check(static_cast<std::uint32_t>(slot));
+      }
+    for (std::uint32_t slot : {(1u << 31) - 3u, (1u << 31) - 2u, (1u << 31) - 1u, 1u << 31, 0xFFFFFFFEu, 0xFFFFFFFFu}) check(slot);
+    for (int k = 0; k < 100000; ++k) check(any_slot(rng) >> (k % 2));  // half of them below 2^31
+    CHECK(wrong == 0);
+  }
 }
