@@ -141,7 +141,8 @@ void query_sphere_packet_exact(const FlatBvh& bvh, std::span<const Aabb> bounds,
 /// one slot per lane). Over all stretches, visit(lane, k) gets exactly the pairs, in exactly the
 /// order, of query_sphere_packet_exact. Emptying the buffer outside the walk keeps any call out
 /// of its loop, so the packet's registers stay in registers (a call inside the loop makes the
-/// compiler keep them on the stack).
+/// compiler keep them on the stack). An empty buffer must hold a whole leaf's worth,
+/// kMaxLeafSize * kSpherePacketWidth slots, or run() cannot get past that leaf.
 class PacketWalkExact {
  public:
   PacketWalkExact(const FlatBvh& bvh, std::span<const Aabb> bounds, const SpherePacket& packet)

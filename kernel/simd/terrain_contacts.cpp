@@ -29,6 +29,7 @@ static_assert(W < 32, "lane masks are uint32");
 /// a time: per lane, the triangles come in query_sphere's order, as the scalar reference sees them.
 struct TerrainCandidates {
   static constexpr std::uint32_t kCapacity = 16 * W;  // a multiple of W; a full buffer is tested at once
+  static_assert(kCapacity >= kMaxLeafSize * W, "an empty buffer must hold a whole leaf (PacketWalkExact)");
   alignas(64) std::int32_t lane[kCapacity];
   alignas(64) std::int32_t triangle[kCapacity];
   std::uint32_t count = 0;
