@@ -146,7 +146,8 @@ struct StepPipeline {
       std::uint8_t beyond[kSphereBlock];
       for (std::size_t i = first; i < last; ++i) {
         const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
-        beyond[i - first] = (dx * dx + dy * dy + dz * dz > w.reach2_[i]) & (s.inv_mass[i] > 0.0f);
+        beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > w.reach2_[i]) &
+                            static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
       }
       std::size_t count = 0;
       for (std::size_t i = first; i < last; ++i) {
