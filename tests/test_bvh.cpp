@@ -213,6 +213,14 @@ const char* split_name(BvhSplit split) {
   return split == BvhSplit::Median ? "median" : split == BvhSplit::BinnedSah ? "binned SAH" : "input order";
 }
 
+/// Fills the packet with spheres[first ..] (as many as fit); returns the end of that range.
+std::size_t load_packet(SpherePacket& packet, const std::vector<Sphere>& spheres, std::size_t first) {
+  packet.clear();
+  const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
+  for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+  return last;
+}
+
 /// Builds `bvh` over the set's boxes and returns the boxes in BVH order (what the packet walks'
 /// leaf tests read).
 std::vector<Aabb> build_with_bvh_order_bounds(FlatBvh& bvh, const PrimitiveSet& set, int leaf_size) {
@@ -487,9 +495,7 @@ TEST_CASE("Packet walks give each lane exactly its single-sphere walk, in order"
       std::vector<std::uint32_t> per_lane[kSpherePacketWidth], per_lane_exact[kSpherePacketWidth];
       std::uint32_t packet_index = 0;
       for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth, ++packet_index) {
-        packet.clear();
-        const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
-        for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+        const std::size_t last = load_packet(packet, spheres, first);
         for (auto& v : per_lane) v.clear();
         for (auto& v : per_lane_exact) v.clear();
         query_sphere_packet(bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { per_lane[lane].push_back(k); },
@@ -535,9 +541,7 @@ TEST_CASE("The packet walk in stretches gives query_sphere_packet_exact's pairs 
       for (const std::uint32_t capacity : {leaf_slots, leaf_slots + 5, 2 * leaf_slots}) {
         SpherePacket packet;
         for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth, ++packets) {
-          packet.clear();
-          const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
-          for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+          load_packet(packet, spheres, first);
           std::vector<std::pair<std::uint32_t, std::uint32_t>> whole, stretched, buffer;
           query_sphere_packet_exact(bvh, bvh_bounds, packet, [&](std::uint32_t lane, std::uint32_t k) { whole.emplace_back(lane, k); });
           PacketWalkExact walk(bvh, bvh_bounds, packet);
