@@ -52,14 +52,28 @@ template <BoxBounds A, BoxBounds B>
          a.min[2] <= b.max[2] && b.min[2] <= a.max[2];
 }
 
+/// x > y ? x : y: x86's max instruction exactly (y when either is NaN), and xsimd::max's.
+/// The empty asm makes the result a value the compiler must produce in a register, so that it
+/// cannot fold what follows into a branch on the comparison (below).
+[[nodiscard]] inline float max_in_register(float x, float y) {
+  float m = x > y ? x : y;
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+  asm("" : "+x"(m));
+#endif
+  return m;
+}
+
 /// True when the sphere touches the box: squared distance from the centre to the box <= r^2.
 /// Exact for boxes of any size (no centre-box inflation, whose corners would over-accept).
 template <BoxBounds Box>
-[[nodiscard]] constexpr bool sphere_overlaps(const Box& b, float cx, float cy, float cz, float r) {
+[[nodiscard]] inline bool sphere_overlaps(const Box& b, float cx, float cy, float cz, float r) {
   // max(lo - c, c - hi, 0) is the distance outside [lo, hi] (the larger term is the only
-  // positive one), written with max so that it compiles to max instructions, not branches the
-  // predictor cannot learn; the SIMD packet test (kernel/bvh_packet_walk.h) computes the same.
-  auto excess = [](float c, float lo, float hi) { return std::max(std::max(lo - c, c - hi), 0.0f); };
+  // positive one), computed as the SIMD packet test computes it (xsimd::max,
+  // kernel/bvh_packet_walk.h), so both decide alike, NaN included. Written as plain selects
+  // (or std::max), GCC 12 folds the squaring below into a branch on the sign of the excess:
+  // three branches per node that the predictor cannot learn, where Terrain::push_out's scalar
+  // walk spent most of its time.
+  auto excess = [](float c, float lo, float hi) { return max_in_register(max_in_register(lo - c, c - hi), 0.0f); };
   const float dx = excess(cx, b.min[0], b.max[0]);
   const float dy = excess(cy, b.min[1], b.max[1]);
   const float dz = excess(cz, b.min[2], b.max[2]);
