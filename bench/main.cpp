@@ -51,7 +51,7 @@ void print_help() {
       "  scale [scene] [--min N] [--max N] [--threads T] [--steps S] [--out DIR] [--no-plot]\n"
       "      the scene at doubling sphere counts (default 1000..256000) on 1..T threads (default: all):\n"
       "      table, DIR/scale.csv, DIR/scale.json, and gnuplot SVGs of ns per sphere-step and speed-up\n"
-      "  query [--queries N] [--leaf L] [--repeats R]\n"
+      "  query [--queries N] [--leaf L (default 8, the terrain's)] [--repeats R]\n"
       "      terrain query microbenchmark, random and Morton order: stackless and fixed-stack BVH walks,\n"
       "      packet walk (4, 8 or 16 spheres per node test by SIMD path, with and without SIMD leaf boxes), grid-cell lookup,\n"
       "      brute force\n"

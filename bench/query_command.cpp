@@ -12,6 +12,7 @@
 #include "kernel/heightmap.h"
 #include "kernel/morton.h"
 #include "kernel/simd_kernels.h"
+#include "kernel/terrain.h"
 #include "kernel/terrain_triangles.h"
 #include "machine_info.h"
 
@@ -96,7 +97,7 @@ int parse_int(const std::vector<std::string>& args, const char* flag, int fallba
 
 int query_command(const std::vector<std::string>& args) {
   const int count = parse_int(args, "--queries", 100000);
-  const int leaf = parse_int(args, "--leaf", 4);
+  const int leaf = parse_int(args, "--leaf", static_cast<int>(Terrain::kDefaultLeafSize));
   const int repeats = parse_int(args, "--repeats", 5);
   if (count < 1 || repeats < 1) throw std::invalid_argument("--queries and --repeats must be >= 1");
   const Heightmap map = Heightmap::from_function(256, 256, {}, rain_height);
