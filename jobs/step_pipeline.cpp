@@ -149,13 +149,15 @@ struct StepPipeline {
         beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > w.reach2_[i]) &
                             static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
       }
+      // The flagged few a packet at a time (Terrain::push_out_spheres).
+      std::uint32_t flagged[kSphereBlock];
+      std::size_t flagged_count = 0;
+      for (std::size_t i = first; i < last; ++i)
+        if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
       std::size_t count = 0;
-      for (std::size_t i = first; i < last; ++i) {
-        if (!beyond[i - first]) continue;
 #if HAIL_WITH_TERRAIN
-        count += w.terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
 #endif
-      }
       if (count) pushed += count;
     });
     w.stats_.pushed_out = pushed.load();

@@ -92,6 +92,9 @@ struct SimdKernels {
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                            float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
                            bool sweep_fast);
+  /// Terrain::push_out_spheres (kernel/terrain.h): the spheres at slots[0, count).
+  std::size_t (*terrain_push_out)(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots,
+                                  std::size_t count);
   /// scan_path_boxes_simd (kernel/path_box_scan.h): the slots go to `sink`, in slot order.
   void (*scan_path_boxes)(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
   /// The packet walk for hail-bench query, hail-micro and the tests: spheres [0, count) in

@@ -44,6 +44,11 @@ void Terrain::find_contacts_scalar(const SphereSoA& s, std::size_t first, std::s
   }
 }
 
+std::size_t Terrain::push_out_spheres(SphereSoA& s, std::span<const std::uint32_t> slots) const {
+  if (slots.empty()) return 0;
+  return simd_kernels().terrain_push_out(*this, s, slots.data(), slots.size());
+}
+
 float Terrain::penetration(float x, float y, float z, float r) const {
   const TerrainTriangles& t = triangles_;
   const float centre[3] = {x, y, z};

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "kernel/contact.h"
@@ -93,7 +94,14 @@ class Terrain {
   /// triangle first, along its contact normal by its overlap, then again for what still
   /// overlaps, at most `rounds` times. Returns whether it moved. For spheres that travelled
   /// further in a step than their contacts reached (kernel/terrain_push_out.cpp).
-  bool push_out(float& x, float& y, float& z, float r, int rounds = 4) const;
+  bool push_out(float& x, float& y, float& z, float r, int rounds = kPushOutRounds) const;
+  static constexpr int kPushOutRounds = 4;  ///< push_out's default
+
+  /// push_out (default rounds) for each sphere of `spheres` named in `slots`, their walks a
+  /// packet of spheres at a time on the active SIMD path (kernel/simd/terrain_push_out.cpp):
+  /// the same moves as push_out sphere by sphere, which stays the reference. Returns how many
+  /// moved. No allocation; disjoint slot lists may run in parallel.
+  std::size_t push_out_spheres(SphereSoA& spheres, std::span<const std::uint32_t> slots) const;
 
  private:
   Heightmap heightmap_;

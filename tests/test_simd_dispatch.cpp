@@ -240,6 +240,39 @@ TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single 
   }
 }
 
+TEST_CASE("Every SIMD path's packet push-out moves spheres exactly as Terrain::push_out does one by one", "[simd][dispatch][terrain]") {
+  for (const std::uint32_t leaf : {1u, 4u, 8u}) {
+    const Terrain terrain(Heightmap::from_function(40, 40, {}, hills), leaf);
+    // Spheres sunk into the surface by up to a radius and more, some above it, some off the
+    // map; a few deep enough to need more than one round.
+    std::mt19937 rng(11 + leaf);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    SphereSoA start;
+    for (int k = 0; k < 203; ++k) {
+      const float x = -2.0f + 43.0f * u(rng), z = -2.0f + 43.0f * u(rng), r = 0.2f + 0.6f * u(rng);
+      start.add({.px = x, .py = hills(x, z) + r * (1.5f - 3.0f * u(rng)), .pz = z, .vx = 0.0f, .vy = 0.0f, .vz = 0.0f,
+                 .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = 1.0f, .inv_inertia = 1.0f,
+                 .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+    }
+    // Every third sphere, so that the packets hold spheres that are not neighbours in the SoA.
+    std::vector<std::uint32_t> slots;
+    for (std::uint32_t i = 0; i < start.size(); i += 3) slots.push_back(i);
+    SphereSoA reference = start;
+    std::size_t reference_moved = 0;
+    for (std::uint32_t i : slots) reference_moved += terrain.push_out(reference.px[i], reference.py[i], reference.pz[i], reference.radius[i]);
+    REQUIRE(reference_moved > 10);
+    REQUIRE(reference_moved < slots.size());
+    for (SimdPath p : supported_paths()) {
+      INFO("path " << simd_path_name(p) << ", leaf size " << leaf);
+      SphereSoA s = start;
+      CHECK(simd_kernels(p).terrain_push_out(terrain, s, slots.data(), slots.size()) == reference_moved);
+      CHECK(std::memcmp(s.px.data(), reference.px.data(), s.size() * sizeof(float)) == 0);
+      CHECK(std::memcmp(s.py.data(), reference.py.data(), s.size() * sizeof(float)) == 0);
+      CHECK(std::memcmp(s.pz.data(), reference.pz.data(), s.size() * sizeof(float)) == 0);
+    }
+  }
+}
+
 TEST_CASE("Every SIMD path's batch closest points equal closest_point_on_triangle in every region", "[simd][dispatch][terrain]") {
   // Points around random triangles, some of them degenerate (a repeated vertex, three in a
   // line), and a few NaN points, so that each of the seven regions and the last resort (no

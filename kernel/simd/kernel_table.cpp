@@ -26,6 +26,7 @@ constexpr SimdKernels kTable{
     .contact_warm_start = &HAIL_SIMD_NS::contact_warm_start,
     .contact_resting = &HAIL_SIMD_NS::contact_resting,
     .terrain_contacts = &HAIL_SIMD_NS::terrain_contacts,
+    .terrain_push_out = &HAIL_SIMD_NS::terrain_push_out,
     .scan_path_boxes = &HAIL_SIMD_NS::scan_path_boxes,
     .count_packet_hits = &HAIL_SIMD_NS::count_packet_hits,
     .closest_points = &HAIL_SIMD_NS::closest_points,
