@@ -3,7 +3,7 @@
 # and at 4k/64k on 1 thread with the AVX2 path forced (what the users' AVX2-only CPUs run; only
 # where this CPU has AVX2) (full 600 steps each, REPEATS rounds, default 3: each round runs every row once, so a slow
 # spell of a shared machine spreads over the rows instead of hitting one), the terrain query
-# microbenchmark (3 runs) and the BVH build times. Needs a release build
+# microbenchmark (3 runs at leaf size 8, one at 4) and the BVH build times. Needs a release build
 # (./scripts/quickstart.sh bench makes one). Takes about 4 minutes on a 2-core machine; keep
 # the machine otherwise idle. Raw outputs and JSON go to $1 (default build/figures); a markdown
 # table of terrain-rain is printed at the end (needs python3): per row the median over the
@@ -29,8 +29,12 @@ for r in $(seq "$repeats"); do
     fi
   done
 done
-for r in 1 2 3; do "$bench" query > "$out/query-leaf4-$r.txt"; done
-"$bench" query --leaf 8 > "$out/query-leaf8.txt"
+# The query table: the terrain's default leaf size (8), three runs, and leaf size 4 once; on
+# the AVX2 path where the CPU has it (what the users' CPUs run), else the active one.
+query_path=()
+[ "$avx2" = 1 ] && query_path=(--simd avx2)
+for r in 1 2 3; do "$bench" query "${query_path[@]}" > "$out/query-leaf8-$r.txt"; done
+"$bench" query "${query_path[@]}" --leaf 4 > "$out/query-leaf4.txt"
 "$bench" bvh-build > "$out/bvh-build.txt"
 if command -v python3 >/dev/null; then
   python3 - "$out" "$repeats" <<'PY'
