@@ -218,7 +218,8 @@ int query_command(const std::vector<std::string>& args) {
 
 int bvh_build_command(const std::vector<std::string>& args) {
   const int max_side = parse_int(args, "--max-side", 1024);
-  std::printf("hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), one thread\n");
+  std::printf("hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
+              Terrain::kDefaultLeafSize);
   std::printf("  %-12s %12s %12s %12s %12s\n", "vertices", "triangles", "nodes", "median s", "binned SAH s");
   for (int side : {256, 1024, 4096}) {
     if (side > max_side) {
@@ -232,6 +233,7 @@ int bvh_build_command(const std::vector<std::string>& args) {
     for (int method = 0; method < 2; ++method) {
       BvhBuildOptions options;
       options.split = method == 0 ? BvhSplit::Median : BvhSplit::BinnedSah;
+      options.leaf_size = static_cast<int>(Terrain::kDefaultLeafSize);  // as a Terrain builds it
       const auto t0 = clock_type::now();
       const FlatBvh bvh = build_flat_bvh(bounds, options);
       seconds[method] = std::chrono::duration<double>(clock_type::now() - t0).count();
