@@ -138,29 +138,28 @@ struct StepPipeline {
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
   /// (Terrain::push_out). Each sphere on its own, so blocks run in parallel.
   void guard_terrain() {
+#if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
     SphereSoA& s = w.spheres_;
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
     for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
-      // Flags first, branch-free so that it vectorises; then the few flagged spheres' queries.
+      // Flags first, branch-free so that it vectorises; then the few flagged spheres, a packet
+      // at a time (Terrain::push_out_spheres).
       std::uint8_t beyond[kSphereBlock];
       for (std::size_t i = first; i < last; ++i) {
         const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
         beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > w.reach2_[i]) &
                             static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
       }
-      // The flagged few a packet at a time (Terrain::push_out_spheres).
       std::uint32_t flagged[kSphereBlock];
       std::size_t flagged_count = 0;
       for (std::size_t i = first; i < last; ++i)
         if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
-      std::size_t count = 0;
-#if HAIL_WITH_TERRAIN
-      count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
-#endif
+      const std::size_t count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
       if (count) pushed += count;
     });
     w.stats_.pushed_out = pushed.load();
+#endif
   }
 
   void detect_static() {
