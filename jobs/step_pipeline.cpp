@@ -136,7 +136,7 @@ struct StepPipeline {
 
   /// Terrain guard, part 2: a sphere that ended the step further from where it started than
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
-  /// (Terrain::push_out). Each sphere on its own, so blocks run in parallel.
+  /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
   void guard_terrain() {
 #if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
     SphereSoA& s = w.spheres_;

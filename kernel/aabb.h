@@ -54,7 +54,7 @@ template <BoxBounds A, BoxBounds B>
 
 /// x > y ? x : y: x86's max instruction exactly (y when either is NaN), and xsimd::max's.
 /// The empty asm makes the result a value the compiler must produce in a register, so that it
-/// cannot fold what follows into a branch on the comparison (below).
+/// cannot fold what follows into a branch on the comparison (sphere_overlaps).
 [[nodiscard]] inline float max_in_register(float x, float y) {
   float m = x > y ? x : y;
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
@@ -68,12 +68,12 @@ template <BoxBounds A, BoxBounds B>
 template <BoxBounds Box>
 [[nodiscard]] inline bool sphere_overlaps(const Box& b, float cx, float cy, float cz, float r) {
   // max(lo - c, c - hi, 0) is the distance outside [lo, hi] (the larger term is the only
-  // positive one), computed as the SIMD packet test computes it (xsimd::max,
-  // kernel/bvh_packet_walk.h), so both decide alike, NaN included. Written as plain selects
-  // (or std::max), GCC 12 folds the squaring below into a branch on the sign of the excess:
-  // three branches per node that the predictor cannot learn, where Terrain::push_out's scalar
-  // walk spent most of its time.
-  auto excess = [](float c, float lo, float hi) { return max_in_register(max_in_register(lo - c, c - hi), 0.0f); };
+  // positive one), computed as the SIMD packet test computes it (xsimd::max in the same operand
+  // order, kernel/bvh_packet_walk.h), so both decide alike. A NaN centre keeps a NaN excess (0
+  // comes first in the outer max), so it touches no box. Written with std::max, GCC 12 folded
+  // the squaring below into a branch on the sign of the excess: three branches per node that
+  // the predictor cannot learn, where Terrain::push_out's scalar walk spent most of its time.
+  auto excess = [](float c, float lo, float hi) { return max_in_register(0.0f, max_in_register(lo - c, c - hi)); };
   const float dx = excess(cx, b.min[0], b.max[0]);
   const float dy = excess(cy, b.min[1], b.max[1]);
   const float dz = excess(cz, b.min[2], b.max[2]);

@@ -66,10 +66,12 @@ struct PacketBoxTest {
         radius_sq(batch::load_aligned(p.radius_sq)) {}
   template <BoxBounds Box>
   [[nodiscard]] std::uint32_t operator()(const Box& b) const {
+    // Zero first in the outer max: a NaN lane keeps a NaN excess and touches nothing, as in
+    // sphere_overlaps (xsimd::max(x, y) is x > y ? x : y, y when either is NaN).
     const batch zero(0.0f);
-    const batch ex = xsimd::max(xsimd::max(batch(b.min[0]) - cx, cx - batch(b.max[0])), zero);
-    const batch ey = xsimd::max(xsimd::max(batch(b.min[1]) - cy, cy - batch(b.max[1])), zero);
-    const batch ez = xsimd::max(xsimd::max(batch(b.min[2]) - cz, cz - batch(b.max[2])), zero);
+    const batch ex = xsimd::max(zero, xsimd::max(batch(b.min[0]) - cx, cx - batch(b.max[0])));
+    const batch ey = xsimd::max(zero, xsimd::max(batch(b.min[1]) - cy, cy - batch(b.max[1])));
+    const batch ez = xsimd::max(zero, xsimd::max(batch(b.min[2]) - cz, cz - batch(b.max[2])));
     return lane_bits(ex * ex + ey * ey + ez * ez <= radius_sq);
   }
 };

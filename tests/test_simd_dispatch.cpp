@@ -206,14 +206,18 @@ TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single 
            .vz = 0.0f, .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
            .inv_inertia = 1.0f, .restitution = 0.3f, .friction = 0.7f, .flags = 0});
   }
+  // The packet queries also get two spheres with a NaN coordinate, mid-packet: they touch no
+  // box, in the scalar test and in every lane of the packet test alike.
   std::vector<float> x(s.size()), y(s.size()), z(s.size()), r(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) x[i] = s.px[i], y[i] = s.py[i], z[i] = s.pz[i], r[i] = s.radius[i] + 0.25f;
+  x[5] = std::numeric_limits<float>::quiet_NaN();
+  z[40] = std::numeric_limits<float>::quiet_NaN();
   std::uint64_t scalar_hits = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    x[i] = s.px[i], y[i] = s.py[i], z[i] = s.pz[i], r[i] = s.radius[i] + 0.25f;
+  for (std::size_t i = 0; i < s.size(); ++i)
     query_sphere(terrain.bvh(), x[i], y[i], z[i], r[i],
                  [&](std::uint32_t k) { scalar_hits += sphere_overlaps(terrain.triangle_bounds()[k], x[i], y[i], z[i], r[i]); });
-  }
   REQUIRE(scalar_hits > 0);
+  CHECK_FALSE(sphere_overlaps(terrain.triangle_bounds()[0], x[5], y[5], z[5], 1e30f));
   for (const bool sweep_fast : {false, true}) {
     std::vector<Contact> reference;
     terrain.find_contacts_scalar(s, 0, 150, 1.0f / 60.0f, 0.5f, 0.5f, reference, 1.0f, sweep_fast);
