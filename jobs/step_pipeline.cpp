@@ -578,6 +578,7 @@ struct StepPipeline {
   void reorder() {
     morton_slot_order(w.spheres_, w.reorder_keys_, w.reorder_slots_);
     w.spheres_.permute(w.reorder_slots_, /*angular=*/rotation);  // without rotation every w is 0
+    w.contact_cache_.remap_slots(w.reorder_slots_);  // its ranges are kept by slot
   }
 
   /// The step is assembled from what the scene has (StepParts): a phase with nothing to do is

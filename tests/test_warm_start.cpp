@@ -38,7 +38,7 @@ float column_sinking(bool warm_start, int count, int steps) {
 
 }  // namespace
 
-TEST_CASE("The contact cache finds last step's impulses by sphere ids and features", "[warmstart]") {
+TEST_CASE("The contact cache finds last step's impulses by sphere and feature, across a re-sort", "[warmstart]") {
   SphereSoA s;
   for (int k = 0; k < 4; ++k) s.add(at(float(k)));
   // Static contacts (sphere 0 on features 7 and 9, sphere 2 on feature 7), then pairs.
@@ -58,6 +58,8 @@ TEST_CASE("The contact cache finds last step's impulses by sphere ids and featur
   // Reverse the slots: every sphere moves, pairs may change which sphere comes first.
   const std::uint32_t reversed[4] = {3, 2, 1, 0};
   s.permute(reversed);  // old slot 0 is now slot 3, 1 -> 2, 2 -> 1, 3 -> 0
+  ContactImpulseCache unmoved = cache;  // not told of the permutation: every slot has another sphere
+  cache.remap_slots(reversed);
   std::vector<Contact> now;
   Contact g;
   g.a = 3, g.b = kStaticBody, g.feature = 9, g.nx = 0, g.ny = 1, g.nz = 0;  // old sphere 0, feature 9
@@ -68,6 +70,8 @@ TEST_CASE("The contact cache finds last step's impulses by sphere ids and featur
   now.push_back(pair(2, 3, 0.0f));  // old spheres 1 and 0: stored as (0, 1)
   now.push_back(pair(0, 1, 0.0f));  // old spheres 3 and 2: never touched
   for (Contact& c : now) c.normal_impulse = -1.0f;  // must be overwritten either way
+  CHECK(unmoved.load(now, 2, 0, now.size(), s) == 0);  // nothing taken for the wrong sphere
+  CHECK(std::all_of(now.begin(), now.end(), [](const Contact& c) { return c.normal_impulse == 0.0f; }));
   const std::size_t matched = cache.load(now, 2, 0, now.size(), s);
   CHECK(matched == 3);
   CHECK(now[0].normal_impulse == 2.5f);
