@@ -40,6 +40,7 @@ void ContactImpulseCache::store(std::span<const Contact> contacts, std::size_t s
 }
 
 void ContactImpulseCache::remap_slots(std::span<const std::uint32_t> order) {
+  if (ranges_.empty()) return;  // nothing remembered (cleared, or warm starting off)
   resize_geometric(scratch_, order.size());
   for (std::size_t k = 0; k < order.size(); ++k) scratch_[k] = order[k] < ranges_.size() ? ranges_[order[k]] : Range{};
   std::swap(ranges_, scratch_);
