@@ -155,6 +155,21 @@ class PacketWalkExact {
 
   template <class Visit, class FreeSlots>
   void run(Visit&& visit, FreeSlots&& free_slots) {
+    run_masks(
+        [&](std::uint32_t lanes, std::uint32_t k) {
+          for (; lanes != 0; lanes &= lanes - 1) visit(lowest_lane(lanes), k);
+        },
+        free_slots);
+  }
+
+  /// run() with each primitive's touching lanes at once: visit_lanes(lanes, k) for every
+  /// primitive k of every entered leaf, `lanes` the bit mask of the lanes that touch it (maybe
+  /// none): the pairs (lane, k) of run(), in the same order when taken lowest lane first. For
+  /// visitors that store a primitive's lanes without a branch per lane or per primitive
+  /// (kernel/simd/terrain_contacts.cpp): whether a lane touches a leaf's triangle is about a
+  /// coin toss, which no predictor learns.
+  template <class VisitLanes, class FreeSlots>
+  void run_masks(VisitLanes&& visit_lanes, FreeSlots&& free_slots) {
     const FlatNode* node = bvh_.nodes.data();
     std::uint32_t i = next_;
     while (i != kFlatBvhEnd) {
@@ -167,8 +182,7 @@ class PacketWalkExact {
         const std::uint32_t first = leaf_first(n), count = leaf_count(n);
         if (count * kSpherePacketWidth > free_slots()) break;  // resume at this leaf
         for (std::uint32_t k = first; k < first + count; ++k)
-          for (std::uint32_t lanes = touches_(bounds_[k]) & leaf_lanes; lanes != 0; lanes &= lanes - 1)
-            visit(lowest_lane(lanes), k);
+          visit_lanes(touches_(bounds_[k]) & leaf_lanes, k);
       }
       i = n.skip;
     }
