@@ -116,6 +116,24 @@ void query_sphere_packet(const FlatBvh& bvh, const SpherePacket& packet, Visit&&
       count);
 }
 
+/// query_sphere_packet_exact below with each primitive's lanes at once: visit_lanes(lanes, k)
+/// for every primitive k of every entered leaf, `lanes` the bit mask of the lanes whose sphere
+/// touches its box (maybe none). For visitors that take a primitive's lanes without a branch
+/// per lane (PacketWalkExact::run_masks says why).
+template <class VisitLanes, class Count = NoNodeCount>
+void query_sphere_packet_exact_masks(const FlatBvh& bvh, std::span<const Aabb> bounds, const SpherePacket& packet,
+                                     VisitLanes&& visit_lanes, Count&& count = {}) {
+  if (bvh.nodes.empty() || packet.count == 0) return;
+  const detail::PacketBoxTest touches(packet);
+  detail::walk_packet(
+      bvh, touches,
+      [&](std::uint32_t leaf_lanes, std::uint32_t first, std::uint32_t n) {
+        // A primitive's box lies inside its leaf's, so only the leaf's lanes can touch it.
+        for (std::uint32_t k = first; k < first + n; ++k) visit_lanes(touches(bounds[k]) & leaf_lanes, k);
+      },
+      count);
+}
+
 /// The packet walk with each leaf's primitives filtered by their own boxes, one SIMD test per
 /// primitive for all lanes: visit(lane, k) exactly for the primitives k whose box
 /// (`bounds[k]`, BVH order) lane's sphere touches. Per lane: the k of query_sphere that pass
@@ -124,15 +142,10 @@ void query_sphere_packet(const FlatBvh& bvh, const SpherePacket& packet, Visit&&
 template <class Visit, class Count = NoNodeCount>
 void query_sphere_packet_exact(const FlatBvh& bvh, std::span<const Aabb> bounds, const SpherePacket& packet,
                                Visit&& visit, Count&& count = {}) {
-  if (bvh.nodes.empty() || packet.count == 0) return;
-  const detail::PacketBoxTest touches(packet);
-  detail::walk_packet(
-      bvh, touches,
-      [&](std::uint32_t leaf_lanes, std::uint32_t first, std::uint32_t n) {
-        for (std::uint32_t k = first; k < first + n; ++k)
-          // A primitive's box lies inside its leaf's, so only the leaf's lanes can touch it.
-          for (std::uint32_t lanes = touches(bounds[k]) & leaf_lanes; lanes != 0; lanes &= lanes - 1)
-            visit(lowest_lane(lanes), k);
+  query_sphere_packet_exact_masks(
+      bvh, bounds, packet,
+      [&](std::uint32_t lanes, std::uint32_t k) {
+        for (; lanes != 0; lanes &= lanes - 1) visit(lowest_lane(lanes), k);
       },
       count);
 }

@@ -170,7 +170,11 @@ std::uint64_t count_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x,
     // per query in Morton order with one outside the loop).
     std::uint32_t packet_hits = 0;
     if (test == PacketLeafTest::LeafBoxes) {
-      query_sphere_packet_exact(bvh, boxes, packet, [&](std::uint32_t, std::uint32_t) { ++packet_hits; }, count_node);
+      // Each primitive's lanes counted at once, as the terrain kernel appends them at once.
+      query_sphere_packet_exact_masks(
+          bvh, boxes, packet,
+          [&](std::uint32_t lanes, std::uint32_t) { packet_hits += static_cast<std::uint32_t>(__builtin_popcount(lanes)); },
+          count_node);
     } else {
       query_sphere_packet(
           bvh, packet,
