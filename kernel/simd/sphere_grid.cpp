@@ -7,7 +7,7 @@
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
 #include "kernel/simd/kernels.h"
-#include "kernel/simd/set_lanes.h"
+#include "kernel/simd/compress_lanes.h"
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pair_bounds.h"
 #include "kernel/sphere_pairs.h"
@@ -25,29 +25,6 @@ using batch = xsimd::batch<float, simd_arch>;
 using ibatch = xsimd::batch<std::int32_t, simd_arch>;
 constexpr std::uint32_t W = batch::size;
 static_assert(ibatch::size == W);
-
-/// Appends index[l] for each set lane l of `lanes`, in lane order, to `out`, which must have
-/// room for W; returns how many. A compress on AVX-512 (into a register, then one store: the
-/// store form is slow on some CPUs) and a table-driven permute on AVX2, with no branch on the
-/// lanes: whether a batch holds a pair is a coin toss no predictor learns, and the loop over
-/// set lanes was a mispredicted branch per hit. The scalar loop is the reference (SSE4.2).
-[[gnu::always_inline]] inline std::uint32_t compress_lanes(std::uint32_t* out, const std::uint32_t* index,
-                                                           std::uint32_t lanes) {
-#if defined(HAIL_SIMD_PATH_AVX512)
-  const __m512i all = _mm512_loadu_si512(index);
-  _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(static_cast<__mmask16>(lanes), all));
-  return static_cast<std::uint32_t>(__builtin_popcount(lanes));
-#elif defined(HAIL_SIMD_PATH_AVX2)
-  const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
-  const __m256i order = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetLanes[lanes])));
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_permutevar8x32_epi32(all, order));
-  return static_cast<std::uint32_t>(__builtin_popcount(lanes));
-#else
-  std::uint32_t count = 0;
-  for (; lanes != 0; lanes &= lanes - 1) out[count++] = index[lowest_lane(lanes)];
-  return count;
-#endif
-}
 
 /// Sphere i's pair predicate against W sorted slots at a time: the brute-force predicate in its
 /// float operations (or, with pair margins, keep_pairs_within_their_margin's), partners j > i.
@@ -120,6 +97,7 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
           overflow = true;
           break;
         }
+        // The hits stored at once (kernel/simd/compress_lanes.h), not one branch per hit.
         count += compress_lanes(found + count, v.index + k0, test(v, k0, end));
       }
     };

@@ -11,7 +11,7 @@
 #include "kernel/bvh_packet_walk.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
-#include "kernel/simd/set_lanes.h"
+#include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/sphere_triangle_lanes.h"
 #include "kernel/terrain.h"
 #include "kernel/terrain_contacts.h"
@@ -37,26 +37,12 @@ struct TerrainCandidates {
 };
 
 /// Appends (lane, k) for each set lane of `lanes`, lowest lane first, to lane_out and
-/// triangle_out, which must have room for W; returns how many. Without a branch on the lanes
-/// (PacketWalkExact::run_masks): a compress of the lane numbers on AVX-512, a table-driven
-/// permute on AVX2, one store each; the loop is the reference (SSE4.2).
+/// triangle_out, which must have room for W; returns how many. No branch on the lanes
+/// (kernel/simd/compress_lanes.h).
 [[gnu::always_inline]] inline std::uint32_t append_candidates(std::int32_t* lane_out, std::int32_t* triangle_out,
                                                               std::uint32_t lanes, std::uint32_t k) {
-  using index_batch_t = xsimd::batch<std::int32_t, simd_arch>;
-  index_batch_t(static_cast<std::int32_t>(k)).store_unaligned(triangle_out);
-#if defined(HAIL_SIMD_PATH_AVX512)
-  const __m512i numbers = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
-  _mm512_storeu_si512(lane_out, _mm512_maskz_compress_epi32(static_cast<__mmask16>(lanes), numbers));
-  return static_cast<std::uint32_t>(__builtin_popcount(lanes));
-#elif defined(HAIL_SIMD_PATH_AVX2)
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(lane_out),
-                      _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetLanes[lanes]))));
-  return static_cast<std::uint32_t>(__builtin_popcount(lanes));
-#else
-  std::uint32_t count = 0;
-  for (; lanes != 0; lanes &= lanes - 1) lane_out[count++] = static_cast<std::int32_t>(lowest_lane(lanes));
-  return count;
-#endif
+  index_batch(static_cast<std::int32_t>(k)).store_unaligned(triangle_out);
+  return compress_lanes(lane_out, kLaneNumbers, lanes);
 }
 
 /// What the candidates' tests read of a packet's spheres beside SpherePacket's centres, by lane.
