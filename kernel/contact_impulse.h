@@ -11,6 +11,9 @@
 //    +-mu * (the same contact's accumulated normal impulse).
 // Friction in both: a Coulomb cone around the tangential slip, with the angular impulse so that
 // spheres spin and roll (or, with rotation off, on the linear velocities alone: FrictionWork).
+// The slip is taken before the contact's normal impulse, which cannot change it (exactly so in
+// real arithmetic), and both impulses are applied at once: the normal and the friction work of
+// a contact then run side by side in the SIMD passes instead of one after the other.
 // No damping, no snapping of small velocities to zero.
 
 #include <cmath>
@@ -127,15 +130,6 @@ inline void apply_angular_impulse(const Contact& c, ContactBodies& k, const floa
   for (int d = 0; d < 3; ++d) k.wa[d] -= ra_x_p[d] * k.iia, k.wb[d] += rb_x_p[d] * k.iib;
 }
 
-/// Applies impulse p (N s) to b at its contact point and -p to a at its contact point. A normal
-/// impulse (p along n) passes through both centres: the rules apply it with
-/// apply_linear_impulse alone, which is exact (see normal_relative_velocity).
-template <FrictionWork kFriction = kWithFriction>
-inline void apply_impulse(const Contact& c, ContactBodies& k, const float p[3]) {
-  apply_linear_impulse(k, p);
-  if constexpr (has_rotation(kFriction)) apply_angular_impulse(c, k, p);
-}
-
 /// Effective mass denominators: along the normal (no lever arm for spheres) and tangentially
 /// (with the spheres' inertia when they may spin; without rotation as along the normal).
 inline float normal_mass_denominator(const ContactBodies& k) { return k.ima + k.imb; }
@@ -145,27 +139,48 @@ inline float tangent_mass_denominator(const ContactBodies& k) {
   return k.ima + k.imb + k.ra * k.ra * k.iia + k.rb * k.rb * k.iib;
 }
 
-/// Friction impulse opposing the current slip, limited to the cone |p_t| <= limit.
-/// `accumulated` is the friction impulse already applied at this contact (resting passes);
-/// returns the new accumulated value and applies only the difference.
+/// The relative velocity at the contact point less its normal part: the slip friction opposes.
+/// A normal impulse leaves it as it is (it moves both bodies along n and turns neither), so the
+/// rules take it before their normal impulse, and friction's work does not wait for that one's.
 template <FrictionWork kFriction = kWithFriction>
-inline void apply_friction(const Contact& c, ContactBodies& k, float limit, float accumulated[3]) {
-  static_assert(has_friction(kFriction));
+inline void tangential_slip(const Contact& c, const ContactBodies& k, float vt[3]) {
   float v[3];
   relative_contact_velocity<kFriction>(c, k, v);
   const float vn = v[0] * c.nx + v[1] * c.ny + v[2] * c.nz;
-  const float vt[3] = {v[0] - vn * c.nx, v[1] - vn * c.ny, v[2] - vn * c.nz};
+  vt[0] = v[0] - vn * c.nx, vt[1] = v[1] - vn * c.ny, vt[2] = v[2] - vn * c.nz;
+}
+
+/// Friction impulse opposing the slip `vt`, limited to the cone |p_t| <= limit. `accumulated`
+/// is the friction impulse already applied at this contact (resting passes; zero for a fresh
+/// impact); it becomes the new one, and `delta` the change to apply (zero without a tangent
+/// mass). The reciprocal of the mass denominator, as in every rule here: the SIMD passes
+/// compute it from the masses alone, off the chain of operations on the velocities, and one
+/// division replaces three.
+template <FrictionWork kFriction = kWithFriction>
+inline void friction_impulse(const ContactBodies& k, const float vt[3], float limit, float accumulated[3], float delta[3]) {
+  static_assert(has_friction(kFriction));
   const float kt = tangent_mass_denominator<kFriction>(k);
-  if (kt <= 0.0f) return;
-  float target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
+  if (kt <= 0.0f) {
+    delta[0] = delta[1] = delta[2] = 0.0f;
+    return;
+  }
+  const float inv_kt = 1.0f / kt;
+  float target[3] = {accumulated[0] - vt[0] * inv_kt, accumulated[1] - vt[1] * inv_kt, accumulated[2] - vt[2] * inv_kt};
   const float len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
   if (len2 > limit * limit) {
     const float scale = limit / std::sqrt(len2);
     for (float& t : target) t *= scale;
   }
-  const float delta[3] = {target[0] - accumulated[0], target[1] - accumulated[1], target[2] - accumulated[2]};
-  apply_impulse<kFriction>(c, k, delta);
-  for (int d = 0; d < 3; ++d) accumulated[d] = target[d];
+  for (int d = 0; d < 3; ++d) delta[d] = target[d] - accumulated[d], accumulated[d] = target[d];
+}
+
+/// A normal impulse j along n and a friction impulse `delta` at once: j n + delta on the linear
+/// velocities, delta alone on the angular ones (j n passes through both centres).
+template <FrictionWork kFriction = kWithFriction>
+inline void apply_contact_impulse(const Contact& c, ContactBodies& k, float j, const float delta[3]) {
+  const float p[3] = {j * c.nx + delta[0], j * c.ny + delta[1], j * c.nz + delta[2]};
+  apply_linear_impulse(k, p);
+  if constexpr (has_rotation(kFriction)) apply_angular_impulse(c, k, delta);
 }
 
 /// Impact found by the integrator at its exact time: bounce with restitution when closing
@@ -180,11 +195,11 @@ inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_
   const float kn = normal_mass_denominator(k);
   if (closing <= 0.0f || kn <= 0.0f) return 0.0f;
   const float e = closing > restitution_threshold ? c.restitution : 0.0f;
-  const float j = (1.0f + e) * closing / kn;
-  const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_linear_impulse(k, p);
-  float fresh[3] = {0, 0, 0};
-  apply_friction<kWork>(c, k, c.friction * j, fresh);
+  const float j = (1.0f + e) * closing * (1.0f / kn);
+  float vt[3], fresh[3] = {0, 0, 0}, delta[3];
+  tangential_slip<kWork>(c, k, vt);
+  friction_impulse<kWork>(k, vt, c.friction * j, fresh, delta);
+  apply_contact_impulse<kWork>(c, k, j, delta);
   return j;
 }
 
@@ -217,13 +232,16 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
   if (c.gap > 0.0f && closing * dt <= c.gap) return false;
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f) return false;
-  const float j = (1.0f + c.restitution) * closing / kn;
+  const float j = (1.0f + c.restitution) * closing * (1.0f / kn);
   c.bounce_impulse += j;
-  const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
-  apply_linear_impulse(k, p);
   if constexpr (has_friction(kFriction)) {
-    float fresh[3] = {0, 0, 0};
-    apply_friction<kFriction>(c, k, c.friction * j, fresh);
+    float vt[3], fresh[3] = {0, 0, 0}, delta[3];
+    tangential_slip<kFriction>(c, k, vt);
+    friction_impulse<kFriction>(k, vt, c.friction * j, fresh, delta);
+    apply_contact_impulse<kFriction>(c, k, j, delta);
+  } else {
+    const float p[3] = {j * c.nx, j * c.ny, j * c.nz};
+    apply_linear_impulse(k, p);
   }
   return true;
 }
@@ -236,18 +254,21 @@ inline void solve_resting(Contact& c, ContactBodies& k, float inv_dt) {
   const float allowed_closing = c.gap > 0.0f ? c.gap * inv_dt : 0.0f;
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f) return;
-  const float lambda = c.normal_impulse - (vn + allowed_closing) / kn;
+  const float lambda = c.normal_impulse - (vn + allowed_closing) * (1.0f / kn);
   const float clamped = lambda > 0.0f ? lambda : 0.0f;
   const float dj = clamped - c.normal_impulse;
   c.normal_impulse = clamped;
-  const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
-  apply_linear_impulse(k, p);
   if constexpr (has_friction(kFriction)) {
-    float accumulated[3] = {c.tx, c.ty, c.tz};
-    apply_friction<kFriction>(c, k, c.friction * c.normal_impulse, accumulated);
+    float vt[3], accumulated[3] = {c.tx, c.ty, c.tz}, delta[3];
+    tangential_slip<kFriction>(c, k, vt);
+    friction_impulse<kFriction>(k, vt, c.friction * c.normal_impulse, accumulated, delta);
+    apply_contact_impulse<kFriction>(c, k, dj, delta);
     c.tx = accumulated[0];
     c.ty = accumulated[1];
     c.tz = accumulated[2];
+  } else {
+    const float p[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
+    apply_linear_impulse(k, p);
   }
 }
 

@@ -97,7 +97,7 @@ struct Lanes {
   }
 
   // The functions below are relative_contact_velocity, normal_relative_velocity,
-  // apply_linear_impulse, apply_angular_impulse, apply_impulse and apply_friction of
+  // apply_linear_impulse, apply_angular_impulse, tangential_slip and friction_impulse of
   // kernel/contact_impulse.h, operation for operation; `active` lanes change, others keep.
 
   [[gnu::always_inline]] void relative_velocity(batch out[3]) const {
@@ -136,27 +136,31 @@ struct Lanes {
     }
   }
 
-  [[gnu::always_inline]] void apply_impulse(const batch p[3], const lane_mask& active) {
-    apply_linear_impulse(p, active);
-    if constexpr (kFriction) apply_angular_impulse(p, active);
-  }
-
-  [[gnu::always_inline]] void apply_friction(const batch& limit, batch accumulated[3], lane_mask active) {
+  /// tangential_slip: the relative velocity at the contact point less its normal part.
+  [[gnu::always_inline]] void tangential_slip(batch vt[3]) const {
     batch v[3];
     relative_velocity(v);
     const batch vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-    const batch vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
+    for (int d = 0; d < 3; ++d) vt[d] = v[d] - vn * n[d];
+  }
+
+  /// friction_impulse: from the slip `vt`, the change `delta` of the friction impulse
+  /// (zero in lanes not `active`, or with no tangent mass), and the new `accumulated`.
+  [[gnu::always_inline]] void friction_impulse(const batch vt[3], const batch& limit, batch accumulated[3],
+                                               lane_mask active, batch delta[3]) const {
     batch kt = ima + imb;  // tangent_mass_denominator: without rotation as along the normal
     if constexpr (kFriction) kt = ima + imb + ra * ra * iia + rb * rb * iib;
     active = active & !(kt <= batch(0.0f));
-    batch target[3] = {accumulated[0] - vt[0] / kt, accumulated[1] - vt[1] / kt, accumulated[2] - vt[2] / kt};
+    const batch inv_kt = batch(1.0f) / kt;
+    batch target[3] = {accumulated[0] - vt[0] * inv_kt, accumulated[1] - vt[1] * inv_kt, accumulated[2] - vt[2] * inv_kt};
     const batch len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
     const lane_mask over = len2 > limit * limit;
     const batch scale = limit / xsimd::sqrt(len2);
     for (batch& t : target) t = xsimd::select(over, t * scale, t);
-    const batch delta[3] = {target[0] - accumulated[0], target[1] - accumulated[1], target[2] - accumulated[2]};
-    apply_impulse(delta, active);
-    for (int d = 0; d < 3; ++d) accumulated[d] = xsimd::select(active, target[d], accumulated[d]);
+    for (int d = 0; d < 3; ++d) {
+      delta[d] = xsimd::select(active, target[d] - accumulated[d], batch(0.0f));
+      accumulated[d] = xsimd::select(active, target[d], accumulated[d]);
+    }
   }
 };
 
@@ -204,14 +208,19 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     if (lanes == 0) continue;  // nothing changes: no scatter needed
     L.load_angular();
     any = true;
-    const batch j = (one + batch::load_aligned(c.restitution + o)) * closing / kn;
+    const batch j = (one + batch::load_aligned(c.restitution + o)) * closing * (one / kn);
     const batch bounce = batch::load_aligned(c.bounce_impulse + o);
     xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
-    const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
-    L.apply_linear_impulse(p, active);
     if constexpr (has_friction(kWork)) {
-      batch fresh[3] = {zero, zero, zero};
-      L.apply_friction(batch::load_aligned(c.friction + o) * j, fresh, active);
+      batch vt[3], fresh[3] = {zero, zero, zero}, delta[3];
+      L.tangential_slip(vt);
+      L.friction_impulse(vt, batch::load_aligned(c.friction + o) * j, fresh, active, delta);
+      const batch p[3] = {j * L.n[0] + delta[0], j * L.n[1] + delta[1], j * L.n[2] + delta[2]};
+      L.apply_linear_impulse(p, active);
+      if constexpr (kFriction) L.apply_angular_impulse(delta, active);
+    } else {
+      const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
+      L.apply_linear_impulse(p, active);
     }
     L.scatter();
     for (std::uint32_t rest = lanes; rest != 0; rest &= rest - 1) {
@@ -230,22 +239,29 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   const batch zero(0.0f);
   for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     const batch vn = L.normal_velocity();
+    batch vt[3];
+    if constexpr (has_friction(kWork)) L.tangential_slip(vt);
     const batch gap = batch::load_aligned(c.gap + o);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
     const lane_mask active = !(kn <= zero);
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
-    const batch lambda = impulse - (vn + allowed_closing) / kn;
+    const batch lambda = impulse - (vn + allowed_closing) * (batch(1.0f) / kn);  // solve_resting's reciprocal
     const batch clamped = xsimd::select(lambda > zero, lambda, zero);
     const batch dj = clamped - impulse;
     const batch new_impulse = xsimd::select(active, clamped, impulse);
-    const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
-    L.apply_linear_impulse(p, active);
     new_impulse.store_aligned(c.normal_impulse + o);
     if constexpr (has_friction(kWork)) {
       batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
-      L.apply_friction(batch::load_aligned(c.friction + o) * new_impulse, accumulated, active);
+      batch delta[3];
+      L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
+      const batch p[3] = {dj * L.n[0] + delta[0], dj * L.n[1] + delta[1], dj * L.n[2] + delta[2]};
+      L.apply_linear_impulse(p, active);
+      if constexpr (kFriction) L.apply_angular_impulse(delta, active);
       accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
+    } else {
+      const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
+      L.apply_linear_impulse(p, active);
     }
   });
 }
