@@ -97,8 +97,9 @@ struct Lanes {
   }
 
   // The functions below are relative_contact_velocity, normal_relative_velocity,
-  // apply_linear_impulse, apply_angular_impulse, tangential_slip and friction_impulse of
-  // kernel/contact_impulse.h, operation for operation; `active` lanes change, others keep.
+  // apply_linear_impulse, apply_angular_impulse, apply_contact_impulse, tangential_slip and
+  // friction_impulse of kernel/contact_impulse.h, operation for operation; `active` lanes
+  // change, others keep.
 
   [[gnu::always_inline]] void relative_velocity(batch out[3]) const {
     if constexpr (!kFriction) {
@@ -134,6 +135,13 @@ struct Lanes {
       wa[d] = xsimd::select(active, wa[d] - ra_x_p[d] * iia, wa[d]);
       wb[d] = xsimd::select(active, wb[d] + rb_x_p[d] * iib, wb[d]);
     }
+  }
+
+  /// apply_contact_impulse: j n + delta on the linear velocities, delta alone on the angular ones.
+  [[gnu::always_inline]] void apply_contact_impulse(const batch& j, const batch delta[3], const lane_mask& active) {
+    const batch p[3] = {j * n[0] + delta[0], j * n[1] + delta[1], j * n[2] + delta[2]};
+    apply_linear_impulse(p, active);
+    if constexpr (kFriction) apply_angular_impulse(delta, active);
   }
 
   /// tangential_slip: the relative velocity at the contact point less its normal part.
@@ -215,9 +223,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       batch vt[3], fresh[3] = {zero, zero, zero}, delta[3];
       L.tangential_slip(vt);
       L.friction_impulse(vt, batch::load_aligned(c.friction + o) * j, fresh, active, delta);
-      const batch p[3] = {j * L.n[0] + delta[0], j * L.n[1] + delta[1], j * L.n[2] + delta[2]};
-      L.apply_linear_impulse(p, active);
-      if constexpr (kFriction) L.apply_angular_impulse(delta, active);
+      L.apply_contact_impulse(j, delta, active);
     } else {
       const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
       L.apply_linear_impulse(p, active);
@@ -239,7 +245,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   const batch zero(0.0f);
   for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
     const batch vn = L.normal_velocity();
-    batch vt[3];
+    batch vt[3];  // first: the normal impulse does not change it, and its chain runs beside the normal one
     if constexpr (has_friction(kWork)) L.tangential_slip(vt);
     const batch gap = batch::load_aligned(c.gap + o);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
@@ -255,9 +261,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
       batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
       batch delta[3];
       L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
-      const batch p[3] = {dj * L.n[0] + delta[0], dj * L.n[1] + delta[1], dj * L.n[2] + delta[2]};
-      L.apply_linear_impulse(p, active);
-      if constexpr (kFriction) L.apply_angular_impulse(delta, active);
+      L.apply_contact_impulse(dj, delta, active);
       accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
     } else {
       const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
