@@ -448,7 +448,7 @@ struct StepPipeline {
     batches.plan(col.colour_begin, col.serial);
     for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
-      batches.fill(first, last, w.contacts_, bodies);
+      batches.fill(first, last, w.contacts_, std::span<const float>(s.radius.data(), n));
     });
     w.stats_.colours = col.sequential_colours();
     w.stats_.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];

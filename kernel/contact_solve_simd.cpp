@@ -113,9 +113,9 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span
     v->resize(lanes);
 }
 
-void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const Contact> contacts,
-                          std::span<const SolverBody> bodies) {
-  const auto static_slot = static_cast<std::int32_t>(bodies.size() - 1);
+template <class RadiusOf>
+void ContactBatches::fill_batches(std::size_t first, std::size_t last, std::span<const Contact> contacts,
+                                  std::int32_t static_slot, RadiusOf&& radius_of) {
   const std::size_t W = width_;
   for (std::size_t k = first; k < last; ++k) {
     bool all_static = true;
@@ -123,15 +123,14 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
     for (std::size_t l = 0; l < used; ++l) {
       const Contact& c = contacts[first_contact_[k] + l];
       const std::size_t i = k * W + l;
-      const SolverBody& a = bodies[c.a];
       const bool has_b = c.b != kStaticBody;
       all_static = all_static && !has_b;
       a_[i] = static_cast<std::int32_t>(c.a);
       b_[i] = has_b ? static_cast<std::int32_t>(c.b) : static_slot;
       // Inverse masses and inertias come with the velocities from the bodies in each pass (the
       // static body's are zero, as gather_bodies gives a static side); radii are staged here.
-      ra_[i] = a.radius;
-      rb_[i] = has_b ? bodies[c.b].radius : 0.0f;
+      ra_[i] = radius_of(c.a);
+      rb_[i] = has_b ? radius_of(c.b) : 0.0f;
       nx_[i] = c.nx, ny_[i] = c.ny, nz_[i] = c.nz;
       gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
@@ -148,6 +147,18 @@ void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const C
     }
     static_b_[k] = all_static ? 1 : 0;
   }
+}
+
+void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const Contact> contacts,
+                          std::span<const SolverBody> bodies) {
+  fill_batches(first, last, contacts, static_cast<std::int32_t>(bodies.size() - 1),
+               [&](std::uint32_t slot) { return bodies[slot].radius; });
+}
+
+void ContactBatches::fill(std::size_t first, std::size_t last, std::span<const Contact> contacts,
+                          std::span<const float> radius) {
+  fill_batches(first, last, contacts, static_cast<std::int32_t>(radius.size()),
+               [&](std::uint32_t slot) { return radius[slot]; });
 }
 
 void ContactBatches::stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
