@@ -292,7 +292,8 @@ struct StepPipeline {
         // Made in place (the returned prvalue initialises *out): assigned from a temporary,
         // its copy read back 16 bytes at a time what the call had just stored 4 bytes at a time,
         // and store forwarding failed on each contact (64% of the merge's samples at 64k, perf).
-        for (const SpherePair& pair : w.pair_blocks_[b - static_blocks]) ::new (static_cast<void*>(out++)) Contact(make_sphere_contact(s, pair));
+        for (const SpherePair& pair : w.pair_blocks_[b - static_blocks])
+          ::new (static_cast<void*>(out++)) Contact(make_sphere_contact(s, pair));
       }
       if (std::any_of(first, out, [](const Contact& c) { return c.friction > 0.0f; }))
         friction.store(true, std::memory_order_relaxed);

@@ -6,8 +6,8 @@
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/simd/kernels.h"
 #include "kernel/simd/compress_lanes.h"
+#include "kernel/simd/kernels.h"
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pair_bounds.h"
 #include "kernel/sphere_pairs.h"

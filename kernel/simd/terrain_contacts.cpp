@@ -9,9 +9,9 @@
 #include <algorithm>
 
 #include "kernel/bvh_packet_walk.h"
+#include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
-#include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/sphere_triangle_lanes.h"
 #include "kernel/terrain.h"
 #include "kernel/terrain_contacts.h"
