@@ -36,8 +36,9 @@ std::size_t ContactColouring::sequential_colours() const {
 void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
                      std::size_t tile_spheres) {
   const std::size_t tiles = tile_spheres == 0 ? 0 : (sphere_count + tile_spheres - 1) / tile_spheres;
-  // Keys: tile t's colour c is t * kColourSlots + c; the shared colour c is tiles * kColourSlots + c.
-  const std::size_t keys = (tiles + 1) * kColourSlots;
+  // Keys: tile t's colour c is t * kColourSlots + c; the shared colour c is tiles * kColourSlots + c;
+  // twice that, plus 1 for a contact that starts_idle: those go after the others of their colour.
+  const std::size_t keys = (tiles + 1) * kColourSlots * 2;
   assign_geometric(out.body_mask, sphere_count, std::uint64_t{0});
   if (tiles > 0) assign_geometric(out.shared_mask, sphere_count, std::uint64_t{0});
   resize_geometric(out.key_of, contacts.size());
@@ -53,7 +54,7 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
       if (c.b == kStaticBody || tile_of(c.b) == ta) tile = ta;
     }
     const std::uint32_t colour = take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
-    const auto key = static_cast<std::uint32_t>(tile * kColourSlots + colour);
+    const auto key = static_cast<std::uint32_t>((tile * kColourSlots + colour) * 2 + (starts_idle(c) ? 1 : 0));
     out.key_of[k] = key;
     ++out.counts[key];
   }
@@ -62,14 +63,15 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
   out.serial.clear();
   out.tile_colour_begin.clear();
   std::uint32_t position = 0;
-  for (std::size_t key = 0; key < keys; ++key) {
-    if (key % kColourSlots == 0 && tiles > 0) out.tile_colour_begin.push_back(static_cast<std::uint32_t>(out.serial.size()));
-    const std::uint32_t count = out.counts[key];
-    out.counts[key] = position;
+  for (std::size_t slot = 0; slot < keys / 2; ++slot) {
+    if (slot % kColourSlots == 0 && tiles > 0) out.tile_colour_begin.push_back(static_cast<std::uint32_t>(out.serial.size()));
+    const std::uint32_t count = out.counts[2 * slot] + out.counts[2 * slot + 1];
+    out.counts[2 * slot + 1] = position + out.counts[2 * slot];
+    out.counts[2 * slot] = position;
     if (count == 0) continue;
     position += count;
     out.colour_begin.push_back(position);
-    out.serial.push_back(key % kColourSlots == kMaxParallelColours ? 1 : 0);
+    out.serial.push_back(slot % kColourSlots == kMaxParallelColours ? 1 : 0);
   }
   resize_geometric(out.order, contacts.size());
   for (std::size_t k = 0; k < contacts.size(); ++k) out.order[out.counts[out.key_of[k]]++] = static_cast<std::uint32_t>(k);

@@ -22,13 +22,23 @@
 
 namespace hail {
 
+/// A contact that starts the step with no impulse and a gap: a speculative one, which the
+/// resting passes most likely leave as it is (resting_idle, kernel/contact_impulse.h). Each
+/// colour lists these after its other contacts (each group in contact order), so that they
+/// fill SIMD batches of their own, which the passes skip whole: terrain-rain solve 10% faster
+/// at 4k and 8% at 64k on 1 thread (README). Within a parallel colour the order changes no
+/// result, as its contacts share no sphere.
+[[nodiscard]] inline bool starts_idle(const Contact& c) {
+  return c.normal_impulse == 0.0f && c.tx == 0.0f && c.ty == 0.0f && c.tz == 0.0f && c.gap > 0.0f;
+}
+
 /// Contacts of colours 0..kMaxParallelColours-1 (of a tile, or of the shared contacts) are
 /// independent within their colour; any contact that finds all of them taken goes to one last
 /// colour of its tile (or of the shared ones) solved serially.
 inline constexpr std::uint32_t kMaxParallelColours = 64;
 
 struct ContactColouring {
-  std::vector<std::uint32_t> order;         ///< contact indices grouped by colour, in contact order within one
+  std::vector<std::uint32_t> order;         ///< contact indices grouped by colour; within one, those not starts_idle, then those, each in contact order
   std::vector<std::uint32_t> colour_begin;  ///< colour k spans order[colour_begin[k] .. colour_begin[k+1])
   /// Tile t's colours are [tile_colour_begin[t], tile_colour_begin[t+1]); the shared colours
   /// are [shared_colour_begin(), colour_count()). Colours of different tiles share no sphere.

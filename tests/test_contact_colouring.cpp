@@ -1,6 +1,7 @@
 // The contact colouring (kernel/contact_colouring.h), with and without solver tiles: every
 // contact in exactly one colour; no two contacts of a parallel colour share a sphere; a tile's
 // colours hold only contacts within the tile, the shared colours only contacts across tiles;
+// within a colour, the contacts that start idle last;
 // the overflow colour past kMaxParallelColours; without tiles, the plain greedy colouring.
 
 #include <algorithm>
@@ -38,6 +39,10 @@ std::vector<Contact> random_contacts(std::size_t spheres, std::size_t count, std
       c.b = slot(rng);
       if (c.b == c.a) continue;
     }
+    // A third speculative with no impulse (starts_idle), a third pressing, a third touching.
+    const float state = unit(rng);
+    c.gap = state < 0.34f ? 0.01f : 0.0f;
+    c.normal_impulse = state > 0.67f ? 0.5f : 0.0f;
     contacts.push_back(c);
   }
   return contacts;
@@ -48,13 +53,17 @@ std::size_t check_colouring(std::span<const Contact> contacts, const ContactColo
   REQUIRE(col.colour_begin.front() == 0);
   REQUIRE(col.colour_begin.back() == contacts.size());
   REQUIRE(col.serial.size() == col.colour_count());
-  // Every contact exactly once, and in contact order within each colour.
+  // Every contact exactly once; within each colour the contacts that start idle after the
+  // others, each group in contact order.
   std::vector<int> seen(contacts.size(), 0);
   for (std::uint32_t k : col.order) ++seen[k];
   CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
   for (std::size_t colour = 0; colour < col.colour_count(); ++colour)
-    for (std::uint32_t k = col.colour_begin[colour] + 1; k < col.colour_begin[colour + 1]; ++k)
-      CHECK(col.order[k - 1] < col.order[k]);
+    for (std::uint32_t k = col.colour_begin[colour] + 1; k < col.colour_begin[colour + 1]; ++k) {
+      const bool before = starts_idle(contacts[col.order[k - 1]]), now = starts_idle(contacts[col.order[k]]);
+      CHECK(before <= now);
+      if (before == now) CHECK(col.order[k - 1] < col.order[k]);
+    }
   // No shared sphere within a parallel colour; no empty colour.
   for (std::size_t colour = 0; colour < col.colour_count(); ++colour) {
     CHECK(col.colour_begin[colour] < col.colour_begin[colour + 1]);

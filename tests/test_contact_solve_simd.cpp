@@ -175,6 +175,63 @@ TEST_CASE("Skipping unchanged batches keeps a Newton's cradle chain exact across
   }
 }
 
+TEST_CASE("Resting and warm-start passes leave contacts with no impulse that close slowly as they are",
+          "[solver][simd]") {
+  // Two full batches and a partial one: the first all idle (no impulse, a gap, separating or
+  // closing slower than gap / dt), the second idle but for one lane closing faster than its gap
+  // allows, the third one idle lane. Idle lanes' bodies must keep every bit; the closing lane
+  // must get an impulse; SIMD equals scalar. On every SIMD path this CPU supports.
+  for (SimdPath path : hail::testing::supported_paths()) {
+    const hail::testing::ScopedSimdPath scoped(path);
+    const std::size_t W = contact_batch_width();
+    const std::size_t count = 2 * W + 1, closing_lane = W + 3;
+    INFO("path " << simd_path_name(path));
+    auto make = [&] {
+      Problem p;
+      p.bodies.resize(2 * count + 1);  // + the static body
+      for (std::size_t k = 0; k < count; ++k) {
+        SolverBody& a = p.bodies[2 * k];
+        SolverBody& b = p.bodies[2 * k + 1];
+        for (SolverBody* body : {&a, &b}) body->inv_mass = 1.0f, body->radius = 0.5f, body->inv_inertia = 10.0f;
+        a.w[1] = 0.5f, b.w[2] = -0.25f;  // spin: friction would act on a slip
+        // The one bit the rule's zero impulse would change: vb + 0 turns -0 into +0.
+        b.v[1] = -0.0f;
+        // a moves along +x towards b at 0.3 m/s: a gap of 0.01 m allows 0.6 m/s at dt = 1/60.
+        a.v[0] = k == closing_lane ? 2.0f : (k % 2 == 0 ? 0.3f : -0.3f);
+        Contact c;
+        c.a = static_cast<std::uint32_t>(2 * k), c.b = static_cast<std::uint32_t>(2 * k + 1);
+        c.nx = 1, c.ny = 0, c.nz = 0, c.gap = 0.01f, c.restitution = 0.5f, c.friction = 0.8f;
+        p.contacts.push_back(c);
+      }
+      return p;
+    };
+    for (const FrictionWork work : friction_modes()) {
+      INFO("friction mode " << int(work));
+      const Problem start = make();
+      Problem simd = make(), scalar = make();
+      const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
+      ContactBatches batches;
+      batches.stage(simd.contacts, colour_begin, 1, simd.bodies);
+      REQUIRE(batches.batch_end(0) == 3);
+      batches.warm_start(0, 3, simd.bodies, work);
+      warm_start_run_scalar(scalar.contacts, scalar.bodies, work);
+      for (int pass = 0; pass < 3; ++pass) {
+        batches.solve_resting(0, 3, simd.bodies, 60.0f, work);
+        solve_resting_run_scalar(scalar.contacts, scalar.bodies, 60.0f, work);
+      }
+      batches.store_impulses(simd.contacts);
+      CHECK(same_bits(simd, scalar));
+      for (std::size_t k = 0; k < count; ++k) {
+        INFO("contact " << k);
+        const bool idle = k != closing_lane;
+        for (std::size_t side : {2 * k, 2 * k + 1})
+          CHECK((std::memcmp(&simd.bodies[side], &start.bodies[side], sizeof(SolverBody)) == 0) == idle);
+        CHECK((simd.contacts[k].normal_impulse > 0.0f) == !idle);
+      }
+    }
+  }
+}
+
 TEST_CASE("Frictionless passes do no angular work and match the full rules to rounding", "[solver][simd]") {
   const std::size_t count = GENERATE(9, 256, 1001);
   INFO(count << " contacts");

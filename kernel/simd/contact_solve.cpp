@@ -172,19 +172,6 @@ struct Lanes {
   }
 };
 
-/// Runs f(o, lanes) over batches [first, last) and scatters each batch's velocities back: the
-/// loop of every pass that touches all its batches.
-template <bool kFriction, class F>
-void for_each_batch(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                    std::size_t body_count, F&& f) {
-  for (std::size_t k = first; k < last; ++k) {
-    const std::size_t o = k * W;
-    Lanes<kFriction> L(c, k, o, bodies, body_count);
-    f(o, L);
-    L.scatter();
-  }
-}
-
 }  // namespace
 
 namespace {
@@ -243,22 +230,30 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
                   std::size_t body_count, float inv_dt) {
   constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   const batch zero(0.0f);
-  for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
+    Lanes<kFriction> L(c, k, o, bodies, body_count, Lanes<kFriction>::kDeferAngular);
     const batch vn = L.normal_velocity();
-    batch vt[3];  // first: the normal impulse does not change it, and its chain runs beside the normal one
-    if constexpr (has_friction(kWork)) L.tangential_slip(vt);
     const batch gap = batch::load_aligned(c.gap + o);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
-    const lane_mask active = !(kn <= zero);
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+    const lane_mask idle = (impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
+                           (accumulated[2] == zero) & (vn + allowed_closing >= zero);  // resting_idle
+    const lane_mask active = !(kn <= zero) & !idle;
+    // A batch of idle contacts (the staging groups the speculative ones, kernel/contact_colouring.h)
+    // changes nothing: no angular loads, no friction, no stores.
+    if (lane_bits(active) == 0) continue;
+    L.load_angular();
+    batch vt[3];  // first: the normal impulse does not change it, and its chain runs beside the normal one
+    if constexpr (has_friction(kWork)) L.tangential_slip(vt);
     const batch lambda = impulse - (vn + allowed_closing) * (batch(1.0f) / kn);  // solve_resting's reciprocal
     const batch clamped = xsimd::select(lambda > zero, lambda, zero);
     const batch dj = clamped - impulse;
     const batch new_impulse = xsimd::select(active, clamped, impulse);
     new_impulse.store_aligned(c.normal_impulse + o);
     if constexpr (has_friction(kWork)) {
-      batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
       batch delta[3];
       L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
       L.apply_contact_impulse(dj, delta, active);
@@ -267,7 +262,8 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
       const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
       L.apply_linear_impulse(p, active);
     }
-  });
+    L.scatter();
+  }
 }
 
 template <FrictionWork kWork>
@@ -275,11 +271,16 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
                      std::size_t body_count) {
   constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   const batch zero(0.0f);
-  for_each_batch<kFriction>(c, first, last, bodies, body_count, [&](std::size_t o, Lanes<kFriction>& L) {
-    const lane_mask active = !((L.ima + L.imb) <= zero);
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t o = k * W;
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch t[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+    // apply_warm_start leaves out contacts with no impulse: a batch of them loads no body.
+    const lane_mask holds = !((impulse == zero) & (t[0] == zero) & (t[1] == zero) & (t[2] == zero));
+    if (lane_bits(holds) == 0) continue;
+    Lanes<kFriction> L(c, k, o, bodies, body_count);
+    const lane_mask active = (!((L.ima + L.imb) <= zero)) & holds;
     if constexpr (has_friction(kWork)) {
-      const batch t[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
       const batch p[3] = {impulse * L.n[0] + t[0], impulse * L.n[1] + t[1], impulse * L.n[2] + t[2]};
       L.apply_linear_impulse(p, active);
       if constexpr (kFriction) L.apply_angular_impulse(t, active);  // apply_warm_start's
@@ -287,7 +288,8 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
       const batch p[3] = {impulse * L.n[0], impulse * L.n[1], impulse * L.n[2]};
       L.apply_linear_impulse(p, active);
     }
-  });
+    L.scatter();
+  }
 }
 
 }  // namespace
