@@ -422,7 +422,8 @@ struct StepPipeline {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
     const std::size_t tile_spheres = solver_tile_size(w.settings_.solver_tile_spheres, n);
-    colour_contacts(w.contacts_, n, w.colouring_, tile_spheres);
+    const SolveStartVelocities velocities{s.vx.data(), s.vy.data(), s.vz.data(), 1.0f / params.dt};
+    colour_contacts(w.contacts_, n, w.colouring_, tile_spheres, &velocities);
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.
     resize_geometric(w.coloured_contacts_, w.contacts_.size());

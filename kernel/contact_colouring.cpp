@@ -34,7 +34,7 @@ std::size_t ContactColouring::sequential_colours() const {
 }
 
 void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
-                     std::size_t tile_spheres) {
+                     std::size_t tile_spheres, const SolveStartVelocities* velocities) {
   const std::size_t tiles = tile_spheres == 0 ? 0 : (sphere_count + tile_spheres - 1) / tile_spheres;
   // Keys: tile t's colour c is t * kColourSlots + c; the shared colour c is tiles * kColourSlots + c;
   // twice that, plus 1 for a contact that starts_idle: those go after the others of their colour.
@@ -54,7 +54,7 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
       if (c.b == kStaticBody || tile_of(c.b) == ta) tile = ta;
     }
     const std::uint32_t colour = take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
-    const auto key = static_cast<std::uint32_t>((tile * kColourSlots + colour) * 2 + (starts_idle(c) ? 1 : 0));
+    const auto key = static_cast<std::uint32_t>((tile * kColourSlots + colour) * 2 + (starts_idle(c, velocities) ? 1 : 0));
     out.key_of[k] = key;
     ++out.counts[key];
   }

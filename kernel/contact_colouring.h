@@ -22,14 +22,30 @@
 
 namespace hail {
 
-/// A contact that starts the step with no impulse and a gap: a speculative one, which the
-/// resting passes most likely leave as it is (resting_idle, kernel/contact_impulse.h). Each
-/// colour lists these after its other contacts (each group in contact order), so that they
-/// fill SIMD batches of their own, which the passes skip whole: terrain-rain solve 10% faster
-/// at 4k and 8% at 64k on 1 thread (README). Within a parallel colour the order changes no
-/// result, as its contacts share no sphere.
-[[nodiscard]] inline bool starts_idle(const Contact& c) {
-  return c.normal_impulse == 0.0f && c.tx == 0.0f && c.ty == 0.0f && c.tz == 0.0f && c.gap > 0.0f;
+/// The spheres' velocities by slot as the solve starts, and 1 / dt: colour_contacts' guess of
+/// which contacts the resting passes leave alone.
+struct SolveStartVelocities {
+  const float *vx, *vy, *vz;
+  float inv_dt;
+};
+
+/// A contact that starts the step with no impulse, with a gap its spheres close by less than
+/// half in the step (static side at rest): a speculative one that the resting passes most
+/// likely leave as it is (resting_idle, kernel/contact_impulse.h). Each colour lists these
+/// after its other contacts (each group in contact order), so that they fill SIMD batches of
+/// their own, which the passes skip whole (README, "Idle contacts"). Within a parallel colour
+/// the order changes no result, as its contacts share no sphere. Without velocities, the gap
+/// alone decides.
+[[nodiscard]] inline bool starts_idle(const Contact& c, const SolveStartVelocities* v = nullptr) {
+  // & rather than &&: one branch-free value (whether a contact starts idle is a coin toss)
+  const bool idle = (c.normal_impulse == 0.0f) & (c.tx == 0.0f) & (c.ty == 0.0f) & (c.tz == 0.0f) & (c.gap > 0.0f);
+  if (v == nullptr) return idle;
+  const bool moving_b = c.b != kStaticBody;
+  const std::uint32_t b = moving_b ? c.b : c.a;  // a valid slot; its velocity is then not used
+  const float sb = moving_b ? 1.0f : 0.0f;
+  const float vn = (sb * v->vx[b] - v->vx[c.a]) * c.nx + (sb * v->vy[b] - v->vy[c.a]) * c.ny +
+                   (sb * v->vz[b] - v->vz[c.a]) * c.nz;
+  return idle & (vn + 0.5f * c.gap * v->inv_dt >= 0.0f);
 }
 
 /// Contacts of colours 0..kMaxParallelColours-1 (of a tile, or of the shared contacts) are
@@ -58,8 +74,8 @@ struct ContactColouring {
 };
 
 /// Colours `contacts` over `sphere_count` spheres, in tiles of `tile_spheres` slots (0: no
-/// tiles). Reuses the colouring's storage.
+/// tiles), each colour's starts_idle(c, velocities) contacts last. Reuses the colouring's storage.
 void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
-                     std::size_t tile_spheres = 0);
+                     std::size_t tile_spheres = 0, const SolveStartVelocities* velocities = nullptr);
 
 }  // namespace hail

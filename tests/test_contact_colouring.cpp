@@ -174,3 +174,34 @@ TEST_CASE("SlotDivider divides every slot exactly as the division does", "[colou
     CHECK(wrong == 0);
   }
 }
+
+TEST_CASE("Speculative contacts closing by less than half their gap go last in their colour", "[solver][colouring]") {
+  // Spheres 0..5 on the x axis, contacts (0,1), (2,3), (4,5) and 1 on the ground: one colour.
+  const float vx[7] = {0.0f, 0.0f, 1.0f, -1.0f, 0.1f, 0.0f, 0.0f}, vy[7] = {0, 0, 0, 0, 0, 0, -0.2f}, vz[7] = {};
+  const SolveStartVelocities velocities{vx, vy, vz, 60.0f};
+  auto contact = [](std::uint32_t a, std::uint32_t b, float gap, float impulse) {
+    Contact c{.a = a, .b = b};
+    // n points from a to b: down into the ground for a static contact
+    c.nx = b == kStaticBody ? 0.0f : 1.0f, c.ny = b == kStaticBody ? -1.0f : 0.0f, c.nz = 0.0f;
+    c.gap = gap, c.normal_impulse = impulse;
+    return c;
+  };
+  const std::vector<Contact> contacts = {
+      contact(0, 1, 0.02f, 0.3f),         // pressing (carried-over impulse): first
+      contact(2, 3, 0.02f, 0.0f),         // closing at 2 m/s, more than half of 0.02 m in 1/60 s: first
+      contact(4, 5, 0.02f, 0.0f),         // closing at 0.1 m/s: idle, last
+      contact(6, kStaticBody, 0.01f, 0.0f)};  // falling at 0.2 m/s onto the ground, below half of 0.6: idle
+  CHECK_FALSE(starts_idle(contacts[0], &velocities));
+  CHECK_FALSE(starts_idle(contacts[1], &velocities));
+  CHECK(starts_idle(contacts[1]));  // without velocities the gap alone decides
+  CHECK(starts_idle(contacts[2], &velocities));
+  CHECK(starts_idle(contacts[3], &velocities));
+  ContactColouring col;
+  colour_contacts(contacts, 7, col, 0, &velocities);
+  REQUIRE(col.colour_count() == 1);
+  CHECK(col.order == std::vector<std::uint32_t>{0, 1, 2, 3});
+  // A faster fall onto the ground (1 m/s, more than half of 0.6) is not idle.
+  const float faster[7] = {0, 0, 0, 0, 0, 0, -1.0f};
+  const SolveStartVelocities falling{vx, faster, vz, 60.0f};
+  CHECK_FALSE(starts_idle(contacts[3], &falling));
+}
