@@ -33,43 +33,44 @@ struct TerrainCandidates {
   static_assert(kCapacity >= kMaxLeafSize * W, "an empty buffer must hold a whole leaf (PacketWalkExact)");
   alignas(64) std::int32_t lane[kCapacity];
   alignas(64) std::int32_t triangle[kCapacity];
+  alignas(64) float height[kCapacity];  ///< the sphere centre's height over the triangle's plane
   std::uint32_t count = 0;
 };
 
-/// Appends (lane, k) for each set lane of `lanes`, lowest lane first, to lane_out and
-/// triangle_out, which must have room for W; returns how many. No branch on the lanes
+/// Appends (lane, k, height[lane]) for each set lane of `lanes`, lowest lane first, at
+/// candidate `at` of c, which must have room for W; returns how many. No branch on the lanes
 /// (kernel/simd/compress_lanes.h).
-[[gnu::always_inline]] inline std::uint32_t append_candidates(std::int32_t* lane_out, std::int32_t* triangle_out,
-                                                              std::uint32_t lanes, std::uint32_t k) {
-  index_batch(static_cast<std::int32_t>(k)).store_unaligned(triangle_out);
-  return compress_lanes(lane_out, kLaneNumbers, lanes);
+[[gnu::always_inline]] inline std::uint32_t append_candidates(TerrainCandidates& c, std::uint32_t at, std::uint32_t lanes,
+                                                              std::uint32_t k, const batch& height) {
+  alignas(64) float by_lane[W];
+  height.store_aligned(by_lane);
+  index_batch(static_cast<std::int32_t>(k)).store_unaligned(c.triangle + at);
+  compress_lanes(reinterpret_cast<std::int32_t*>(c.height + at), reinterpret_cast<const std::int32_t*>(by_lane), lanes);
+  return compress_lanes(c.lane + at, kLaneNumbers, lanes);
 }
 
 /// What the candidates' tests read of a packet's spheres beside SpherePacket's centres, by lane.
 struct PacketSpheres {
-  alignas(64) float radius[W];
-  alignas(64) float margin[W];
+  alignas(64) float radius[W] = {};  // lanes past a packet's spheres: read, never used
+  alignas(64) float margin[W] = {};
   std::size_t first_sphere = 0;  ///< lane l is sphere first_sphere + l
 };
 
 /// Tests candidates [0, c.count) and empties the buffer: sphere_triangle_contact's first half for
-/// a batch at a time (kernel/simd/sphere_triangle_lanes.h), then, for the lanes within reach,
-/// its second half and the contact into the lane's reduction, in candidate order.
+/// a batch at a time (kernel/simd/sphere_triangle_lanes.h; its plane test was done by the walk,
+/// which kept the heights), then, for the lanes within reach, its second half and the contact
+/// into the lane's reduction, in candidate order.
 void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p, const TerrainTriangles& t,
                      const SphereSoA& s, float restitution, float friction, ContactReduction* lanes) {
   alignas(64) float px[W], py[W], pz[W], region[W], distance[W], height[W];
   for (std::uint32_t o = 0; o < c.count; o += W) {
     std::uint32_t valid = (1u << std::min(W, c.count - o)) - 1u;
     if (c.count - o < W)  // inert lanes: sphere 0 against triangle 0, masked out below
-      for (std::uint32_t l = c.count - o; l < W; ++l) c.lane[o + l] = 0, c.triangle[o + l] = 0;
+      for (std::uint32_t l = c.count - o; l < W; ++l) c.lane[o + l] = 0, c.triangle[o + l] = 0, c.height[o + l] = 0.0f;
     const index_batch lane = index_batch::load_aligned(c.lane + o), k = index_batch::load_aligned(c.triangle + o);
     const batch q[3] = {pick_lanes(packet.cx, lane), pick_lanes(packet.cy, lane), pick_lanes(packet.cz, lane)};
     const batch radius = pick_lanes(p.radius, lane), max_gap = pick_lanes(p.margin, lane);
-    const batch n[3] = {gather_floats(t.nx.data(), k), gather_floats(t.ny.data(), k), gather_floats(t.nz.data(), k)};
-    // sphere_triangle_contact's plane test first: about a third of the candidates end here.
-    const batch h = (n[0] * q[0] + n[1] * q[1] + n[2] * q[2]) - gather_floats(t.d.data(), k);
-    valid &= lane_bits(!(h - radius > max_gap));
-    if (valid == 0) continue;
+    const batch h = batch::load_aligned(c.height + o);
     const batch a[3] = {gather_floats(t.v0x.data(), k), gather_floats(t.v0y.data(), k), gather_floats(t.v0z.data(), k)};
     const batch b[3] = {gather_floats(t.v1x.data(), k), gather_floats(t.v1y.data(), k), gather_floats(t.v1z.data(), k)};
     const batch v2[3] = {gather_floats(t.v2x.data(), k), gather_floats(t.v2y.data(), k),
@@ -120,14 +121,21 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
       spheres.radius[lane] = s.radius[i], spheres.margin[lane] = reach;
       lanes[lane].count = 0;
     }
+    // sphere_triangle_contact's plane test, for all lanes against each triangle its box test
+    // passes: the triangle's plane is one broadcast here, where a candidate's is four gathers,
+    // and about a third of the box hits end at it. The same float operations as in
+    // test_candidates, so the same candidates pass.
+    const batch cx = batch::load_aligned(packet.cx), cy = batch::load_aligned(packet.cy), cz = batch::load_aligned(packet.cz);
+    const batch radius = batch::load_aligned(spheres.radius), max_gap = batch::load_aligned(spheres.margin);
     // The walk stops when the buffer could overflow at the next leaf; the buffer is tested and
     // emptied here, outside the walk's loop (PacketWalkExact).
     PacketWalkExact walk(terrain.bvh(), bounds, packet);
     while (!walk.done()) {
       walk.run_masks(
           [&](std::uint32_t lanes, std::uint32_t k) {
-            candidates.count += append_candidates(candidates.lane + candidates.count,
-                                                  candidates.triangle + candidates.count, lanes, k);
+            const batch h = (batch(t.nx[k]) * cx + batch(t.ny[k]) * cy + batch(t.nz[k]) * cz) - batch(t.d[k]);
+            lanes &= lane_bits(!(h - radius > max_gap));
+            candidates.count += append_candidates(candidates, candidates.count, lanes, k, h);
           },
           [&] { return TerrainCandidates::kCapacity - candidates.count; });
       if (candidates.count > 0) test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
