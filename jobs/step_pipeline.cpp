@@ -281,7 +281,10 @@ struct StepPipeline {
     for (std::size_t b = 0; b < pair_blocks; ++b)
       offset[static_blocks + b + 1] = offset[static_blocks + b] + w.pair_blocks_[b].size();
     resize_geometric(w.contacts_, offset.back());
-    std::atomic<bool> friction{false};  // an OR: the order of stores cannot change the result
+    const std::size_t static_count = offset[static_blocks];
+    const bool warm = w.settings_.warm_start;
+    std::atomic<bool> friction{false};        // an OR: the order of stores cannot change the result
+    std::atomic<std::size_t> matched{0};      // a sum: the order of adds cannot change it
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       Contact* const first = w.contacts_.data() + offset[b];
@@ -297,17 +300,15 @@ struct StepPipeline {
       }
       if (std::any_of(first, out, [](const Contact& c) { return c.friction > 0.0f; }))
         friction.store(true, std::memory_order_relaxed);
+      // The block's warm-start impulses while its contacts are still in this core's cache
+      // (a pass of its own read them all back from memory at 64k).
+      if (warm)
+        matched += w.contact_cache_.load(w.contacts_, static_count, offset[b], offset[b + 1], s,
+                                         w.settings_.warm_start_factor);
     });
     friction_needed_ = friction.load();
-    w.stats_.static_contacts = offset[static_blocks];
-    w.stats_.sphere_contacts = w.contacts_.size() - w.stats_.static_contacts;
-    w.stats_.warm_started = 0;
-    if (!w.settings_.warm_start) return;
-    std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
-    for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
-      matched += w.contact_cache_.load(w.contacts_, w.stats_.static_contacts, first, last, s, w.settings_.warm_start_factor);
-    });
+    w.stats_.static_contacts = static_count;
+    w.stats_.sphere_contacts = w.contacts_.size() - static_count;
     w.stats_.warm_started = matched.load();
   }
 
