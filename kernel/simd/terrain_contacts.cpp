@@ -1,7 +1,7 @@
 // Terrain::find_contacts (kernel/terrain.h) by the packet walk (kernel/bvh_packet_walk.h): a
-// batch of spheres goes down the stackless walk together, each leaf's triangle boxes tested
-// for all lanes at once; the (sphere, triangle) candidates that pass are then tested a batch at
-// a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h);
+// batch of spheres goes down the stackless walk together, each leaf's triangle boxes and then
+// planes tested for all lanes at once; the (sphere, triangle) candidates that pass are then
+// tested a batch at a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h);
 // the scalar reference is Terrain::find_contacts_scalar, and both share kernel/terrain_contacts.h.
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
