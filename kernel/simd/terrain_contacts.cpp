@@ -123,8 +123,8 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
     }
     // sphere_triangle_contact's plane test, for all lanes against each triangle its box test
     // passes: the triangle's plane is one broadcast here, where a candidate's is four gathers,
-    // and about a third of the box hits end at it. The same float operations as in
-    // test_candidates, so the same candidates pass.
+    // and about a third of the box hits end at it. The same float operations as the scalar
+    // reference's sphere_triangle_contact, so the same candidates pass.
     const batch cx = batch::load_aligned(packet.cx), cy = batch::load_aligned(packet.cy), cz = batch::load_aligned(packet.cz);
     const batch radius = batch::load_aligned(spheres.radius), max_gap = batch::load_aligned(spheres.margin);
     // The walk stops when the buffer could overflow at the next leaf; the buffer is tested and
