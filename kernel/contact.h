@@ -30,6 +30,12 @@ struct Contact {
   std::uint32_t feature = 0;
 };
 
+/// Whether c carries no impulse, normal or friction: a new contact, or one the last step left
+/// at zero. Branch-free (& rather than &&): which contacts do is a coin toss.
+[[nodiscard]] inline bool holds_no_impulse(const Contact& c) {
+  return (c.normal_impulse == 0.0f) & (c.tx == 0.0f) & (c.ty == 0.0f) & (c.tz == 0.0f);
+}
+
 /// Contact::feature of a plane contact: this bit, or'd with the plane's index.
 inline constexpr std::uint32_t kPlaneFeature = 0x80000000u;
 

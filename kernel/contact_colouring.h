@@ -37,8 +37,7 @@ struct SolveStartVelocities {
 /// at 64k). Within a parallel colour the order changes no result, as its contacts share no
 /// sphere. Without velocities, the gap alone decides.
 [[nodiscard]] inline bool starts_idle(const Contact& c, const SolveStartVelocities* v = nullptr) {
-  // & rather than &&: one branch-free value (whether a contact starts idle is a coin toss)
-  const bool idle = (c.normal_impulse == 0.0f) & (c.tx == 0.0f) & (c.ty == 0.0f) & (c.tz == 0.0f) & (c.gap > 0.0f);
+  const bool idle = holds_no_impulse(c) & (c.gap > 0.0f);  // & : branch-free, as holds_no_impulse
   if (v == nullptr) return idle;
   const bool moving_b = c.b != kStaticBody;
   const std::uint32_t b = moving_b ? c.b : c.a;  // a valid slot; its velocity is then not used

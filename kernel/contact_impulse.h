@@ -211,7 +211,7 @@ inline float solve_impact(const Contact& c, ContactBodies& k, float restitution_
 template <FrictionWork kFriction = kWithFriction>
 inline void apply_warm_start(const Contact& c, ContactBodies& k) {
   if (normal_mass_denominator(k) <= 0.0f) return;
-  if (c.normal_impulse == 0.0f && c.tx == 0.0f && c.ty == 0.0f && c.tz == 0.0f) return;
+  if (holds_no_impulse(c)) return;
   if constexpr (!has_friction(kFriction)) {
     const float p[3] = {c.normal_impulse * c.nx, c.normal_impulse * c.ny, c.normal_impulse * c.nz};
     apply_linear_impulse(k, p);
@@ -259,7 +259,7 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
 /// and in a slip small enough that its square underflows, so SIMD batches of such contacts
 /// skip their angular loads, their friction and their stores (kernel/simd/contact_solve.cpp).
 [[nodiscard]] inline bool resting_idle(const Contact& c, float vn, float allowed_closing) {
-  return c.normal_impulse == 0.0f && c.tx == 0.0f && c.ty == 0.0f && c.tz == 0.0f && vn + allowed_closing >= 0.0f;
+  return holds_no_impulse(c) && vn + allowed_closing >= 0.0f;
 }
 
 /// Resting pass on one contact: accumulated normal impulse >= 0 making the closing speed at
