@@ -333,26 +333,6 @@ struct StepPipeline {
     });
   }
 
-  /// Runs f(run, independent) over the contacts of colour `colour`, in runs of at most
-  /// kContactChunk contacts (in parallel). `independent` says the run's contacts share no
-  /// sphere (false only for a serial overflow colour, run whole). Runs start at fixed offsets,
-  /// so they do not depend on the thread count.
-  template <class F>
-  void for_each_run_of_colour(std::size_t colour, Phase phase, F&& f) {
-    const ContactColouring& col = w.colouring_;
-    const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
-    const std::span<Contact> contacts(w.contacts_.data() + begin, end - begin);
-    if (col.is_serial(colour)) {
-      ScopedTraceRecord record(w.trace_, phase);
-      f(contacts, false);
-    } else {
-      for_each_block(end - begin, kContactChunk, [&](std::size_t, std::size_t first, std::size_t last) {
-        ScopedTraceRecord record(w.trace_, phase);
-        f(contacts.subspan(first, last - first), true);
-      });
-    }
-  }
-
   /// Runs f(tile, first_batch, last_batch, scalar_contacts) over the staged contact batches:
   /// first every tile t (kernel/contact_colouring.h) for which tile_wanted(t), as one block, its
   /// colours in order, tiles in parallel (one crew stage for all of them); then the shared
@@ -545,17 +525,26 @@ struct StepPipeline {
   /// its previous pass evaluated it (and then moved nothing, or moved them: stamp equal) finds
   /// the same positions and would do nothing, so it is skipped: the same result for less work
   /// (most contacts of a pile are within the slop and never move anything). moved_at_ holds,
-  /// per sphere, the number of the last (pass, colour) that moved it, 1-based.
+  /// per sphere, the number of the last (pass, colour) that moved it, 1-based, and one more
+  /// entry, always 0, for the static body's slot. A colour's batches (staged by the solve) run
+  /// in SIMD (ContactBatches::depenetrate); a serial overflow colour runs push_apart in order.
   void depenetrate() {
     SphereSoA& s = w.spheres_;
     const ContactColouring& col = w.colouring_;
+    ContactBatches& batches = w.contact_batches_;
     const std::size_t colours = col.colour_count();
-    assign_geometric(w.moved_at_, s.size(), std::uint32_t{0});
+    assign_geometric(w.moved_at_, s.size() + 1, std::uint32_t{0});
     std::uint32_t* const moved = w.moved_at_.data();
+    DepenetrationArrays arrays{s.px.data(), s.py.data(), s.pz.data(), s.inv_mass.data(), moved,
+                               static_cast<std::int32_t>(s.size()), w.settings_.depenetration};
     for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
-      auto push_colour = [&](std::size_t colour, std::span<Contact> run) {
+      auto stamps = [&](std::size_t colour) {
         const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
-        const std::uint32_t previous = pass == 0 ? 0 : now - static_cast<std::uint32_t>(colours);
+        return std::pair{now, pass == 0 ? 0u : now - static_cast<std::uint32_t>(colours)};
+      };
+      // The scalar rule, for a serial colour's contacts (which may share spheres).
+      auto push_run = [&](std::size_t colour, std::span<const Contact> run) {
+        const auto [now, previous] = stamps(colour);
         for (const Contact& c : run) {
           const bool dynamic_b = c.b != kStaticBody;
           if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
@@ -564,16 +553,30 @@ struct StepPipeline {
           if (dynamic_b) moved[c.b] = now;
         }
       };
+      auto push_colour = [&](std::size_t colour, std::size_t first_batch, std::size_t last_batch) {
+        const auto [now, previous] = stamps(colour);
+        batches.depenetrate(first_batch, last_batch, arrays, now, previous);
+        const std::size_t tail = batches.tail_begin(colour), end = col.colour_begin[colour + 1];
+        push_run(colour, std::span<const Contact>(w.contacts_.data() + tail, end - tail));
+      };
       // Tiles in parallel, each its colours in order (they share no sphere), then the shared colours.
       for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
         ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
-        for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) {
-          const std::size_t begin = col.colour_begin[colour], end = col.colour_begin[colour + 1];
-          push_colour(colour, std::span<Contact>(w.contacts_.data() + begin, end - begin));
-        }
+        for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
+          push_colour(colour, batches.batch_begin(colour), batches.batch_end(colour));
       });
-      for (std::size_t colour = col.shared_colour_begin(); colour < colours; ++colour)
-        for_each_run_of_colour(colour, Phase::Depenetrate, [&](std::span<Contact> run, bool) { push_colour(colour, run); });
+      for (std::size_t colour = col.shared_colour_begin(); colour < colours; ++colour) {
+        if (col.is_serial(colour)) {
+          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          push_colour(colour, 0, 0);
+          continue;
+        }
+        const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+        for_each_block(count, kBatchChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          batches.depenetrate(first + begin, first + end, arrays, stamps(colour).first, stamps(colour).second);
+        });
+      }
     }
   }
 

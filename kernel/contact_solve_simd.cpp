@@ -84,7 +84,7 @@ ContactBatchArrays ContactBatches::arrays() {
           nx_.data(), ny_.data(), nz_.data(), gap_.data(), restitution_.data(), friction_.data(),
           ra_.data(), rb_.data(),
           normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data(), bounce_impulse_.data(),
-          static_b_.data()};
+          surface_d_.data(), static_b_.data()};
 }
 
 void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span<const std::uint8_t> serial) {
@@ -108,7 +108,7 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
   if (static_b_.size() < first_contact_.size()) resize_geometric(static_b_, first_contact_.size());
-  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_,
+  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_, &surface_d_,
                   &normal_impulse_, &tx_, &ty_, &tz_, &bounce_impulse_})
     v->resize(lanes);
 }
@@ -133,6 +133,7 @@ void ContactBatches::fill_batches(std::size_t first, std::size_t last, std::span
       rb_[i] = has_b ? radius_of(c.b) : 0.0f;
       nx_[i] = c.nx, ny_[i] = c.ny, nz_[i] = c.nz;
       gap_[i] = c.gap, restitution_[i] = c.restitution, friction_[i] = c.friction;
+      surface_d_[i] = c.surface_d;
       normal_impulse_[i] = c.normal_impulse, tx_[i] = c.tx, ty_[i] = c.ty, tz_[i] = c.tz;
       bounce_impulse_[i] = c.bounce_impulse;
     }
@@ -142,7 +143,7 @@ void ContactBatches::fill_batches(std::size_t first, std::size_t last, std::span
     for (std::size_t l = used; l < W; ++l) {
       const std::size_t i = k * W + l;
       a_[i] = b_[i] = static_slot;
-      ra_[i] = rb_[i] = nx_[i] = ny_[i] = nz_[i] = gap_[i] = restitution_[i] = friction_[i] = 0.0f;
+      ra_[i] = rb_[i] = nx_[i] = ny_[i] = nz_[i] = gap_[i] = restitution_[i] = friction_[i] = surface_d_[i] = 0.0f;
       normal_impulse_[i] = tx_[i] = ty_[i] = tz_[i] = bounce_impulse_[i] = 0.0f;
     }
     static_b_[k] = all_static ? 1 : 0;
@@ -181,6 +182,12 @@ void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::spa
                                    FrictionWork work) {
   if (first >= last) return;
   kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt, work);
+}
+
+void ContactBatches::depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres,
+                                 std::uint32_t now, std::uint32_t previous) {
+  if (first >= last) return;
+  kernels_->contact_depenetrate(arrays(), first, last, spheres, now, previous);
 }
 
 void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work) {

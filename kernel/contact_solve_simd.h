@@ -27,6 +27,7 @@
 
 #include "kernel/contact.h"
 #include "kernel/contact_impulse.h"
+#include "kernel/depenetrate.h"
 #include "kernel/solver_body.h"
 #include "soa/aligned_array.h"
 
@@ -46,6 +47,7 @@ struct ContactBatchArrays {
   const float *ra, *rb;  ///< radii (rb 0 for static contacts)
   float *normal_impulse, *tx, *ty, *tz;
   float* bounce_impulse;  ///< the collision passes' normal impulses, summed (Contact::bounce_impulse)
+  const float* surface_d;  ///< Contact::surface_d (the depenetration pass's static gap)
   /// Per batch: 1 when every lane's b is the static body. Such a batch (terrain and plane
   /// contacts come first in each colour, so most of them fill whole batches) loads and stores
   /// only its a side: b's velocity and inverse mass are zero, as the static body's are.
@@ -100,6 +102,14 @@ class ContactBatches {
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
                      FrictionWork work = kWithFriction);
+  /// One depenetration pass (push_apart, kernel/depenetrate.h) over batches [first, last) of
+  /// one colour, numbered `now` (StepPipeline::depenetrate): a contact neither of whose spheres
+  /// moved since `previous` (moved[slot] < previous; 0 in the first pass: none skipped) is
+  /// skipped; a contact that pushes sets both spheres' moved to `now`. Batches of one colour may
+  /// run in parallel. The positions are those of the spheres staged (the slots of the last
+  /// fill), bitwise as the scalar loop over the same contacts moves them.
+  void depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres, std::uint32_t now,
+                   std::uint32_t previous);
   /// Writes the batches' accumulated impulses (resting, friction and bounce) back to the
   /// contacts they were staged from.
   void store_impulses(std::span<Contact> contacts) const;
@@ -120,7 +130,7 @@ class ContactBatches {
   std::vector<std::uint8_t> static_b_;        // per batch: every lane's b is the static body
   std::vector<std::uint8_t> stage_serial_;    // stage()'s per-colour flags for plan()
   AlignedArray<float> nx_, ny_, nz_, gap_, restitution_, friction_;
-  AlignedArray<float> ra_, rb_;
+  AlignedArray<float> ra_, rb_, surface_d_;
   AlignedArray<float> normal_impulse_, tx_, ty_, tz_, bounce_impulse_;
 };
 

@@ -3,6 +3,8 @@
 // normal, shared by inverse mass. Velocities are untouched, so this can neither add nor remove
 // kinetic energy; it only stops overlap from accumulating step after step.
 
+#include <cstdint>
+
 #include "kernel/contact.h"
 #include "soa/sphere_soa.h"
 
@@ -11,6 +13,18 @@ namespace hail {
 struct DepenetrationParams {
   float fraction = 0.8f;       ///< share of the excess overlap removed per pass
   float slop_fraction = 0.01f; ///< overlap tolerated, as a fraction of the smaller radius
+};
+
+/// What the SIMD depenetration pass (ContactBatches::depenetrate) reads and moves, by slot:
+/// the spheres' positions, radii and inverse masses, and `moved`, the number of the last (pass,
+/// colour) that moved each sphere (0: none yet), with one more entry for the static body's slot
+/// (static_slot, the number of spheres) that stays 0.
+struct DepenetrationArrays {
+  float *px, *py, *pz;
+  const float* inv_mass;
+  std::uint32_t* moved;
+  std::int32_t static_slot;
+  DepenetrationParams params;
 };
 
 /// Current signed gap of a contact from the spheres' present positions (normal kept fixed).

@@ -37,6 +37,7 @@ struct SpherePair;
 struct SphereSweepView;
 struct SphereGridView;
 struct ContactBatchArrays;
+struct DepenetrationArrays;
 
 /// Where a kernel hands a run of sphere slots: fn(context, slots, count), in slot order.
 struct SlotSink {
@@ -88,6 +89,9 @@ struct SimdKernels {
                              std::size_t body_count, FrictionWork work);
   void (*contact_resting)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                           std::size_t body_count, float inv_dt, FrictionWork work);
+  /// ContactBatches::depenetrate (kernel/contact_solve_simd.h).
+  void (*contact_depenetrate)(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
+                              const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
   /// Terrain::find_contacts (kernel/terrain.h): the packet walk and the sphere-triangle tests.
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                            float restitution, float friction, std::vector<Contact>& out, float fast_fraction,

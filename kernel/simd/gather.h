@@ -29,6 +29,23 @@ inline namespace HAIL_SIMD_NS {
 #endif
 }
 
+/// One int per lane from base[index[l]], as gather_floats.
+[[nodiscard]] inline xsimd::batch<std::int32_t, simd_arch> gather_ints(const std::int32_t* base,
+                                                                       const xsimd::batch<std::int32_t, simd_arch>& index) {
+  using ibatch = xsimd::batch<std::int32_t, simd_arch>;
+#if defined(HAIL_SIMD_PATH_AVX512)
+  return ibatch(_mm512_i32gather_epi32(index, base, 4));
+#elif defined(HAIL_SIMD_PATH_AVX2)
+  return ibatch(_mm256_i32gather_epi32(base, index, 4));
+#else
+  alignas(64) std::int32_t at[ibatch::size];
+  alignas(64) std::int32_t lanes[ibatch::size];
+  index.store_aligned(at);
+  for (std::size_t l = 0; l < ibatch::size; ++l) lanes[l] = base[at[l]];
+  return ibatch::load_aligned(lanes);
+#endif
+}
+
 /// table[index[l]] in lane l, for a table of one batch (W aligned floats) and indices below
 /// W: a lane permute on AVX2 and AVX-512 (one instruction, where a gather loads each element).
 [[nodiscard]] inline xsimd::batch<float, simd_arch> pick_lanes(const float* table,

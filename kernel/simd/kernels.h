@@ -27,6 +27,8 @@ void contact_warm_start(const ContactBatchArrays& batches, std::size_t first, st
                         std::size_t body_count, FrictionWork work);
 void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                      std::size_t body_count, float inv_dt, FrictionWork work);
+void contact_depenetrate(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
+                         const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
 std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots, std::size_t count);
