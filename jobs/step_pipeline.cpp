@@ -285,6 +285,7 @@ struct StepPipeline {
     const bool warm = w.settings_.warm_start;
     std::atomic<bool> friction{false};        // an OR: the order of stores cannot change the result
     std::atomic<std::size_t> matched{0};      // a sum: the order of adds cannot change it
+    if (warm) w.contact_cache_.begin_layout(s);
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
       Contact* const first = w.contacts_.data() + offset[b];
@@ -302,9 +303,19 @@ struct StepPipeline {
         friction.store(true, std::memory_order_relaxed);
       // The block's warm-start impulses while its contacts are still in this core's cache
       // (a pass of its own read them all back from memory at 64k).
-      if (warm)
+      // And where they lie, for remembering their impulses after the solve.
+      if (warm) {
         matched += w.contact_cache_.load(w.contacts_, static_count, offset[b], offset[b + 1], s,
                                          w.settings_.warm_start_factor);
+        if (b < static_blocks) {
+          w.contact_cache_.layout_static(w.contacts_, offset[b], offset[b + 1], b * kSphereBlock,
+                                         std::min(n, (b + 1) * kSphereBlock), s);
+        } else {
+          const std::size_t rows = b - static_blocks;
+          w.contact_cache_.layout_pairs(w.contacts_, offset[b], offset[b + 1], rows * kPairRowBlock,
+                                        std::min(n, (rows + 1) * kPairRowBlock));
+        }
+      }
     });
     friction_needed_ = friction.load();
     w.stats_.static_contacts = static_count;
@@ -312,24 +323,17 @@ struct StepPipeline {
     w.stats_.warm_started = matched.load();
   }
 
-  /// Keeps this step's impulses for the next step's warm start: back into detection order
-  /// (coloured_contacts_ holds it since solve() swapped), then into the cache.
+  /// Keeps this step's impulses for the next step's warm start: each contact (now in colour
+  /// order) into the cache at its detection-order index, where the merge noted the ranges.
   void remember_impulses() {
     if (!w.settings_.warm_start) return;
-    std::vector<Contact>& detect_order = w.coloured_contacts_;
-    const std::vector<std::uint32_t>& order = w.colouring_.order;
+    ContactImpulseCache& cache = w.contact_cache_;
+    cache.begin_store(w.contacts_.size());
+    const std::uint32_t* order = w.colouring_.order.data();
+    const std::size_t static_count = w.stats_.static_contacts;
     for_each_block(w.contacts_.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Solve);
-      for (std::size_t k = first; k < last; ++k) {
-        const Contact& solved = w.contacts_[k];
-        Contact& c = detect_order[order[k]];
-        c.normal_impulse = solved.normal_impulse, c.tx = solved.tx, c.ty = solved.ty, c.tz = solved.tz;
-      }
-    });
-    w.contact_cache_.prepare(detect_order.size(), w.spheres_);
-    for_each_block(detect_order.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
-      w.contact_cache_.store_range(detect_order, w.stats_.static_contacts, first, last, w.spheres_);
+      for (std::size_t k = first; k < last; ++k) cache.store_entry(order[k], w.contacts_[k], order[k] < static_count, w.spheres_);
     });
   }
 

@@ -94,3 +94,55 @@ TEST_CASE("A tall column sinks far less into the floor with warm starting", "[wa
   CHECK(with < 0.02f);         // under 4% of the radius
   CHECK(with < 0.5f * without);  // and at most half of what it is without
 }
+
+TEST_CASE("The contact cache finds a contact anywhere in its sphere's range, stored block by block in any order",
+          "[warmstart]") {
+  SphereSoA s;
+  for (int k = 0; k < 6; ++k) s.add(at(float(k)));
+  // Detection order: static contacts of spheres 0 and 4 (three features each), then the pairs
+  // of rows 0, 1 and 4.
+  std::vector<Contact> last;
+  for (std::uint32_t a : {0u, 4u})
+    for (std::uint32_t f = 0; f < 3; ++f) {
+      Contact g;
+      g.a = a, g.b = kStaticBody, g.feature = 10 * a + f, g.nx = 0, g.ny = 1, g.nz = 0;
+      g.normal_impulse = float(10 * a + f + 1);
+      last.push_back(g);
+    }
+  const std::size_t static_count = last.size();
+  for (auto [a, b] : {std::pair{0u, 1u}, {0u, 2u}, {0u, 5u}, {1u, 2u}, {4u, 5u}})
+    last.push_back(pair(a, b, float(100 + 10 * a + b)));
+
+  // As the step stores it: the layout in two blocks of slots [0, 3) and [3, 6) of each kind,
+  // then the impulses in another order (the solver's colour order).
+  ContactImpulseCache blocks;
+  blocks.begin_layout(s);
+  blocks.layout_static(last, 0, 3, 0, 3, s);
+  blocks.layout_static(last, 3, static_count, 3, 6, s);
+  blocks.layout_pairs(last, static_count, static_count + 4, 0, 3);
+  blocks.layout_pairs(last, static_count + 4, last.size(), 3, 6);
+  blocks.begin_store(last.size());
+  for (std::size_t k = last.size(); k-- > 0;) blocks.store_entry(k, last[k], k < static_count, s);
+  ContactImpulseCache whole;
+  whole.store(last, static_count, s);
+
+  // This step: sphere 0's features in another order with a new one first, sphere 4 lost one;
+  // row 0 gained a pair in front and lost one; row 1 and 4 as they were.
+  std::vector<Contact> now;
+  for (auto [a, f] : {std::pair{0u, 7u}, {0u, 2u}, {0u, 0u}, {0u, 1u}, {4u, 41u}, {4u, 40u}}) {
+    Contact g;
+    g.a = a, g.b = kStaticBody, g.feature = f, g.nx = 0, g.ny = 1, g.nz = 0;
+    now.push_back(g);
+  }
+  const std::size_t now_static = now.size();
+  for (auto [a, b] : {std::pair{0u, 3u}, {0u, 1u}, {0u, 5u}, {1u, 2u}, {4u, 5u}}) now.push_back(pair(a, b, -1.0f));
+  std::vector<Contact> again = now;
+  CHECK(blocks.load(now, now_static, 0, now.size(), s) == 9);
+  CHECK(whole.load(again, now_static, 0, again.size(), s) == 9);
+  const float expected[] = {0, 3, 1, 2, 42, 41, 0, 101, 105, 112, 145};
+  for (std::size_t k = 0; k < now.size(); ++k) {
+    INFO("contact " << k);
+    CHECK(now[k].normal_impulse == expected[k]);
+    CHECK(again[k].normal_impulse == expected[k]);
+  }
+}
