@@ -63,6 +63,9 @@ struct ContactColouring {
   std::vector<std::uint64_t> shared_mask;   ///< scratch: shared colours used per sphere
   std::vector<std::uint32_t> key_of;        ///< scratch: (tile or shared) and colour per contact
   std::vector<std::uint32_t> counts;        ///< scratch: contacts per (tile or shared, colour)
+  std::vector<std::vector<std::uint32_t>> tile_contacts;  ///< scratch (TiledColouring): per tile, its contacts, in contact order
+  std::vector<std::vector<std::uint32_t>> tile_shared;    ///< scratch (TiledColouring): per tile, the shared contacts of its rows
+  std::vector<std::uint32_t> tile_counts;                 ///< scratch (TiledColouring): per tile, the lengths of those two lists
   [[nodiscard]] std::size_t colour_count() const { return colour_begin.empty() ? 0 : colour_begin.size() - 1; }
   [[nodiscard]] std::size_t tile_count() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.size() - 1; }
   [[nodiscard]] std::size_t shared_colour_begin() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.back(); }
@@ -76,5 +79,38 @@ struct ContactColouring {
 /// tiles), each colour's starts_idle(c, velocities) contacts last. Reuses the colouring's storage.
 void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count, ContactColouring& out,
                      std::size_t tile_spheres = 0, const SolveStartVelocities* velocities = nullptr);
+
+/// The contacts as the step's detection makes them (StepPipeline::merge_contacts): blocks of
+/// static contacts, block b holding those of slots [b * static_block_slots, ...), then blocks of
+/// sphere pairs, block b those whose first sphere is in [b * pair_block_slots, ...); offsets[b]
+/// to offsets[b + 1] are a block's contacts (offsets: one more entry than blocks).
+struct DetectionBlocks {
+  std::span<const std::size_t> static_offsets, pair_offsets;
+  std::size_t static_block_slots = 1, pair_block_slots = 1;
+};
+
+/// colour_contacts (with tiles) in parts, so that the tiles are coloured in parallel: a tile's
+/// contacts share no sphere with another tile's, and its colouring only depends on them, in
+/// contact order. The same colouring bit for bit:
+///   begin (serial); colour_tile(t) for every tile (in parallel); colour_shared (serial);
+///   place_tile(t) for every tile (in parallel).
+/// Each tile finds its contacts in the detection blocks that overlap its slots, so no pass
+/// groups them first. With one thread colour_contacts is as fast; this one is for two or more.
+class TiledColouring {
+ public:
+  /// Returns the number of tiles (0 when tile_spheres is 0: use colour_contacts).
+  std::size_t begin(std::span<const Contact> contacts, const DetectionBlocks& blocks, std::size_t sphere_count,
+                    ContactColouring& out, std::size_t tile_spheres, const SolveStartVelocities* velocities);
+  void colour_tile(std::size_t tile);
+  void colour_shared();
+  void place_tile(std::size_t tile);
+
+ private:
+  std::span<const Contact> contacts_;
+  DetectionBlocks blocks_;
+  ContactColouring* out_ = nullptr;
+  const SolveStartVelocities* velocities_ = nullptr;
+  std::size_t sphere_count_ = 0, tile_spheres_ = 0, tiles_ = 0;
+};
 
 }  // namespace hail

@@ -401,6 +401,7 @@ class World {
   std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_
   ContactColouring colouring_;
   std::vector<std::uint32_t> tile_changed_;  ///< solve phase: per solver tile, the latest stamp of its bodies (changed_in_pass)
+  TiledColouring tiled_colouring_;          ///< solve phase: colours the solver tiles in parallel
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
   std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch: n bodies and a static one
   ContactBatches contact_batches_;  ///< solve phase scratch: contacts staged for SIMD

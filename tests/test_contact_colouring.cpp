@@ -205,3 +205,87 @@ TEST_CASE("Speculative contacts closing by less than half their gap go last in t
   const SolveStartVelocities falling{vx, faster, vz, 60.0f};
   CHECK_FALSE(starts_idle(contacts[3], &falling));
 }
+
+namespace {
+
+/// Contacts in detection order as the step makes them, with the block offsets: static blocks
+/// of `static_block` slots (each block's "plane" contacts for its spheres, then its "terrain"
+/// contacts: not in slot order within the block), then blocks of pairs (a, b > a) by rows of
+/// `pair_block` slots, rows ascending.
+struct Detected {
+  std::vector<Contact> contacts;
+  std::vector<std::size_t> static_offsets, pair_offsets;
+};
+Detected detected_contacts(std::size_t spheres, std::size_t static_block, std::size_t pair_block, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::uniform_int_distribution<int> near(1, 60);
+  Detected d;
+  auto state = [&](Contact& c) {
+    const float s = unit(rng);
+    c.gap = s < 0.34f ? 0.01f : 0.0f;
+    c.normal_impulse = s > 0.67f ? 0.5f : 0.0f;
+  };
+  d.static_offsets.push_back(0);
+  for (std::size_t first = 0; first < spheres; first += static_block) {
+    const std::size_t last = std::min(spheres, first + static_block);
+    for (int kind = 0; kind < 2; ++kind)
+      for (std::size_t a = first; a < last; ++a)
+        if (unit(rng) < 0.4f) {
+          Contact c{.a = static_cast<std::uint32_t>(a), .b = kStaticBody};
+          state(c);
+          d.contacts.push_back(c);
+        }
+    d.static_offsets.push_back(d.contacts.size());
+  }
+  d.pair_offsets.push_back(d.contacts.size());
+  for (std::size_t first = 0; first < spheres; first += pair_block) {
+    for (std::size_t a = first; a < std::min(spheres, first + pair_block); ++a) {
+      std::set<std::size_t> partners;
+      const int count = static_cast<int>(4.0f * unit(rng));
+      for (int m = 0; m < count; ++m) {
+        const std::size_t b = a + static_cast<std::size_t>(unit(rng) < 0.9f ? near(rng) : 1 + near(rng) * 20);
+        if (b < spheres) partners.insert(b);
+      }
+      if (a == 7) for (std::size_t b = 8; b < std::min(spheres, std::size_t{90}); ++b) partners.insert(b);  // overflows
+      for (std::size_t b : partners) {
+        Contact c{.a = static_cast<std::uint32_t>(a), .b = static_cast<std::uint32_t>(b)};
+        state(c);
+        d.contacts.push_back(c);
+      }
+    }
+    d.pair_offsets.push_back(d.contacts.size());
+  }
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("Tiles coloured in parallel (TiledColouring) give colour_contacts' colouring bit for bit",
+          "[solver][colouring]") {
+  for (const std::size_t spheres : {std::size_t{300}, std::size_t{5000}})
+    for (const std::size_t tile : {std::size_t{100}, std::size_t{256}, std::size_t{2048}, std::size_t{8192}}) {
+      INFO(spheres << " spheres, tiles of " << tile);
+      const Detected d = detected_contacts(spheres, 256, 64, static_cast<std::uint32_t>(spheres + tile));
+      ContactColouring serial, tiled;
+      colour_contacts(d.contacts, spheres, serial, tile);
+      check_colouring(d.contacts, serial, tile);
+      TiledColouring parts;
+      const DetectionBlocks blocks{d.static_offsets, d.pair_offsets, 256, 64};
+      for (int run = 0; run < 2; ++run) {  // reused storage: the first run must not leak into the second
+        const std::size_t tiles = parts.begin(d.contacts, blocks, spheres, tiled, tile, nullptr);
+        REQUIRE(tiles == (spheres + tile - 1) / tile);
+        // The tiles in any order (threads take them as they come): here last to first.
+        for (std::size_t t = tiles; t-- > 0;) parts.colour_tile(t);
+        parts.colour_shared();
+        for (std::size_t t = tiles; t-- > 0;) parts.place_tile(t);
+        CHECK(tiled.order == serial.order);
+        CHECK(tiled.colour_begin == serial.colour_begin);
+        CHECK(tiled.tile_colour_begin == serial.tile_colour_begin);
+        CHECK(tiled.serial == serial.serial);
+      }
+      // The cases mean something: shared contacts, a serial overflow colour.
+      if (tile == 100) CHECK(serial.colour_begin.back() - serial.colour_begin[serial.shared_colour_begin()] > 0);
+      CHECK(std::any_of(serial.serial.begin(), serial.serial.end(), [](std::uint8_t s) { return s != 0; }));
+    }
+}
