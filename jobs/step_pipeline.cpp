@@ -604,9 +604,10 @@ struct StepPipeline {
           continue;
         }
         const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+        const std::pair<std::uint32_t, std::uint32_t> now_previous = stamps(colour);
         for_each_block(count, kBatchChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
           ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
-          batches.depenetrate(first + begin, first + end, arrays, stamps(colour).first, stamps(colour).second);
+          batches.depenetrate(first + begin, first + end, arrays, now_previous.first, now_previous.second);
         });
       }
     }

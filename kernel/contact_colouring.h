@@ -95,7 +95,8 @@ struct DetectionBlocks {
 ///   begin (serial); colour_tile(t) for every tile (in parallel); colour_shared (serial);
 ///   place_tile(t) for every tile (in parallel).
 /// Each tile finds its contacts in the detection blocks that overlap its slots, so no pass
-/// groups them first. With one thread colour_contacts is as fast; this one is for two or more.
+/// groups them first. On one thread colour_contacts is faster (this one also lists each tile's
+/// contacts, to place them); this one is for two or more.
 class TiledColouring {
  public:
   /// Returns the number of tiles (0 when tile_spheres is 0: use colour_contacts).
