@@ -7,7 +7,7 @@
 // Why: most contacts of a pile sit within the slop and move nothing, and the scalar loop spent
 // its time reading 60-byte contacts and branching on each (depenetrate was 7% of a terrain-rain
 // 64k step). Here a batch reads its slots, normals and offsets from the staged arrays, gathers
-// positions only for lanes that the skip rule keeps, and stores only for lanes that push.
+// positions only when the skip rule keeps one of its lanes, and stores only for lanes that push.
 
 #include "kernel/simd_arch.h"  // first: the path's namespace
 
