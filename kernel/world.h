@@ -32,6 +32,7 @@
 // PhaseTrace is jobs/' recorder; World owns one so that a trace outlives the steps it records.
 #include "jobs/phase_trace.h"
 #include "jobs/stage_crew.h"
+#include "kernel/aabb.h"
 #include "kernel/contact.h"
 #include "kernel/contact_cache.h"
 #include "kernel/contact_colouring.h"
@@ -419,6 +420,7 @@ class World {
   ShockPropagation shock_;  ///< solve phase scratch: levels and contact order of the shock pass
   std::vector<std::uint64_t> reorder_keys_;   ///< Morton re-sort scratch
   std::vector<std::uint32_t> reorder_slots_;  ///< Morton re-sort: new slot k <- old slot
+  std::vector<Aabb> reorder_bounds_;          ///< Morton re-sort: box of each block's centres
   std::uint64_t steps_taken_ = 0;
   PhaseTimes times_;
   PhaseTrace trace_;

@@ -95,23 +95,7 @@ bool SphereSoA::remove(SphereId id) {
 }
 
 void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular) {
-  // Array by array through one scratch array, so a re-sort every few steps allocates only the
-  // first time (or when the world grows).
-  float_scratch_.resize(size_);
-  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia,
-                  &restitution, &friction}) {
-    if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
-    for (std::size_t k = 0; k < size_; ++k) float_scratch_[k] = (*a)[order[k]];
-    std::copy_n(float_scratch_.data(), size_, a->data());
-  }
-  id_scratch_.resize(size_);
-  for (std::size_t k = 0; k < size_; ++k) id_scratch_[k] = flags[order[k]];
-  std::copy_n(id_scratch_.data(), size_, flags.data());
-  for (std::size_t k = 0; k < size_; ++k) id_scratch_[k] = slot_to_id_[order[k]];
-  for (std::size_t k = 0; k < size_; ++k) {
-    slot_to_id_[k] = id_scratch_[k];
-    id_to_slot_[id_scratch_[k]] = static_cast<std::uint32_t>(k);
-  }
+  permute(order, angular, [](std::size_t count, auto&& f) { f(std::size_t{0}, count); });
 }
 
 }  // namespace hail

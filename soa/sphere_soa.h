@@ -7,6 +7,7 @@
 // Users hold SphereId handles; dense slots may move (removal swaps the last sphere into the
 // hole, a later re-sort may permute them) but a handle keeps naming the same sphere.
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -64,6 +65,12 @@ class SphereSoA {
   /// `angular` false leaves the angular velocity arrays as they are: for a caller that knows
   /// them all equal (a world without rotation keeps them all zero).
   void permute(std::span<const std::uint32_t> order, bool angular = true);
+  /// permute() with its element loops run by `for_ranges(count, f)`, which must call f(first,
+  /// last) for ranges that cover [0, count) exactly once each, in any order and on any thread
+  /// (jobs/ runs them over blocks in parallel): each loop writes element k from element order[k]
+  /// alone, so the result is permute()'s.
+  template <class ForRanges>
+  void permute(std::span<const std::uint32_t> order, bool angular, ForRanges&& for_ranges);
 
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
   /// size() rounded up to kSimdPadding; the arrays are at least this long.
@@ -96,5 +103,38 @@ class SphereSoA {
   AlignedArray<float> float_scratch_;        // permute(): one array's new order
   AlignedArray<std::uint32_t> id_scratch_;   // permute(): flags and ids in their new order
 };
+
+template <class ForRanges>
+void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, ForRanges&& for_ranges) {
+  // Array by array through one scratch array, so a re-sort every few steps allocates only the
+  // first time (or when the world grows).
+  float_scratch_.resize(size_);
+  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction}) {
+    if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
+    for_ranges(size_, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) float_scratch_[k] = (*a)[order[k]];
+    });
+    for_ranges(size_, [&](std::size_t first, std::size_t last) {
+      std::copy(float_scratch_.data() + first, float_scratch_.data() + last, a->data() + first);
+    });
+  }
+  id_scratch_.resize(size_);
+  for_ranges(size_, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) id_scratch_[k] = flags[order[k]];
+  });
+  for_ranges(size_, [&](std::size_t first, std::size_t last) {
+    std::copy(id_scratch_.data() + first, id_scratch_.data() + last, flags.data() + first);
+  });
+  for_ranges(size_, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) id_scratch_[k] = slot_to_id_[order[k]];
+  });
+  // Ids are distinct, so each range writes its own entries of id_to_slot_.
+  for_ranges(size_, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      slot_to_id_[k] = id_scratch_[k];
+      id_to_slot_[id_scratch_[k]] = static_cast<std::uint32_t>(k);
+    }
+  });
+}
 
 }  // namespace hail

@@ -1,5 +1,6 @@
 // SphereSoA: alignment, inert padding, stable handles across removal and permutation.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -56,6 +57,41 @@ TEST_CASE("Permuting slots keeps every handle on its sphere", "[soa]") {
   for (std::uint32_t k = 0; k < 20; ++k) order.push_back(19 - k);
   s.permute(order);
   for (int k = 0; k < 20; ++k) CHECK(s.px[static_cast<std::size_t>(s.slot_of(ids[k]))] == float(k));
+}
+
+TEST_CASE("Permuting over ranges run in any order gives permute's state", "[soa]") {
+  // The World's re-sort runs permute's loops over blocks in parallel (jobs/step_pipeline.cpp).
+  hail::SphereSoA serial, blocked;
+  std::vector<hail::SphereId> ids;
+  for (int k = 0; k < 100; ++k) {
+    hail::SphereRecord r = record(float(k));
+    r.vy = float(2 * k), r.wz = float(3 * k), r.friction = 0.01f * float(k);
+    ids.push_back(serial.add(r));
+    blocked.add(r);
+  }
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t k = 0; k < 100; ++k) order.push_back((k * 37) % 100);  // 37 is prime to 100
+  serial.permute(order);
+  std::size_t calls = 0;
+  blocked.permute(order, true, [&](std::size_t count, auto&& f) {
+    constexpr std::size_t kBlock = 7;
+    for (std::size_t first = (count - 1) / kBlock * kBlock;; first -= kBlock) {  // last block first
+      f(first, std::min(count, first + kBlock));
+      ++calls;
+      if (first == 0) break;
+    }
+  });
+  CHECK(calls > 0);
+  for (std::size_t k = 0; k < 100; ++k) {
+    CHECK(blocked.px[k] == serial.px[k]);
+    CHECK(blocked.vy[k] == serial.vy[k]);
+    CHECK(blocked.wz[k] == serial.wz[k]);
+    CHECK(blocked.friction[k] == serial.friction[k]);
+    CHECK(blocked.flags[k] == serial.flags[k]);
+    CHECK(blocked.id_at(k) == serial.id_at(k));
+  }
+  for (std::size_t k = 0; k < 100; ++k) CHECK(blocked.slot_of(ids[k]) == serial.slot_of(ids[k]));
+  CHECK(serial.px[1] == 37.0f);  // the permutation really moved spheres
 }
 
 TEST_CASE("Reserved capacity means adding spheres does not reallocate", "[soa]") {
