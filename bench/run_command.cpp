@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "machine_info.h"
+#include "memory_use.h"
 #include "scene_file.h"
 #include "scene_run.h"
 
@@ -192,6 +193,10 @@ void print_report(const RunResult& r) {
     std::printf("  tunnel    %zu spheres were below the ground after some step (checked after every step)\n", e.tunnelled_ever);
   std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,
               r.energy_start, r.energy_drift, r.momentum_drift);
+  if (r.heap_measured)
+    std::printf("  memory    heap %s after set-up, %s at the end (terrain %s; %.0f bytes per sphere besides)\n",
+                format_bytes(double(r.heap_after_setup)).c_str(), format_bytes(double(r.heap_at_end)).c_str(),
+                format_bytes(double(r.terrain_bytes)).c_str(), r.bytes_per_sphere());
   std::printf("  state     hash %s\n", r.state_hash.c_str());
 }
 

@@ -1,21 +1,28 @@
 #include "scale_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
 #include "machine_info.h"
+#include "memory_use.h"
 #include "scene_run.h"
 
 namespace hail::bench {
 namespace {
 
-/// Largest sphere count accepted: about 1 KB of state and scratch per sphere, so 8M spheres
-/// need about 8 GB.
+/// Largest sphere count accepted: about 1 KB of state and scratch per sphere (terrain-rain:
+/// 0.9-1.5 KB measured, the run's "memory" line), so 8M spheres need about 8-12 GB.
 constexpr double kMaxSpheres = 8.0 * 1024 * 1024;
+
+/// A count is run only if the largest bytes per sphere seen so far, times this, times the count
+/// (plus the terrain) fits the memory limit: deeper piles hold more contacts per sphere.
+constexpr double kMemoryHeadroom = 1.5;
 
 struct ScaleOptions {
   std::string scene = "terrain-rain";
@@ -24,6 +31,7 @@ struct ScaleOptions {
   int steps = 300;
   std::string out_dir = "hail-scale";
   bool plot = true;
+  double memory_limit_gb = -1.0;  // < 0: 80% of the memory available at start; 0: no limit
 };
 
 double parse_double(const std::string& flag, const std::string& text) {
@@ -59,6 +67,9 @@ ScaleOptions parse(const std::vector<std::string>& args) {
       if (o.steps < 1) throw std::invalid_argument("--steps must be >= 1");
     } else if (flag == "--out") {
       o.out_dir = value();
+    } else if (flag == "--memory-limit") {
+      o.memory_limit_gb = parse_double(flag, value());
+      if (!(o.memory_limit_gb >= 0.0)) throw std::invalid_argument("--memory-limit must be >= 0 GB (0: no limit)");
     } else if (flag == "--no-plot") {
       o.plot = false;
     } else {
@@ -101,19 +112,47 @@ int scale_command(const std::vector<std::string>& args) {
   std::printf("hail-bench scale %s: %zu..%zu spheres (doubling), 1..%d threads, %d steps each (timed from step %d)\n",
               o.scene.c_str(), o.min_spheres, o.max_spheres, o.max_threads, o.steps, o.steps > 120 ? 60 : 0);
   std::printf("  machine %s, SIMD %s; output in %s/\n", cpu_model().c_str(), simd_path().c_str(), o.out_dir.c_str());
+  // The memory limit: a count whose estimate (measured bytes per sphere so far) is over it is
+  // not started, so that a --max beyond the machine ends with a message and every row so far
+  // written, not with the kernel's OOM kill.
+  double limit_bytes = o.memory_limit_gb * 1e9;
+  if (o.memory_limit_gb < 0.0) {
+    const std::optional<std::size_t> available = available_memory_bytes();
+    limit_bytes = available ? 0.8 * double(*available) : 0.0;
+  }
+  if (limit_bytes > 0.0)
+    std::printf("  memory limit %s (%s; each count must fit it at %.1fx the largest bytes per sphere so far)\n",
+                format_bytes(limit_bytes).c_str(), o.memory_limit_gb < 0.0 ? "80%% of the memory available now" : "--memory-limit",
+                kMemoryHeadroom);
+  else
+    std::printf("  memory limit none (%s)\n", o.memory_limit_gb == 0.0 ? "--memory-limit 0" : "available memory unknown");
   std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr",
               "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
-              "pen.grnd", "tunnel", "felloff", "NaN", "hash");
+              "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");
 
   std::ofstream csv(o.out_dir + "/scale.csv");
   if (!csv) throw std::runtime_error("cannot write " + o.out_dir + "/scale.csv");
   csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
          "detect_terrain_ms,detect_pairs_ms,solve_ms,sweep_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
-         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash\n";
+         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_sphere\n";
   nlohmann::json runs = nlohmann::json::array();
   std::vector<std::vector<double>> ns_table(counts.size()), speedup_table(counts.size());  // [count][thread - 1]
   bool deterministic = true, finite = true;
+  double most_bytes_per_sphere = 0.0, terrain_bytes = 0.0;
+  std::size_t counts_run = 0;
   for (const std::size_t& n : counts) {
+    const double estimate = terrain_bytes + kMemoryHeadroom * most_bytes_per_sphere * double(n);
+    if (limit_bytes > 0.0 && estimate > limit_bytes) {
+      char why[256];
+      std::snprintf(why, sizeof why,
+                    "stopping before %zu spheres: about %s estimated (%.0f bytes per sphere measured so far, x%.1f), over "
+                    "the memory limit of %s (--memory-limit GB; 0: none)",
+                    n, format_bytes(estimate).c_str(), most_bytes_per_sphere, kMemoryHeadroom, format_bytes(limit_bytes).c_str());
+      std::printf("  %s\n", why);
+      std::fprintf(stderr, "hail-bench scale: %s\n", why);
+      break;
+    }
+    ++counts_run;
     double one_thread_ms = 0.0;
     std::string one_thread_hash;
     for (int t = 1; t <= o.max_threads; ++t) {
@@ -124,6 +163,8 @@ int scale_command(const std::vector<std::string>& args) {
       run_options.steps = o.steps;
       run_options.progress_label = std::to_string(n) + " spheres, " + std::to_string(t) + " threads: ";
       const RunResult r = run_scene(entry, params, run_options);
+      most_bytes_per_sphere = std::max(most_bytes_per_sphere, r.bytes_per_sphere());
+      terrain_bytes = double(r.terrain_bytes);
       if (t == 1) one_thread_ms = r.mean_ms, one_thread_hash = r.state_hash;
       deterministic = deterministic && r.state_hash == one_thread_hash;
       finite = finite && r.errors.nan_count == 0;
@@ -131,16 +172,17 @@ int scale_command(const std::vector<std::string>& args) {
       const double speedup = one_thread_ms / r.mean_ms;
       const PhaseTimes& p = r.phase_ms;
       const ErrorFigures& e = r.errors;
-      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s\n",
+      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s %s (%.0f)\n",
                   r.spheres, t, r.mean_ms, ns, r.median_ms, speedup, p.reorder, p.detect_terrain, p.detect_pairs, p.solve,
                   p.sweep, p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off,
-                  e.nan_count, r.state_hash.c_str());
+                  e.nan_count, r.state_hash.c_str(), r.heap_measured ? format_bytes(double(r.heap_at_end)).c_str() : "n/a",
+                  r.bytes_per_sphere());
       std::fflush(stdout);
       csv << r.spheres << ',' << t << ',' << r.mean_ms << ',' << r.median_ms << ',' << ns << ',' << speedup << ','
           << p.reorder << ',' << p.predict << ',' << p.detect_terrain << ',' << p.detect_pairs << ',' << p.solve << ','
           << p.sweep << ',' << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
           << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
-          << r.state_hash << '\n';
+          << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << '\n';
       csv.flush();
       const std::size_t row = static_cast<std::size_t>(&n - counts.data());
       ns_table[row].push_back(ns);
@@ -150,7 +192,9 @@ int scale_command(const std::vector<std::string>& args) {
       runs.push_back(j);
     }
   }
-  std::ofstream(o.out_dir + "/scale.json") << nlohmann::json{{"scene", o.scene}, {"runs", runs}}.dump(2) << "\n";
+  counts.resize(counts_run);  // the counts the memory limit left out have no rows
+  std::ofstream(o.out_dir + "/scale.json") << nlohmann::json{{"scene", o.scene}, {"memory_limit_bytes", limit_bytes}, {"runs", runs}}.dump(2)
+                                           << "\n";
   std::printf("  same state hash on every thread count: %s; NaN-free: %s\n", deterministic ? "yes" : "NO", finite ? "yes" : "NO");
 
   if (o.plot) {

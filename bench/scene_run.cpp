@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include "machine_info.h"
+#include "memory_use.h"
 
 namespace hail::bench {
 namespace {
@@ -138,10 +140,19 @@ std::string describe_parts(const RunResult& r) {
 RunResult run_scene(const std::string& name, const std::function<Scene()>& build, const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   RunResult r;
+  const std::optional<std::size_t> heap_before = heap_bytes_in_use();
+  // The heap the run added since heap_before (0 if it shrank: another thread freed meanwhile).
+  auto heap_added = [&] {
+    const std::optional<std::size_t> now = heap_bytes_in_use();
+    return now && heap_before && *now > *heap_before ? *now - *heap_before : std::size_t{0};
+  };
   const auto setup_start = clock::now();
   Scene scene = build();
   r.setup_s = std::chrono::duration<double>(clock::now() - setup_start).count();
   World& world = *scene.world;
+  r.heap_measured = heap_before.has_value();
+  r.heap_after_setup = heap_added();
+  r.terrain_bytes = world.terrain() != nullptr ? world.terrain()->memory_bytes() : 0;
   r.scene = name;
   r.description = scene.description;
   r.spheres = world.sphere_count();
@@ -199,6 +210,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   const std::vector<double> timed(step_ms.begin() + r.warmup, step_ms.end());
   r.mean_ms = std::accumulate(timed.begin(), timed.end(), 0.0) / static_cast<double>(timed.size());
   r.median_ms = median(timed);
+  r.heap_at_end = heap_added();
   r.errors = measure_errors(scene);
   r.errors.tunnelled_ever = static_cast<std::size_t>(std::count(went_below.begin(), went_below.end(), std::uint8_t{1}));
   r.errors.worst_sphere_penetration = worst_sphere;
@@ -243,6 +255,9 @@ nlohmann::json to_json(const RunResult& r) {
       {"energy_drift", r.energy_drift},
       {"nan_count", e.nan_count},
       {"state_hash", r.state_hash},
+      {"memory", {{"heap_after_setup_bytes", r.heap_after_setup}, {"heap_at_end_bytes", r.heap_at_end},
+                  {"terrain_bytes", r.terrain_bytes}, {"bytes_per_sphere", r.bytes_per_sphere()},
+                  {"measured", r.heap_measured}}},
       {"pair_search", r.pair_search},
       {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
                      {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"sweep", p.sweep}, {"integrate", p.integrate},

@@ -30,6 +30,17 @@ struct RunResult {
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
   double swept_meeting_spheres = 0;     ///< of the swept, those swept against spheres too (mean per timed step)
   std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
+  /// Memory (bench/memory_use.h), measured outside the timed steps: the heap the run added,
+  /// after set-up (the World with its spheres, the terrain) and at the end (everything the
+  /// World keeps between steps too: contacts, solver arrays, caches); 0 where the C library
+  /// cannot say. terrain_bytes is Terrain::memory_bytes(), 0 without a terrain.
+  std::size_t heap_after_setup = 0, heap_at_end = 0, terrain_bytes = 0;
+  bool heap_measured = false;
+  /// (heap_at_end - terrain_bytes) / spheres: what each sphere costs, its share of the World's
+  /// per-step arrays included.
+  [[nodiscard]] double bytes_per_sphere() const {
+    return spheres == 0 || heap_at_end < terrain_bytes ? 0.0 : double(heap_at_end - terrain_bytes) / double(spheres);
+  }
   /// Substeps in which each optional part of the step ran (StepStats::ran), over all steps.
   struct PartCounts {
     int reorder = 0, detect_static = 0, detect_pairs = 0, solve = 0, friction = 0, rotation = 0, shock = 0, sweep = 0,

@@ -20,6 +20,17 @@ Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std:
   for (std::size_t k = 0; k < bounds.size(); ++k) triangle_bounds_[k] = bounds[bvh_.primitive_order[k]];
 }
 
+std::size_t Terrain::memory_bytes() const {
+  const TerrainTriangles& t = triangles_;
+  std::size_t bytes = heightmap_.heights().size() * sizeof(float);
+  for (const AlignedArray<float>* a : {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.e0x, &t.e0y,
+                                       &t.e0z, &t.e1x, &t.e1y, &t.e1z, &t.e2x, &t.e2y, &t.e2z, &t.nx, &t.ny, &t.nz, &t.d})
+    bytes += a->capacity() * sizeof(float);
+  bytes += t.internal_edges.capacity();
+  bytes += bvh_.nodes.capacity() * sizeof(FlatNode) + bvh_.primitive_order.capacity() * sizeof(std::uint32_t);
+  return bytes + triangle_bounds_.capacity() * sizeof(Aabb);
+}
+
 void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t last, float dt, float restitution,
                             float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const {
   // Spheres go through the BVH a packet at a time (kernel/simd/terrain_contacts.cpp):
