@@ -122,7 +122,7 @@ int scale_command(const std::vector<std::string>& args) {
   }
   if (limit_bytes > 0.0)
     std::printf("  memory limit %s (%s; each count must fit it at %.1fx the largest bytes per sphere so far)\n",
-                format_bytes(limit_bytes).c_str(), o.memory_limit_gb < 0.0 ? "80%% of the memory available now" : "--memory-limit",
+                format_bytes(limit_bytes).c_str(), o.memory_limit_gb < 0.0 ? "80% of the memory available now" : "--memory-limit",
                 kMemoryHeadroom);
   else
     std::printf("  memory limit none (%s)\n", o.memory_limit_gb == 0.0 ? "--memory-limit 0" : "available memory unknown");
