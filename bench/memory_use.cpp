@@ -57,4 +57,15 @@ std::string format_bytes(double bytes) {
   return text;
 }
 
+double memory_limit_bytes(double gb) {
+  if (gb >= 0.0) return gb * 1e9;
+  const std::optional<std::size_t> available = available_memory_bytes();
+  return available ? 0.8 * double(*available) : 0.0;
+}
+
+std::string describe_memory_limit(double gb, double limit_bytes) {
+  if (limit_bytes <= 0.0) return gb == 0.0 ? "none (--memory-limit 0)" : "none (the memory available is unknown)";
+  return format_bytes(limit_bytes) + (gb < 0.0 ? " (80% of the memory available now)" : " (--memory-limit)");
+}
+
 }  // namespace hail::bench

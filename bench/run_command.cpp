@@ -27,6 +27,7 @@ struct CommandOptions {
   std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
   bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
   int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
+  double memory_limit_gb = -1.0;  // --memory-limit GB (< 0: 80% of the memory available; 0: none)
 };
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
@@ -118,6 +119,9 @@ CommandOptions parse(const std::vector<std::string>& args) {
       o.scene_file = value();
     } else if (flag == "--dump-state") {
       o.dump_state_path = value();
+    } else if (flag == "--memory-limit") {
+      o.memory_limit_gb = parse_number<double>(flag, value());
+      if (!(o.memory_limit_gb >= 0.0)) usage_error("--memory-limit must be >= 0 GB (0: no limit)");
     } else {
       usage_error("unknown option '" + flag + "' (see hail-bench --help)");
     }
@@ -255,8 +259,22 @@ int run_both(const CommandOptions& o) {
 
 }  // namespace
 
+/// Refuses, before anything is built, a sphere count that could not fit the memory limit at
+/// kBytesPerSphereGuide a sphere (a scene file's own count is checked only when --spheres is
+/// given): the kernel's OOM kill would otherwise end the run after minutes of set-up.
+void check_memory(const CommandOptions& o) {
+  const bool spheres_known = o.scene_file.empty() || std::find(o.given.begin(), o.given.end(), "--spheres") != o.given.end();
+  const double limit = memory_limit_bytes(o.memory_limit_gb);
+  const double estimate = kBytesPerSphereGuide * double(o.params.spheres);
+  if (!spheres_known || limit <= 0.0 || estimate <= limit) return;
+  usage_error("--spheres " + std::to_string(o.params.spheres) + " needs about " + format_bytes(estimate) + " (" +
+              std::to_string(static_cast<int>(kBytesPerSphereGuide)) + " bytes a sphere, the most measured: README, Memory), over the memory limit of " +
+              describe_memory_limit(o.memory_limit_gb, limit) + "; --memory-limit GB sets it, 0 turns the check off");
+}
+
 int run_command(const std::vector<std::string>& args) {
   const CommandOptions o = parse(args);
+  check_memory(o);
   if (o.ccd_both) return run_both(o);
   const int repeat = o.repeat > 0 ? o.repeat : 1;
   std::vector<RunResult> runs;

@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -115,17 +114,9 @@ int scale_command(const std::vector<std::string>& args) {
   // The memory limit: a count whose estimate (measured bytes per sphere so far) is over it is
   // not started, so that a --max beyond the machine ends with a message and every row so far
   // written, not with the kernel's OOM kill.
-  double limit_bytes = o.memory_limit_gb * 1e9;
-  if (o.memory_limit_gb < 0.0) {
-    const std::optional<std::size_t> available = available_memory_bytes();
-    limit_bytes = available ? 0.8 * double(*available) : 0.0;
-  }
-  if (limit_bytes > 0.0)
-    std::printf("  memory limit %s (%s; each count must fit it at %.1fx the largest bytes per sphere so far)\n",
-                format_bytes(limit_bytes).c_str(), o.memory_limit_gb < 0.0 ? "80% of the memory available now" : "--memory-limit",
-                kMemoryHeadroom);
-  else
-    std::printf("  memory limit none (%s)\n", o.memory_limit_gb == 0.0 ? "--memory-limit 0" : "available memory unknown");
+  const double limit_bytes = memory_limit_bytes(o.memory_limit_gb);
+  std::printf("  memory limit %s%s\n", describe_memory_limit(o.memory_limit_gb, limit_bytes).c_str(),
+              limit_bytes > 0.0 ? "; each count must fit it at 1.5x the largest bytes per sphere so far" : "");
   std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr",
               "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
               "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");

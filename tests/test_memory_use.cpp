@@ -3,9 +3,12 @@
 
 #include <cstring>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "bench/memory_use.h"
+#include "bench/run_command.h"
 #include "bench/scene_run.h"
 #include "bench/scenes.h"
 #include "catch.h"
@@ -60,4 +63,28 @@ TEST_CASE("A run reports the heap it holds: the terrain and more than each spher
   // Each sphere's SoA state alone is 14 floats and a flag word; the solver adds a 64-byte body.
   CHECK(r.bytes_per_sphere() > 14 * sizeof(float) + 4 + 64);
   CHECK(r.bytes_per_sphere() < 100000);
+}
+
+TEST_CASE("The memory limit: default 80% of what is available, 0 none, else the gigabytes given", "[bench][memory]") {
+  CHECK(bench::memory_limit_bytes(0.0) == 0.0);
+  CHECK(bench::memory_limit_bytes(2.5) == 2.5e9);
+  const auto available = bench::available_memory_bytes();
+  if (available) CHECK(bench::memory_limit_bytes(-1.0) == 0.8 * double(*available));
+  CHECK(bench::describe_memory_limit(0.0, 0.0).find("none") != std::string::npos);
+  CHECK(bench::describe_memory_limit(2.5, 2.5e9).find("2.50 GB") != std::string::npos);
+}
+
+TEST_CASE("hail-bench run refuses a sphere count over the memory limit before building anything", "[bench][memory]") {
+  // 10M spheres at 2.1 kB each are about 21 GB: over a 1 GB limit, refused at once (a build
+  // would take minutes); the message names the estimate and the way out.
+  try {
+    bench::run_command({"terrain-rain", "--spheres", "10000000", "--memory-limit", "1"});
+    FAIL("run_command accepted 10M spheres under a 1 GB limit");
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    CHECK(message.find("21.0 GB") != std::string::npos);
+    CHECK(message.find("1.00 GB (--memory-limit)") != std::string::npos);
+    CHECK(message.find("--memory-limit GB sets it, 0 turns the check off") != std::string::npos);
+  }
+  CHECK_THROWS_AS(bench::run_command({"terrain-rain", "--memory-limit", "-2"}), std::invalid_argument);
 }
