@@ -15,8 +15,9 @@
 namespace hail::bench {
 namespace {
 
-/// Largest sphere count accepted: about 1 KB of state and scratch per sphere (terrain-rain:
-/// 0.9-1.5 KB measured, the run's "memory" line), so 8M spheres need about 8-12 GB.
+/// Largest sphere count accepted: terrain-rain holds 1.2-2.0 kB per sphere (the run's "memory"
+/// line), so 8M spheres need about 10-17 GB; the memory limit stops a run before a count that
+/// would not fit.
 constexpr double kMaxSpheres = 8.0 * 1024 * 1024;
 
 /// A count is run only if the largest bytes per sphere seen so far, times this, times the count

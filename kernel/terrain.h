@@ -56,8 +56,8 @@ class Terrain {
   /// The flat BVH over triangles(), for custom queries with kernel/flat_bvh.h's walks.
   [[nodiscard]] const FlatBvh& bvh() const { return bvh_; }
   /// Bytes the terrain holds: its heights, per-triangle data, BVH nodes and triangle boxes
-  /// (capacities, as allocated). For memory budgets: terrain-rain's 256^2 map holds about
-  /// 18 MB (hail-bench run prints it beside what the whole run holds).
+  /// (capacities, as allocated). For memory budgets: terrain-rain's 256^2 map holds 16.5 MB
+  /// (hail-bench run prints it beside what the whole run holds).
   [[nodiscard]] std::size_t memory_bytes() const;
   /// Per triangle, BVH order: its box, which the packet walk tests for all lanes at once.
   [[nodiscard]] const std::vector<Aabb>& triangle_bounds() const { return triangle_bounds_; }
