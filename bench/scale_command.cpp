@@ -116,8 +116,9 @@ int scale_command(const std::vector<std::string>& args) {
   // not started, so that a --max beyond the machine ends with a message and every row so far
   // written, not with the kernel's OOM kill.
   const double limit_bytes = memory_limit_bytes(o.memory_limit_gb);
-  std::printf("  memory limit %s%s\n", describe_memory_limit(o.memory_limit_gb, limit_bytes).c_str(),
-              limit_bytes > 0.0 ? "; each count must fit it at 1.5x the largest bytes per sphere so far" : "");
+  std::printf("  memory limit %s", describe_memory_limit(o.memory_limit_gb, limit_bytes).c_str());
+  if (limit_bytes > 0.0) std::printf("; each count must fit it at %.1fx the largest bytes per sphere so far", kMemoryHeadroom);
+  std::printf("\n");
   std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr",
               "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
               "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");
