@@ -232,7 +232,7 @@ void read_settings(const Object& o, WorldSettings& s) {
   if (auto v = o.choice<Integrator>("integrator", {{"semi-implicit-euler", Integrator::SemiImplicitEuler},
                                                    {"uniform-acceleration", Integrator::UniformAcceleration}}))
     s.integrator = *v;
-  s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, kMaxCollisionIterations));
+  s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
   s.depenetration_iterations = static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
   s.solver_tile_spheres = static_cast<std::size_t>(

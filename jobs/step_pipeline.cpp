@@ -340,41 +340,31 @@ struct StepPipeline {
   }
 
   /// Runs f(tile, first_batch, last_batch, scalar_contacts) over the staged contact batches:
-  /// first every tile t (kernel/contact_colouring.h) as one block, its colours in order, tiles
-  /// in parallel (one crew stage for all of them); then the shared colours
-  /// (for_each_shared_chunk). A serial overflow colour is all scalar contacts (a batched colour
-  /// has none).
-  template <class F>
-  void for_each_batch_chunk(StageCrew& crew, F&& f) {
-    const ContactColouring& col = w.colouring_;
-    crew.stage(col.tile_count(), [&](std::size_t t) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
-      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
-        f(t, w.contact_batches_.batch_begin(colour), w.contact_batches_.batch_end(colour), colour_tail(colour));
-    });
-    for_each_shared_chunk(crew, f);
-  }
-
-  /// The scalar contacts of colour c: none for a batched colour, all of a serial one.
-  [[nodiscard]] std::span<Contact> colour_tail(std::size_t colour) {
-    const std::size_t end = w.colouring_.colour_begin[colour + 1], tail = w.contact_batches_.tail_begin(colour);
-    return std::span<Contact>(w.contacts_.data() + tail, end - tail);
-  }
-
-  /// f(tile_count(), first_batch, last_batch, scalar_contacts) over the shared colours, one
-  /// after another, the chunks of each in parallel (one crew stage per colour; a small or
-  /// serial colour is one block). Chunks are fixed by the batch count, not the thread count.
-  template <class F>
-  void for_each_shared_chunk(StageCrew& crew, F&& f) {
+  /// first every tile t (kernel/contact_colouring.h) for which tile_wanted(t), as one block, its
+  /// colours in order, tiles in parallel (one crew stage for all of them); then the shared
+  /// colours (tile = tile_count()) one after another, the chunks of each in parallel (one crew
+  /// stage per colour). A serial overflow colour is all scalar contacts (a batched colour has
+  /// none). Chunks are fixed by the batch count, not the thread count.
+  template <class TileWanted, class F>
+  void for_each_batch_chunk(StageCrew& crew, TileWanted&& tile_wanted, F&& f) {
     const ContactColouring& col = w.colouring_;
     const ContactBatches& batches = w.contact_batches_;
     const std::size_t tiles = col.tile_count();
+    auto whole_colour = [&](std::size_t tile, std::size_t colour) {
+      const std::size_t end = col.colour_begin[colour + 1], tail = batches.tail_begin(colour);
+      f(tile, batches.batch_begin(colour), batches.batch_end(colour), std::span<Contact>(w.contacts_.data() + tail, end - tail));
+    };
+    crew.stage(tiles, [&](std::size_t t) {
+      if (!tile_wanted(t)) return;
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) whole_colour(t, colour);
+    });
     for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour) {
       const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
       if (col.is_serial(colour) || count <= kBatchChunk) {
         crew.stage(1, [&](std::size_t) {
           ScopedTraceRecord record(w.trace_, Phase::Solve);
-          f(tiles, first, first + count, colour_tail(colour));
+          whole_colour(tiles, colour);
         });
         continue;
       }
@@ -384,6 +374,12 @@ struct StepPipeline {
         f(tiles, first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk), std::span<Contact>());
       });
     }
+  }
+
+  /// for_each_batch_chunk over every tile.
+  template <class F>
+  void for_each_batch_chunk(StageCrew& crew, F&& f) {
+    for_each_batch_chunk(crew, [](std::size_t) { return true; }, f);
   }
 
   /// After collision pass `pass` applied impulses to some contacts in shared batches [first,
@@ -437,81 +433,6 @@ struct StepPipeline {
     });
   }
 
-  /// The collision passes, in rounds. Round 0 runs each tile on its own, tiles in parallel
-  /// (one crew stage), pass after pass over the tile's colours until a pass applies nothing or
-  /// the tile has had collision_iterations (K) passes; then one pass over the shared colours
-  /// (the contacts across tile edges). While a shared pass applies an impulse, another round
-  /// follows, at most K in all: one pass of each tile that has a body changed since its last
-  /// pass (and passes left), then the shared colours again. A busy tile so finds its staged
-  /// contacts and bodies in its core's cache from pass to pass, where passes over all tiles
-  /// streamed them from memory each time (terrain-rain 512k, 2 threads: solve 105 -> 82 ms),
-  /// and a quiet tile stops early. Later rounds run one pass a tile, not passes until quiet:
-  /// 4k, 1 thread, solve 0.573 against 0.597 ms, and the same at 512k (README).
-  ///
-  /// Each pass has a number, and a body an impulse changes gets stamp number + 1
-  /// (SolverBody::changed_in_pass). Round r's tile passes are numbered base, base + 1, ..., its
-  /// shared pass base + K, and the next round's base is base + K + 1, so numbers only grow. A
-  /// batch is evaluated only if one of its bodies changed since its previous evaluation, which
-  /// for a tile's batches was the tile's latest pass (tile_last_: stamp > that number) and
-  /// for the shared batches the previous shared pass (stamp >= base); the first pass of round
-  /// 0 and the first shared pass evaluate everything. A skipped batch would have applied
-  /// nothing, so skipping never changes the result (checked by evaluating every batch: the same
-  /// states bit for bit).
-  void collision_rounds(StageCrew& crew, std::span<SolverBody> bodies, float threshold, FrictionWork work,
-                        std::size_t tile_spheres) {
-    const ContactColouring& col = w.colouring_;
-    ContactBatches& batches = w.contact_batches_;
-    const std::size_t tiles = col.tile_count();
-    const auto K = static_cast<std::uint32_t>(std::max(w.settings_.collision_iterations, 0));
-    if (K == 0) return;
-    assign_geometric(w.tile_passes_, tiles, std::uint32_t{0});
-    assign_geometric(w.tile_last_, tiles, std::uint32_t{0});
-    std::uint32_t base = 0;
-    int most_passes = 0;
-    for (std::uint32_t round = 0; round < K; ++round) {
-      std::atomic<std::uint32_t> longest{0};
-      crew.stage(tiles, [&](std::size_t t) {
-        // The tile's batches were last evaluated (or rightly skipped) in its pass numbered
-        // tile_last_[t]; a body changed then or since has a stamp above it.
-        if (round > 0 && w.tile_changed_[t] <= w.tile_last_[t]) return;
-        ScopedTraceRecord record(w.trace_, Phase::Solve);
-        const std::uint32_t round_limit = round == 0 ? K : 1;
-        std::uint32_t passes = 0;
-        while (w.tile_passes_[t] < K && passes < round_limit) {
-          const std::uint32_t number = base + passes;
-          const std::uint32_t since = round == 0 && passes == 0 ? 0 : w.tile_last_[t] + 1;
-          bool applied = false;
-          for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) {
-            applied |= batches.solve_collision(batches.batch_begin(colour), batches.batch_end(colour), bodies, params.dt,
-                                               threshold, number, work, since);
-            applied |= solve_collision_run_scalar(colour_tail(colour), bodies, params.dt, threshold, number, work);
-          }
-          ++w.tile_passes_[t];
-          w.tile_last_[t] = number;
-          if (!applied) break;
-          ++passes;
-          w.tile_changed_[t] = number + 1;
-        }
-        std::uint32_t seen = longest.load(std::memory_order_relaxed);
-        while (passes > seen && !longest.compare_exchange_weak(seen, passes, std::memory_order_relaxed)) {}
-      });
-      std::atomic<bool> shared{false};
-      const std::uint32_t number = base + K;
-      const std::uint32_t since = round > 0 ? base : 0;
-      for_each_shared_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
-        const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work, since);
-        const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
-        if (!(simd || rest)) return;
-        shared.store(true, std::memory_order_relaxed);
-        if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
-      });
-      most_passes += static_cast<int>(longest.load()) + (shared.load() ? 1 : 0);
-      if (!shared.load()) break;
-      base += K + 1;
-    }
-    w.stats_.collision_passes = most_passes;
-  }
-
   void solve() {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
@@ -560,7 +481,23 @@ struct StepPipeline {
     const std::size_t stages = (static_cast<std::size_t>(w.settings_.collision_iterations) + 1 +
                                 static_cast<std::size_t>(w.settings_.resting_iterations)) * stages_per_pass;
     w.crew_.run(stages, [&](StageCrew& crew) {
-      collision_rounds(crew, bodies, threshold, work, tile_spheres);
+      for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
+        std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
+        const auto number = static_cast<std::uint32_t>(pass);
+        // A tile none of whose bodies changed since the previous pass began would skip every
+        // batch (ContactBatches::solve_collision): skipped whole, without reading its batches.
+        auto tile_wanted = [&](std::size_t t) { return pass == 0 || w.tile_changed_[t] >= number; };
+        for_each_batch_chunk(crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
+          const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+          if (!(simd || rest)) return;
+          any.store(true, std::memory_order_relaxed);
+          if (tile < tiles) w.tile_changed_[tile] = number + 1;  // only this tile's block writes it
+          else if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
+        });
+        if (!any.load()) break;
+        ++w.stats_.collision_passes;
+      }
       // Warm start after the collision passes, not before: applied first, an impulse that no
       // longer fits the pile pushes neighbours into each other faster than the restitution
       // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of

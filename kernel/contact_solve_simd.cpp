@@ -172,11 +172,10 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                                     float restitution_threshold, std::uint32_t pass, FrictionWork work,
-                                     std::optional<std::uint32_t> changed_since) {
+                                     float restitution_threshold, std::uint32_t pass, FrictionWork work) {
   if (first >= last) return false;
   return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold, pass,
-                                     changed_since.value_or(pass), work);
+                                     work);
 }
 
 void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,

@@ -21,7 +21,6 @@
 // nothing either: the result does not depend on W.
 
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -92,16 +91,12 @@ class ContactBatches {
   }
 
   /// Collision pass number `pass` (0, 1, ...) (solve_collision) over batches [first, last);
-  /// true when any lane applied an impulse, whose bodies get changed_in_pass = pass + 1.
-  /// Batches of one colour may run in parallel. From pass 1 on, a batch none of whose bodies
-  /// has changed_in_pass >= changed_since is skipped. changed_since defaults to `pass`: a body
-  /// changed since the previous pass (numbered pass - 1) began. Passes numbered with gaps
-  /// (StepPipeline's collision rounds) give the number of the batch's previous pass plus one.
-  /// When none of a batch's bodies changed since its previous pass, none of its contacts
-  /// applied then, so none can now: the result is the same as evaluating it.
+  /// true when any lane applied an impulse. Batches of one colour may run in parallel. From
+  /// pass 1 on, a batch none of whose bodies changed since the previous pass began is skipped:
+  /// none of its contacts applied then, so none can now (SolverBody::changed_in_pass); the
+  /// result is the same as evaluating it.
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                       float restitution_threshold, std::uint32_t pass, FrictionWork work = kWithFriction,
-                       std::optional<std::uint32_t> changed_since = std::nullopt);
+                       float restitution_threshold, std::uint32_t pass, FrictionWork work = kWithFriction);
   /// Warm start (apply_warm_start) of batches [first, last): their staged impulses applied.
   void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work = kWithFriction);
   /// Resting pass (solve_resting) over batches [first, last).

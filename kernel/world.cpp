@@ -45,10 +45,7 @@ void World::validate(const WorldSettings& s) {
   require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
           describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
   require(s.threads >= 0, "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
-  require(s.collision_iterations >= 0 && s.collision_iterations <= kMaxCollisionIterations, [&] {
-    return "WorldSettings::collision_iterations must be in [0, " + std::to_string(kMaxCollisionIterations) + "], got " +
-           std::to_string(s.collision_iterations);
-  });
+  require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
   require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
   require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {

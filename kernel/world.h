@@ -82,10 +82,6 @@ inline constexpr float kMixedRadiusSpread = 4.0f;
 inline constexpr float kGiantRadiusSpread = 20.0f;
 inline constexpr std::size_t kGiantPairSearchMinSpheres = 16000;
 
-/// Largest WorldSettings::collision_iterations: the collision rounds number their passes up to
-/// about its square (StepPipeline::collision_rounds), which must stay within an int32 stamp.
-inline constexpr int kMaxCollisionIterations = 4096;
-
 /// Smallest WorldSettings::solver_tile_spheres other than 0: below it tiles hold too few
 /// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
 inline constexpr std::size_t kMinSolverTileSpheres = 64;
@@ -126,10 +122,7 @@ struct WorldSettings {
   /// Ignored when the World is given the caller's task_arena.
   int threads = 0;
   /// Passes that bounce closing contacts with restitution, propagating impulses through
-  /// chains (a Newton's cradle of n spheres needs n): at most this many over each solver
-  /// tile's contacts, and as many over the contacts across tiles, in rounds (a tile's passes
-  /// back to back, then the shared contacts'). Stops early once nothing is closing. At most
-  /// kMaxCollisionIterations.
+  /// chains (a Newton's cradle of n spheres needs n). Stops early once nothing is closing.
   int collision_iterations = 16;
   /// Sequential-impulse passes for resting contacts (piles, rolling). Too few: piles sag.
   int resting_iterations = 8;
@@ -268,9 +261,7 @@ struct StepStats {
   std::size_t colours = 0;        ///< colours on a pass's critical path: the largest solver tile's, then the shared ones
   std::size_t tile_contacts = 0;   ///< contacts solved within a solver tile (WorldSettings::solver_tile_spheres)
   std::size_t shared_contacts = 0; ///< contacts across tile edges (every contact without tiles)
-  /// Collision passes on the critical path that applied an impulse: per round, the most any
-  /// solver tile ran, plus the pass over the contacts across tiles (WorldSettings::collision_iterations)
-  int collision_passes = 0;
+  int collision_passes = 0;  ///< collision passes that applied an impulse
   PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
   std::size_t warm_started = 0;  ///< contacts that found their last-step impulses
   SweepStats sweep;              ///< continuous collision: fast spheres, impacts, capped spheres
@@ -411,8 +402,6 @@ class World {
   std::vector<std::size_t> merge_offsets_;  ///< per detect block: where its contacts start in contacts_
   ContactColouring colouring_;
   std::vector<std::uint32_t> tile_changed_;  ///< solve phase: per solver tile, the latest stamp of its bodies (changed_in_pass)
-  std::vector<std::uint32_t> tile_passes_;   ///< solve phase: per solver tile, the collision passes it has run this step
-  std::vector<std::uint32_t> tile_last_;     ///< solve phase: per solver tile, the number of its latest collision pass
   TiledColouring tiled_colouring_;          ///< solve phase: colours the solver tiles in parallel
   std::vector<Contact> coloured_contacts_;  ///< solve phase scratch: contacts_ before colour order
   std::vector<SolverBody> solver_bodies_;  ///< solve phase scratch: n bodies and a static one

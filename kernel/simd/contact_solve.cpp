@@ -178,17 +178,16 @@ namespace {
 
 template <FrictionWork kWork>
 bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                    std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                    std::uint32_t since) {
+                    std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
   constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
   const batch zero(0.0f), one(1.0f);
-  const index_batch changed_since(static_cast<std::int32_t>(since));
+  const index_batch changed_since(static_cast<std::int32_t>(pass));
   bool any = false;
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
     if (pass > 0) {
-      // Skip when no body of the batch changed since its previous evaluation (stamp >= since).
+      // Skip when no body of the batch changed in the previous pass or since (stamp >= pass).
       const index_batch sa = load_body_stamps(bodies, c.a + o), sb = load_body_stamps(bodies, c.b + o);
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
@@ -299,15 +298,15 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
 // (HAIL_WITH_ROTATION=OFF), where World never asks for them.
 bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                       std::uint32_t changed_since, FrictionWork work) {
+                       FrictionWork work) {
   switch (work) {
     case kNoFriction:
-      return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, changed_since);
+      return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
     case kLinearFriction:
-      return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, changed_since);
+      return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
     case kWithFriction: break;
   }
-  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, changed_since);
+  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
 }
 
 void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
