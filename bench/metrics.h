@@ -20,6 +20,11 @@ struct ErrorFigures {
   /// the run, where the two above are the end state alone.
   double worst_sphere_penetration = 0;
   double worst_static_penetration = 0;
+  /// m, each timed step's deepest such overlap, averaged over the timed steps: how deep
+  /// spheres typically go, where the worst is one moment of a chaotic run (so a comparison of
+  /// two solver variants is less at the mercy of a single impact).
+  double mean_step_sphere_penetration = 0;
+  double mean_step_static_penetration = 0;
   std::size_t nan_count = 0;
   double kinetic_energy = 0;           ///< J
 };

@@ -191,8 +191,10 @@ void print_report(const RunResult& r) {
                 r.swept, r.swept_meeting_spheres, r.sweep_events, r.sweep_capped);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
-  std::printf("  worst     penetration any timed step started from: %.4g m (spheres) %.4g m (ground and planes)\n",
-              e.worst_sphere_penetration, e.worst_static_penetration);
+  std::printf("  worst     penetration any timed step started from: %.4g m (spheres) %.4g m (ground and planes); "
+              "a step's deepest, mean: %.4g / %.4g m\n",
+              e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
+              e.mean_step_static_penetration);
   if (r.tunnelled_tracked)
     std::printf("  tunnel    %zu spheres were below the ground after some step (checked after every step)\n", e.tunnelled_ever);
   std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,

@@ -175,16 +175,20 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   const auto run_start = clock::now();
   std::vector<std::uint8_t> went_below;  // by SphereId index, for Scene::track_tunnelling
   double worst_sphere = 0.0, worst_static = 0.0;  // ErrorFigures::worst_*_penetration
+  double mean_sphere = 0.0, mean_static = 0.0;    // ErrorFigures::mean_step_*_penetration
   for (int k = 0; k < r.steps; ++k) {
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
     if (scene.track_tunnelling) mark_below_ground(scene, went_below);
     if (k >= r.warmup) {
+      double deepest_sphere = 0.0, deepest_static = 0.0;
       for (const Contact& c : world.last_contacts()) {  // untimed, like the tunnelling check
-        double& worst = c.b == kStaticBody ? worst_static : worst_sphere;
-        worst = std::max(worst, -static_cast<double>(c.gap));
+        double& deepest = c.b == kStaticBody ? deepest_static : deepest_sphere;
+        deepest = std::max(deepest, -static_cast<double>(c.gap));
       }
+      worst_sphere = std::max(worst_sphere, deepest_sphere), worst_static = std::max(worst_static, deepest_static);
+      mean_sphere += weight * deepest_sphere, mean_static += weight * deepest_static;
       add(r.phase_ms, world.last_phase_times(), weight);
       const StepStats& stats = world.last_step_stats();
       r.static_contacts += weight * double(stats.static_contacts);
@@ -215,6 +219,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.errors.tunnelled_ever = static_cast<std::size_t>(std::count(went_below.begin(), went_below.end(), std::uint8_t{1}));
   r.errors.worst_sphere_penetration = worst_sphere;
   r.errors.worst_static_penetration = worst_static;
+  r.errors.mean_step_sphere_penetration = mean_sphere;
+  r.errors.mean_step_static_penetration = mean_static;
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
   r.state_hash = hex_hash(world.state_hash());
@@ -246,6 +252,8 @@ nlohmann::json to_json(const RunResult& r) {
       {"max_terrain_penetration", e.max_terrain_penetration},
       {"worst_sphere_penetration", e.worst_sphere_penetration},
       {"worst_static_penetration", e.worst_static_penetration},
+      {"mean_step_sphere_penetration", e.mean_step_sphere_penetration},
+      {"mean_step_static_penetration", e.mean_step_static_penetration},
       {"tunnelled", e.tunnelled},
       {"tunnelled_ever", e.tunnelled_ever},
       {"fell_off", e.fell_off},
