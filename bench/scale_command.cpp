@@ -127,7 +127,8 @@ int scale_command(const std::vector<std::string>& args) {
   if (!csv) throw std::runtime_error("cannot write " + o.out_dir + "/scale.csv");
   csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
          "detect_terrain_ms,detect_pairs_ms,solve_ms,sweep_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
-         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_sphere\n";
+         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_sphere,"
+         "mean_step_sphere_penetration,mean_step_static_penetration\n";
   nlohmann::json runs = nlohmann::json::array();
   std::vector<std::vector<double>> ns_table(counts.size()), speedup_table(counts.size());  // [count][thread - 1]
   bool deterministic = true, finite = true;
@@ -175,7 +176,8 @@ int scale_command(const std::vector<std::string>& args) {
           << p.reorder << ',' << p.predict << ',' << p.detect_terrain << ',' << p.detect_pairs << ',' << p.solve << ','
           << p.sweep << ',' << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
           << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
-          << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << '\n';
+          << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << ',' << e.mean_step_sphere_penetration
+          << ',' << e.mean_step_static_penetration << '\n';
       csv.flush();
       const std::size_t row = static_cast<std::size_t>(&n - counts.data());
       ns_table[row].push_back(ns);
