@@ -22,7 +22,7 @@
 include(CMakePackageConfigHelpers)
 
 set(hail_install_cmakedir ${CMAKE_INSTALL_LIBDIR}/cmake/hail)
-# The folders whose headers make up the library (DESIGN.md's layout). bench/ and tests/ are not
+# The folders whose headers make up the library (docs/design.md's layout). bench/ and tests/ are not
 # installed; check_package.sh verifies that no installed header includes anything else.
 set(hail_install_header_dirs soa kernel jobs)
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks hail as an embedder sees it (README, "Embedding hail"); exits non-zero on any failure.
+# Checks hail as an embedder sees it (docs/embedding.md); exits non-zero on any failure.
 #
 #   scripts/check_package.sh [--full] [--fetchcontent] [BUILD_DIR]
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-measures the README's figures: terrain-rain at 1k/4k/16k/64k spheres on 1 and 2 threads,
+# Re-measures the figures of docs/benchmarks.md: terrain-rain at 1k/4k/16k/64k spheres on 1 and 2 threads,
 # and at 4k/64k on 1 thread with the AVX2 path forced (what the users' AVX2-only CPUs run; only
 # where this CPU has AVX2) (full 600 steps each, REPEATS rounds, default 3: each round runs every row once, so a slow
 # spell of a shared machine spreads over the rows instead of hitting one), the terrain query

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Compares the SIMD paths of one hail-bench binary on this machine (README, "SIMD paths"):
+# Compares the SIMD paths of one hail-bench binary on this machine (docs/simd.md):
 # terrain-rain with 4,000 spheres on 1 thread, each supported path R times (default 5), the
 # paths alternating run by run so that a drift in machine speed falls on all of them alike.
 # Prints each run's median ms/step and state hash, then per path the median of the runs'

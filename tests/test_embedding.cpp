@@ -1,4 +1,4 @@
-// What an embedder relies on (README, "Embedding hail"): the umbrella header, the version
+// What an embedder relies on (docs/embedding.md): the umbrella header, the version
 // macros, Terrain::raycast, a World inside the host's task_arena, zero-copy spans over the
 // sphere state, and the contacts of a step mapped back to sphere handles.
 

@@ -1,4 +1,4 @@
-// The cases with a known answer from shared/scenes/README.md (A bounce, B slide to roll,
+// The cases with a known answer from docs/scenes.md (A bounce, B slide to roll,
 // C head-on, D Newton's cradle), checked against their formulas.
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // SIMD dispatch (kernel/simd_dispatch.h): every kernel of every SIMD path this CPU supports
 // against its scalar reference, bit for bit, and a small scene's state hash on every path.
 // Paths the CPU lacks are skipped (run the suite under `qemu-x86_64 -cpu Nehalem` or
-// `-cpu Haswell` to exercise the narrower ones alone; README, "SIMD paths").
+// `-cpu Haswell` to exercise the narrower ones alone; docs/simd.md).
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // The public API of hail in one include: `#include <hail/hail.h>`, with hail::hail linked
-// (installed package, add_subdirectory or FetchContent; README, "Embedding hail").
+// (installed package, add_subdirectory or FetchContent; docs/embedding.md).
 //
 // What an embedder uses, and where it is documented:
 //   hail::World          kernel/world.h      spheres, planes, terrain; step(); spans over the
