@@ -1,5 +1,5 @@
 #pragma once
-// The cases with a known answer (shared/scenes/README.md A-D and the slope roll), each as an
+// The cases with a known answer (docs/scenes.md A-D and the slope roll), each as an
 // engine-neutral scene plus an observer that turns the frames it sees into one error figure.
 // `hail-bench accuracy` runs them for every engine and knob at several dt.
 

@@ -15,7 +15,7 @@
 namespace hail::bench {
 
 /// One sphere as the scene defines it. Materials are the *effective* values of the scene
-/// definitions (shared/scenes/README.md): each engine sets its per-body values so that its own
+/// definitions (docs/scenes.md): each engine sets its per-body values so that its own
 /// combination rule gives them.
 struct PeerSphere {
   Vec3 position{0, 0, 0}, velocity{0, 0, 0}, angular_velocity{0, 0, 0};

@@ -1,5 +1,5 @@
 #pragma once
-// The benchmark scenes of shared/scenes/README.md, built exactly as defined there so that runs
+// The benchmark scenes of docs/scenes.md, built exactly as defined there so that runs
 // compare with other engines' runs of the same scene.
 
 #include <functional>
