@@ -8,7 +8,7 @@
 #   <prefix>/lib/cmake/hail/hail{Config,ConfigVersion,Targets*}.cmake
 #   <prefix>/share/doc/hail/LICENSE
 #
-# A consumer writes find_package(hail 0.1 CONFIG REQUIRED) and links hail::hail; it gets the
+# A consumer writes find_package(hail 0.2 CONFIG REQUIRED) and links hail::hail; it gets the
 # include directories <prefix>/include (for <hail/hail.h>) and <prefix>/include/hail, C++20, and
 # oneTBB, xsimd and Eigen through find_dependency (hailConfig.cmake.in). It gets none of hail's
 # compile flags: hail_compile_options is linked privately, inside $<BUILD_INTERFACE:>.

@@ -11,7 +11,7 @@
 #     every include of an installed header resolves inside the installed tree or a dependency,
 #     all headers compile together against the prefix, no hail compile flag (-march, warnings,
 #     -ffp-contract) and no build or source path in the exported CMake files, and the version
-#     file accepts 0.1 / 0.1.0 and refuses 0.2 and 1.0.
+#     file accepts 0.2 / 0.2.0 and refuses 0.1, 0.3 and 1.0.
 #  3. Configures examples/ in a separate tree with find_package(hail CONFIG REQUIRED) against the
 #     moved prefix, builds it (its link line must not carry Debian's bogus -lxtl, nor its compile
 #     line -march) and runs it on a function heightmap and on data/'s SRTM DEM.
@@ -122,15 +122,15 @@ mkdir -p "$tmp/headers"
 (cd "$inc/hail" && find . -name '*.h' | sort | sed 's|^\./|#include "|; s|$|"|') > "$tmp/headers/all_headers.cpp"
 echo '#include <hail/hail.h>' >> "$tmp/headers/all_headers.cpp"
 step "compiling all $header_count installed headers in one file against the moved prefix"
-cmake -S "$tmp/headers" -B "$tmp/headers/build" -DCMAKE_PREFIX_PATH="$prefix" -DREQUEST=0.1 >/dev/null ||
-  fail "find_package(hail 0.1) failed"
+cmake -S "$tmp/headers" -B "$tmp/headers/build" -DCMAKE_PREFIX_PATH="$prefix" -DREQUEST=0.2 >/dev/null ||
+  fail "find_package(hail 0.2) failed"
 cmake --build "$tmp/headers/build" >/dev/null || fail "the installed headers do not compile on their own"
-for request in "0.1.0;EXACT" 0.2 1.0; do
+for request in "0.2.0;EXACT" 0.1 0.3 1.0; do
   if cmake -S "$tmp/headers" -B "$tmp/headers/v" -DCMAKE_PREFIX_PATH="$prefix" "-DREQUEST=$request" \
       >/dev/null 2>&1; then
-    [ "$request" = "0.1.0;EXACT" ] || fail "find_package(hail $request) accepted version 0.1.x"
+    [ "$request" = "0.2.0;EXACT" ] || fail "find_package(hail $request) accepted version 0.2.x"
   else
-    [ "$request" != "0.1.0;EXACT" ] || fail "find_package(hail 0.1.0 EXACT) refused"
+    [ "$request" != "0.2.0;EXACT" ] || fail "find_package(hail 0.2.0 EXACT) refused"
   fi
   rm -rf "$tmp/headers/v"
 done
