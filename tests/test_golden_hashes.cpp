@@ -1,0 +1,65 @@
+// Golden state hashes: a short run of every built-in scene pins its final state, on 1, 2 and 3
+// threads and on every SIMD path this CPU supports (as Box2D's test/test_determinism.c does).
+// A change that moves the physics shows up here as a failure, and is made deliberately by
+// updating one constant, with the reason in its commit. The constants are the same on every
+// x86-64 machine: each SIMD path is bitwise equal to the scalar reference (docs/simd.md), the
+// blocks a step is split into do not depend on the thread count, and the build pins
+// -ffp-contract=off.
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "bench/scenes.h"
+#include "bench/scene_run.h"
+#include "catch.h"
+#include "simd_paths.h"
+
+namespace {
+
+struct GoldenRun {
+  const char* scene;
+  std::size_t spheres;
+  int steps;
+  std::uint64_t hash;  ///< World::state_hash() after `steps` steps
+};
+
+// Small enough for the sanitizer stages (a few seconds in all), long enough that every scene's
+// spheres meet each other and the ground (terrain-rain's first layer falls from 13 m: it lands by step 100).
+constexpr GoldenRun kGoldenRuns[] = {
+    {"terrain-rain", 600, 150, 0x689b887950e09b5full},
+    {"terrain-rain-dem", 300, 150, 0xba15cb10ae15f3bfull},
+    {"bowl-pile", 400, 60, 0x212f7aeb8a75dda5ull},
+    {"bullets", 64, 30, 0x1b94ee13e51dcbcbull},
+    {"implosion", 512, 60, 0xe6c85878f9a315b4ull},
+};
+
+std::uint64_t run_hash(const GoldenRun& run, int threads) {
+  hail::bench::SceneParams params;
+  params.spheres = run.spheres;
+  params.threads = threads;
+  hail::bench::Scene scene = hail::bench::find_scene(run.scene).build(params);
+  for (int k = 0; k < run.steps; ++k) scene.world->step(scene.dt);
+  REQUIRE(scene.world->nan_count() == 0);
+  return scene.world->state_hash();
+}
+
+std::string hex(std::uint64_t h) {
+  char text[24];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+}  // namespace
+
+TEST_CASE("Every built-in scene ends in its golden state hash on 1-3 threads and every SIMD path", "[determinism][golden]") {
+  for (const GoldenRun& run : kGoldenRuns) {
+    for (hail::SimdPath path : hail::testing::supported_paths()) {
+      hail::testing::ScopedSimdPath scoped(path);
+      for (int threads : {1, 2, 3}) {
+        INFO(run.scene << ", " << run.spheres << " spheres, " << run.steps << " steps, " << threads << " threads, SIMD "
+                       << hail::simd_path_name(path));
+        CHECK(hex(run_hash(run, threads)) == hex(run.hash));
+      }
+    }
+  }
+}
