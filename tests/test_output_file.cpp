@@ -8,11 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "bench/accuracy_command.h"
 #include "bench/compare_command.h"
 #include "bench/gnuplot.h"
 #include "bench/output_file.h"
 #include "bench/run_command.h"
 #include "bench/run_program.h"
+#include "bench/scale_command.h"
 #include "bench/stress_command.h"
 #include "catch.h"
 
@@ -124,6 +126,11 @@ TEST_CASE("Output paths are checked before the run: missing folder, a folder, th
                  "two outputs name the same file"));
   CHECK_NOTHROW(bench::check_output_paths({(dir / "new.json").string(), "", "/dev/null", "/dev/null"}, {scene}));
   CHECK_THROWS_AS(bench::prepare_output_dir(scene), std::invalid_argument);  // a file where the folder should be
+  // accuracy and scale refuse such an --out before their runs (which take minutes at their defaults).
+  CHECK(contains(message_of<std::invalid_argument>([&] { bench::accuracy_command({"--out", scene}); }),
+                 "cannot create the output folder " + scene));
+  CHECK(contains(message_of<std::invalid_argument>([&] { bench::scale_command({"--out", scene}); }),
+                 "cannot create the output folder " + scene));
   CHECK_NOTHROW(bench::prepare_output_dir((dir / "made" / "here").string()));
   CHECK(fs::is_directory(dir / "made" / "here"));
   fs::remove_all(dir);
