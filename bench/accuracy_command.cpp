@@ -4,16 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 
 #include "accuracy_cases.h"
+#include "cli_args.h"
+#include "gnuplot.h"
 #include "machine_info.h"
 #include "metrics.h"
+#include "output_file.h"
 #include "peer_engine.h"
 #include "scenes.h"
 
@@ -54,53 +55,32 @@ struct Options {
   std::size_t scene_spheres = 1000;
   int repeats = 3;
   std::string out_dir = "hail-accuracy";
-  bool plot = true, scenes = true, quiet = false;
+  bool no_plot = false, no_scenes = false, quiet = false;
 };
 
-Options parse(const std::vector<std::string>& args) {
+/// Every flag of `hail-bench accuracy`, parsed by the shared ArgParser; nullopt after --help.
+std::optional<Options> parse(const std::vector<std::string>& args) {
   Options o;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    const std::string& flag = args[k];
-    auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) throw std::invalid_argument(flag + " needs a value");
-      return args[++k];
-    };
-    auto number = [&](const std::string& text) {
-      std::size_t used = 0;
-      double v = 0;
-      try {
-        v = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || !(v > 0)) throw std::invalid_argument(flag + " expects a positive number, got '" + text + "'");
-      return v;
-    };
-    if (flag == "--dt") {  // comma-separated, each a number or 1/N
-      o.dts.clear();
-      std::string list = value();
-      for (std::size_t start = 0; start <= list.size();) {
-        const std::size_t end = std::min(list.find(',', start), list.size());
-        const std::string item = list.substr(start, end - start);
-        o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / number(item.substr(2)) : number(item));
-        start = end + 1;
-      }
-    } else if (flag == "--spheres") {
-      o.scene_spheres = static_cast<std::size_t>(number(value()));
-    } else if (flag == "--repeats") {
-      o.repeats = static_cast<int>(number(value()));
-    } else if (flag == "--out") {
-      o.out_dir = value();
-    } else if (flag == "--no-plot") {
-      o.plot = false;
-    } else if (flag == "--no-scenes") {
-      o.scenes = false;
-    } else if (flag == "--quiet") {
-      o.quiet = true;
-    } else {
-      throw std::invalid_argument("unknown option '" + flag + "' (see hail-bench --help)");
-    }
-  }
+  ArgParser parser("accuracy", "error against wall time: known-answer cases and two scenes, for hail's knobs and the peers");
+  parser
+      .custom("--dt", "LIST", "time steps, comma-separated, each a number or 1/N in (0, 1] (default 1/60,1/240,1/1000)",
+              [&](const std::string& list) {
+                o.dts.clear();
+                for (std::size_t start = 0; start <= list.size();) {
+                  const std::size_t end = std::min(list.find(',', start), list.size());
+                  const std::string item = list.substr(start, end - start);
+                  o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / parse_real("--dt 1/N", item.substr(2), 1.0, 1e9)
+                                                           : parse_real("--dt", item, 0.0, 1.0, /*exclude_min=*/true));
+                  start = end + 1;
+                }
+              })
+      .count("--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases")
+      .count("--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported")
+      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-accuracy)")
+      .flag("--no-plot", o.no_plot, "no gnuplot SVGs")
+      .flag("--no-scenes", o.no_scenes, "the known-answer cases only")
+      .flag("--quiet", o.quiet, "no progress lines on stderr");
+  if (!parser.parse(args)) return std::nullopt;
   return o;
 }
 
@@ -167,6 +147,7 @@ std::pair<std::vector<PeerState>, double> run_scene_for(const PeerScene& scene, 
 }
 
 double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
@@ -198,8 +179,10 @@ do for [c=1:words(CASES)] {
 }  // namespace
 
 int accuracy_command(const std::vector<std::string>& args) {
-  const Options o = parse(args);
-  std::filesystem::create_directories(o.out_dir);
+  const std::optional<Options> parsed = parse(args);
+  if (!parsed) return 0;  // --help
+  const Options& o = *parsed;
+  prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end
   const std::vector<Variant> vs = variants();
   std::vector<Row> rows;
   std::printf("hail-bench accuracy: error against wall time (%s, %s); median wall time of %d runs\n",
@@ -223,7 +206,7 @@ int accuracy_command(const std::vector<std::string>& args) {
     }
   }
 
-  if (o.scenes) {
+  if (!o.no_scenes) {
     // No exact answer: compare with hail at dt / 16 after 1 s (RMS of positions over spheres).
     SceneParams params;
     params.spheres = o.scene_spheres;
@@ -269,16 +252,18 @@ int accuracy_command(const std::vector<std::string>& args) {
   }
 
   nlohmann::json runs = nlohmann::json::array();
-  std::ofstream csv(o.out_dir + "/accuracy.csv");
-  csv << "case,engine,dt,error,wall_ms,note\n";
-  for (const Row& r : rows) {
-    csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ",\"" << r.note << "\"\n";
+  write_file_atomically(o.out_dir + "/accuracy.csv", [&](std::ostream& csv) {
+    csv << "case,engine,dt,error,wall_ms,note\n";
+    for (const Row& r : rows)
+      csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ",\"" << r.note << "\"\n";
+  });
+  for (const Row& r : rows)
     runs.push_back({{"case", r.what}, {"engine", r.variant}, {"dt", r.dt}, {"error", r.error}, {"wall_ms", r.wall_ms}, {"note", r.note}});
-  }
-  std::ofstream(o.out_dir + "/accuracy.json")
-      << nlohmann::json{{"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}}}, {"runs", runs}}.dump(2) << "\n";
+  write_file_atomically(o.out_dir + "/accuracy.json", [&](std::ostream& out) {
+    out << nlohmann::json{{"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}}}, {"runs", runs}}.dump(2) << "\n";
+  });
   std::printf("  data: %s/accuracy.csv, %s/accuracy.json\n", o.out_dir.c_str(), o.out_dir.c_str());
-  if (!o.plot) return 0;
+  if (o.no_plot) return 0;
 
   std::vector<std::string> case_names, variant_names;
   for (const Row& r : rows) {
@@ -288,24 +273,21 @@ int accuracy_command(const std::vector<std::string>& args) {
   std::string cases_word, variants_word;
   for (const std::string& c : case_names) {
     cases_word += (cases_word.empty() ? "" : " ") + c;
-    std::ofstream dat(o.out_dir + "/accuracy_" + c + ".dat");
-    for (const std::string& v : variant_names) {  // one block per variant, two blank lines apart (gnuplot's index)
-      dat << "# " << v << ": wall_ms error\n";
-      for (const Row& r : rows)
-        if (r.what == c && r.variant == v) dat << r.wall_ms << ' ' << std::max(r.error, 1e-9) << '\n';
-      dat << "\n\n";
-    }
+    write_file_atomically(o.out_dir + "/accuracy_" + c + ".dat", [&](std::ostream& dat) {
+      for (const std::string& v : variant_names) {  // one block per variant, two blank lines apart (gnuplot's index)
+        dat << "# " << v << ": wall_ms error\n";
+        for (const Row& r : rows)
+          if (r.what == c && r.variant == v) dat << r.wall_ms << ' ' << std::max(r.error, 1e-9) << '\n';
+        dat << "\n\n";
+      }
+    });
   }
   for (const std::string& v : variant_names) variants_word += (variants_word.empty() ? "" : " ") + v;
-  std::ofstream(o.out_dir + "/accuracy.gp") << kGnuplotScript;
-  const std::string command = "cd '" + o.out_dir + "' && gnuplot -e \"CASES='" + cases_word + "'; VARIANTS='" +
-                              variants_word + "'; MACHINE='" + cpu_model() + "'\" accuracy.gp";
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
-    std::printf("  plots: gnuplot not found (sudo apt-get install gnuplot-nox); data and accuracy.gp are in %s/\n", o.out_dir.c_str());
-  else if (std::system(command.c_str()) != 0)
-    std::printf("  plots: gnuplot failed; run it by hand: %s\n", command.c_str());
-  else
-    std::printf("  plots: %s/accuracy_<case>.svg (one per case)\n", o.out_dir.c_str());
+  write_file_atomically(o.out_dir + "/accuracy.gp", [](std::ostream& gp) { gp << kGnuplotScript; });
+  plot_with_gnuplot(o.out_dir, "accuracy.gp",
+                    "CASES=" + gnuplot_string(cases_word) + "; VARIANTS=" + gnuplot_string(variants_word) +
+                        "; MACHINE=" + gnuplot_string(cpu_model()),
+                    o.out_dir + "/accuracy_<case>.svg (one per case)");
   return 0;
 }
 

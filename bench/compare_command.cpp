@@ -4,15 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
+#include "cli_args.h"
 #include "kernel/terrain.h"
 #include "machine_info.h"
 #include "metrics.h"
+#include "output_file.h"
 #include "peer_engine.h"
 #include "peer_engine_bullet.h"
 #include "scene_run.h"
@@ -29,50 +31,18 @@ struct CompareOptions {
   bool quiet = false;
 };
 
-[[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
-
-double parse_number(const std::string& flag, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used != text.size()) throw std::invalid_argument("trailing characters");
-    return value;
-  } catch (const std::exception&) {
-    usage_error(flag + " expects a number, got '" + text + "'");
-  }
-}
-
-CompareOptions parse(const std::vector<std::string>& args) {
+/// Every flag of `hail-bench compare`, parsed by the shared ArgParser; nullopt after --help.
+std::optional<CompareOptions> parse(const std::vector<std::string>& args) {
   CompareOptions o;
-  std::size_t k = 0;
-  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++];
-  for (; k < args.size(); ++k) {
-    const std::string& flag = args[k];
-    auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) usage_error(flag + " needs a value");
-      return args[++k];
-    };
-    if (flag == "--spheres") {
-      const double n = parse_number(flag, value());
-      if (!(n >= 1 && n <= 1e7)) usage_error("--spheres must be in [1, 1e7]");
-      o.params.spheres = static_cast<std::size_t>(n);
-    } else if (flag == "--threads") {
-      o.params.threads = static_cast<int>(parse_number(flag, value()));
-      if (o.params.threads < 0) usage_error("--threads must be >= 0 (0 = all)");
-    } else if (flag == "--steps") {
-      o.steps = static_cast<int>(parse_number(flag, value()));
-      if (o.steps < 1) usage_error("--steps must be >= 1");
-    } else if (flag == "--repeat") {
-      o.repeat = static_cast<int>(parse_number(flag, value()));
-      if (o.repeat < 1 || o.repeat > 1000) usage_error("--repeat must be in [1, 1000]");
-    } else if (flag == "--json") {
-      o.json_path = value();
-    } else if (flag == "--quiet") {
-      o.quiet = true;
-    } else {
-      usage_error("unknown option '" + flag + "' for compare (see hail-bench --help)");
-    }
-  }
+  ArgParser parser("compare", "hail and Bullet (if built in) on the identical scene, R runs each alternating ABBA: one table");
+  parser.positional("scene", o.scene, "a built-in scene (default terrain-rain)")
+      .count("--spheres", o.params.spheres, 1, 10'000'000, "sphere count")
+      .count("--threads", o.params.threads, 0, 4096, "hail's worker threads (0: all; Bullet runs on one)")
+      .count("--steps", o.steps, 1, 100'000'000, "steps (default: the scene's)")
+      .count("--repeat", o.repeat, 1, 1000, "runs of each engine (default 3)")
+      .text("--json", o.json_path, "FILE", "every figure as JSON")
+      .flag("--quiet", o.quiet, "no progress lines on stderr");
+  if (!parser.parse(args)) return std::nullopt;
   return o;
 }
 
@@ -188,7 +158,10 @@ std::string format_runs(const std::vector<double>& v) {
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
-  const CompareOptions o = parse(args);
+  const std::optional<CompareOptions> parsed = parse(args);
+  if (!parsed) return 0;  // --help
+  const CompareOptions& o = *parsed;
+  check_output_paths({o.json_path});
   const SceneEntry& entry = find_scene(o.scene);
   const Scene scene = entry.build(o.params);
   const PeerScene peer = peer_scene_from(scene, o.scene);
@@ -315,9 +288,7 @@ int compare_command(const std::vector<std::string>& args) {
         {"kinetic_energy_start", start_energy},
         {"engines", engines},
         {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"flags", build_flags()}}}};
-    std::ofstream out(o.json_path);
-    if (!out) throw std::runtime_error("cannot write " + o.json_path);
-    out << out_json.dump(2) << "\n";
+    write_file_atomically(o.json_path, [&](std::ostream& out) { out << out_json.dump(2) << "\n"; });
   }
   return contenders[0].errors.nan_spheres == 0 ? 0 : 3;
 }

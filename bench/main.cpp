@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ void print_help() {
       "\n"
       "  --simd PATH  (any command) run the SIMD kernels of PATH instead of the widest this CPU supports;\n"
       "               overrides the HAIL_SIMD environment variable; a path this CPU lacks is an error\n"
+      "  hail-bench <command> --help  lists that command's options with the range each accepts\n"
+      "  exit status: 2 for a bad command line (an unknown option, a count not a whole number in range,\n"
+      "               an output that cannot be written or would overwrite an input), 1 if a run or a write\n"
+      "               failed, 3 if a run ended with NaN (stress: 1 if a case failed)\n"
       "\n"
       "commands:\n"
       "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--pairs auto|brute|grid|sweep|bvh] [--warm-start on|off|FACTOR] [--resting N] [--tile N] [--ccd on|off|both] [--rotation on|off] [--repeat R] [--json FILE] [--trace FILE] [--memory-limit GB] [--quiet]\n"
@@ -108,11 +113,11 @@ int main(int argc, char** argv) {
     if (args[0] == "bvh-build") return hail::bench::bvh_build_command(rest);
     std::fprintf(stderr, "hail-bench: unknown command '%s' (try --help)\n", args[0].c_str());
     return 2;
-  } catch (const hail::InvalidArgument& e) {
+  } catch (const std::invalid_argument& e) {  // hail::InvalidArgument too: a bad command line or input
     std::fprintf(stderr, "hail-bench: %s\n", e.what());
     return 2;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // a run or a write that failed
     std::fprintf(stderr, "hail-bench: %s\n", e.what());
-    return 2;
+    return 1;
   }
 }

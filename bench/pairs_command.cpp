@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli_args.h"
 #include "kernel/spatial_order.h"
 #include "kernel/sphere_bvh_pairs.h"
 #include "kernel/sphere_grid.h"
@@ -104,21 +105,17 @@ std::uint64_t hash_pairs(const std::vector<SpherePair>& pairs) {
   return h;
 }
 
-int parse_int(const std::vector<std::string>& args, const char* flag, int fallback) {
-  for (std::size_t k = 0; k + 1 < args.size(); ++k)
-    if (args[k] == flag) return std::stoi(args[k + 1]);
-  return fallback;
-}
-
 enum Method { kBrute, kGrid, kSweep, kBvh, kMethods };
 constexpr const char* kMethodNames[kMethods] = {"brute force SIMD", "grid", "sort and sweep", "sphere BVH"};
 
 }  // namespace
 
 int pairs_command(const std::vector<std::string>& args) {
-  const int max_n = parse_int(args, "--max", 64000);
-  const int repeats = parse_int(args, "--repeats", 5);
-  if (max_n < 1 || repeats < 1) throw std::invalid_argument("--max and --repeats must be >= 1");
+  int max_n = 64000, repeats = 5;
+  ArgParser parser("pairs", "sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix");
+  parser.count("--max", max_n, 1, 10'000'000, "the largest sphere count (default 64000)")
+      .count("--repeats", repeats, 1, 1000, "timed repeats; the median is reported (default 5)");
+  if (!parser.parse(args)) return 0;  // --help
 
   std::printf("hail-bench pairs: sphere-sphere pair search, build + find_pairs over all rows, 1 thread, median of %d\n", repeats);
   std::printf("  random piles at volume fraction %.2f (fixed seeds), margin %.2f; slot order as generated (random)\n"

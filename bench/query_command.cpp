@@ -7,8 +7,10 @@
 #include <random>
 #include <stdexcept>
 
+#include "cli_args.h"
 #include "kernel/bvh_build.h"
 #include "kernel/flat_bvh.h"
+#include "kernel/flat_node.h"
 #include "kernel/heightmap.h"
 #include "kernel/morton.h"
 #include "kernel/simd_kernels.h"
@@ -87,19 +89,15 @@ std::vector<Sphere> morton_sorted(std::vector<Sphere> spheres, const Aabb& bound
   return sorted;
 }
 
-int parse_int(const std::vector<std::string>& args, const char* flag, int fallback) {
-  for (std::size_t k = 0; k + 1 < args.size(); ++k)
-    if (args[k] == flag) return std::stoi(args[k + 1]);
-  return fallback;
-}
-
 }  // namespace
 
 int query_command(const std::vector<std::string>& args) {
-  const int count = parse_int(args, "--queries", 100000);
-  const int leaf = parse_int(args, "--leaf", static_cast<int>(Terrain::kDefaultLeafSize));
-  const int repeats = parse_int(args, "--repeats", 5);
-  if (count < 1 || repeats < 1) throw std::invalid_argument("--queries and --repeats must be >= 1");
+  int count = 100000, leaf = static_cast<int>(Terrain::kDefaultLeafSize), repeats = 5;
+  ArgParser parser("query", "terrain query microbenchmark: BVH walks (stackless, fixed stack, packet), grid lookup, brute force");
+  parser.count("--queries", count, 1, 100'000'000, "spheres queried (default 100000)")
+      .count("--leaf", leaf, 1, kMaxLeafSize, "triangles per BVH leaf (default the terrain's)")
+      .count("--repeats", repeats, 1, 1000, "timed repeats; the median is reported (default 5)");
+  if (!parser.parse(args)) return 0;  // --help
   const Heightmap map = Heightmap::from_function(256, 256, {}, rain_height);
   const TerrainTriangles grid_order = build_terrain_triangles(map);
   const std::vector<Aabb> bounds = triangle_bounds(grid_order);
@@ -217,7 +215,10 @@ int query_command(const std::vector<std::string>& args) {
 }
 
 int bvh_build_command(const std::vector<std::string>& args) {
-  const int max_side = parse_int(args, "--max-side", 1024);
+  int max_side = 1024;
+  ArgParser parser("bvh-build", "BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps");
+  parser.count("--max-side", max_side, 1, 65536, "the largest heightmap side built (default 1024; 4096 takes about 2 GB)");
+  if (!parser.parse(args)) return 0;  // --help
   std::printf("hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
               Terrain::kDefaultLeafSize);
   std::printf("  %-12s %12s %12s %12s %12s\n", "vertices", "triangles", "nodes", "median s", "binned SAH s");

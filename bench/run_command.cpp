@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 
+#include "cli_args.h"
 #include "machine_info.h"
 #include "memory_use.h"
+#include "output_file.h"
 #include "scene_file.h"
 #include "scene_run.h"
 
@@ -32,100 +36,66 @@ struct CommandOptions {
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
 
-template <class T>
-T parse_number(const std::string& flag, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used != text.size()) throw std::invalid_argument("trailing characters");
-    return static_cast<T>(value);
-  } catch (const std::exception&) {
-    usage_error(flag + " expects a number, got '" + text + "'");
-  }
-}
-
-CommandOptions parse(const std::vector<std::string>& args) {
+/// Every flag of `hail-bench run`, parsed by the shared ArgParser; nullopt after --help.
+std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
   CommandOptions o;
-  std::size_t k = 0;
-  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++], o.scene_named = true;
-  for (; k < args.size(); ++k) {
-    const std::string& flag = args[k];
-    o.given.push_back(flag);
-    auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) usage_error(flag + " needs a value");
-      return args[++k];
-    };
-    if (flag == "--spheres") {
-      const double n = parse_number<double>(flag, value());
-      if (!(n >= 1 && n <= 1e8)) usage_error("--spheres must be in [1, 1e8]");
-      o.params.spheres = static_cast<std::size_t>(n);
-    } else if (flag == "--steps") {
-      o.steps = parse_number<int>(flag, value());
-      if (o.steps < 1) usage_error("--steps must be >= 1");
-    } else if (flag == "--threads") {
-      o.params.threads = parse_number<int>(flag, value());
-      if (o.params.threads < 0) usage_error("--threads must be >= 0 (0 = all)");
-    } else if (flag == "--dt") {
-      o.params.dt = parse_number<float>(flag, value());
-      if (!(o.params.dt > 0 && o.params.dt < 10)) usage_error("--dt must be in (0, 10) s");
-    } else if (flag == "--reorder") {
-      o.params.reorder_interval = parse_number<int>(flag, value());
-      if (o.params.reorder_interval < 0) usage_error("--reorder must be >= 0 (steps between Morton re-sorts; 0 = never)");
-    } else if (flag == "--trace") {
-      o.trace_path = value();
-    } else if (flag == "--resting") {
-      o.params.resting_iterations = parse_number<int>(flag, value());
-      if (o.params.resting_iterations < 0) usage_error("--resting must be >= 0 (resting-contact passes per step)");
-    } else if (flag == "--tile") {
-      const double n = parse_number<double>(flag, value());
-      if (!(n == 0 || (n >= kMinSolverTileSpheres && n <= 1e8)))
-        usage_error("--tile must be 0 (no solver tiles) or spheres per tile in [" + std::to_string(kMinSolverTileSpheres) +
-                    ", 1e8]");
-      o.params.solver_tile_spheres = static_cast<std::size_t>(n);
-    } else if (flag == "--warm-start") {
-      const std::string& v = value();
-      if (v == "on" || v == "off") {
-        o.params.warm_start = v == "on";
-      } else {
-        o.params.warm_start_factor = parse_number<float>(flag, v);
-        if (!(o.params.warm_start_factor >= 0 && o.params.warm_start_factor <= 1))
-          usage_error("--warm-start must be on, off or a factor in [0, 1], got '" + v + "'");
-      }
-    } else if (flag == "--pairs") {
-      const std::string& name = value();
-      const std::pair<const char*, PairSearch> names[] = {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
-                                                          {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
-                                                          {"bvh", PairSearch::Bvh}};
-      const auto it = std::find_if(std::begin(names), std::end(names), [&](const auto& n) { return name == n.first; });
-      if (it == std::end(names)) usage_error("--pairs must be auto, brute, grid, sweep or bvh, got '" + name + "'");
-      o.params.pair_search = it->second;
-    } else if (flag == "--json") {
-      o.json_path = value();
-    } else if (flag == "--quiet") {
-      o.quiet = true;
-    } else if (flag == "--ccd") {
-      const std::string& v = value();
-      if (v != "on" && v != "off" && v != "both") usage_error("--ccd must be on, off or both, got '" + v + "'");
-      o.params.continuous_collision = v != "off";
-      o.ccd_both = v == "both";
-    } else if (flag == "--rotation") {
-      const std::string& v = value();
-      if (v != "on" && v != "off") usage_error("--rotation must be on or off, got '" + v + "'");
-      o.params.rotation = v == "on";
-    } else if (flag == "--repeat") {
-      o.repeat = parse_number<int>(flag, value());
-      if (o.repeat < 1 || o.repeat > 1000) usage_error("--repeat must be in [1, 1000]");
-    } else if (flag == "--scene") {
-      o.scene_file = value();
-    } else if (flag == "--dump-state") {
-      o.dump_state_path = value();
-    } else if (flag == "--memory-limit") {
-      o.memory_limit_gb = parse_number<double>(flag, value());
-      if (!(o.memory_limit_gb >= 0.0)) usage_error("--memory-limit must be >= 0 GB (0: no limit)");
-    } else {
-      usage_error("unknown option '" + flag + "' (see hail-bench --help)");
-    }
-  }
+  SceneParams& p = o.params;
+  ArgParser parser("run", "step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
+  parser.positional("scene", o.scene, "a built-in scene (hail-bench --help lists them; default implosion)")
+      .text("--scene", o.scene_file, "FILE.json", "a scene file (docs/scene_format.md); flags given override its values")
+      .count("--spheres", p.spheres, 1, 100'000'000, "sphere count")
+      .count("--steps", o.steps, 1, 100'000'000, "steps (default: the scene's)")
+      .count("--threads", p.threads, 0, 4096, "worker threads (0: all)")
+      .number("--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true)
+      .count("--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)")
+      .count("--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step")
+      .custom("--tile", "N", "spheres per solver tile: 0 (no tiles) or in [" + std::to_string(kMinSolverTileSpheres) + ", 100000000]",
+              [&](const std::string& v) {
+                const long long n = parse_count("--tile", v, 0, 100'000'000);
+                if (n != 0 && n < static_cast<long long>(kMinSolverTileSpheres))
+                  usage_error("--tile must be 0 (no solver tiles) or a whole number in [" + std::to_string(kMinSolverTileSpheres) +
+                              ", 100000000], got '" + v + "'");
+                p.solver_tile_spheres = static_cast<std::size_t>(n);
+              })
+      .custom("--warm-start", "on|off|FACTOR", "warm starting; a factor in [0, 1] turns it on with that factor",
+              [&](const std::string& v) {
+                if (v == "on" || v == "off") p.warm_start = v == "on";
+                else try {
+                    p.warm_start_factor = static_cast<float>(parse_real("--warm-start", v, 0.0, 1.0));
+                  } catch (const std::invalid_argument&) {
+                    usage_error("--warm-start must be on, off or a factor in [0, 1], got '" + v + "'");
+                  }
+              })
+      .custom("--pairs", "auto|brute|grid|sweep|bvh", "the sphere-pair search", [&](const std::string& v) {
+        const std::pair<const char*, PairSearch> names[] = {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
+                                                            {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
+                                                            {"bvh", PairSearch::Bvh}};
+        const auto it = std::find_if(std::begin(names), std::end(names), [&](const auto& n) { return v == n.first; });
+        if (it == std::end(names)) usage_error("--pairs must be auto, brute, grid, sweep or bvh, got '" + v + "'");
+        p.pair_search = it->second;
+      })
+      .custom("--ccd", "on|off|both", "continuous collision; both: alternate runs with it on and off, one table",
+              [&](const std::string& v) {
+                if (v != "on" && v != "off" && v != "both") usage_error("--ccd must be on, off or both, got '" + v + "'");
+                p.continuous_collision = v != "off";
+                o.ccd_both = v == "both";
+              })
+      .custom("--rotation", "on|off", "off: spheres never spin (WorldSettings::rotation)", [&](const std::string& v) {
+        if (v != "on" && v != "off") usage_error("--rotation must be on or off, got '" + v + "'");
+        p.rotation = v == "on";
+      })
+      .count("--repeat", o.repeat, 1, 1000, "runs (default 1; 3 with --ccd both)")
+      .text("--json", o.json_path, "FILE", "every figure of the (last) run as JSON")
+      .text("--trace", o.trace_path, "FILE", "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
+      .text("--dump-state", o.dump_state_path, "FILE.csv", "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
+      .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+              "GB; a sphere count over it is refused before anything is built (default 80% of the memory available; 0: none)")
+      .flag("--quiet", o.quiet, "no progress lines on stderr");
+  if (!parser.parse(args)) return std::nullopt;
+  for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
+                           "--rotation", "--warm-start"})
+    if (parser.given(flag)) o.given.emplace_back(flag);
+  o.scene_named = parser.given("scene");
   if (o.scene_named && !o.scene_file.empty())
     usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   return o;
@@ -152,6 +122,22 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   return v;
 }
 
+
+/// The files a scene file reads: itself and, where it names one, its heightmap (relative to its
+/// folder), so that no output overwrites them. A file that does not parse is left for the scene
+/// loader to report.
+std::vector<std::string> scene_inputs(const std::string& scene_file) {
+  if (scene_file.empty()) return {};
+  std::vector<std::string> inputs{scene_file};
+  std::ifstream in(scene_file, std::ios::binary);
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+  if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object()) {
+    const nlohmann::json& terrain = doc["terrain"];
+    if (terrain.contains("heightmap") && terrain["heightmap"].is_string())
+      inputs.push_back((std::filesystem::path(scene_file).parent_path() / terrain["heightmap"].get<std::string>()).string());
+  }
+  return inputs;
+}
 
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
@@ -252,9 +238,8 @@ int run_both(const CommandOptions& o) {
     nlohmann::json runs = nlohmann::json::array();
     for (const RunResult& r : on) runs.push_back(to_json(r));
     for (const RunResult& r : off) runs.push_back(to_json(r));
-    std::ofstream out(o.json_path);
-    if (!out) throw std::runtime_error("cannot write " + o.json_path);
-    out << nlohmann::json{{"runs", runs}, {"ratio_on_off", median_of(medians(on)) / median_of(medians(off))}}.dump(2) << "\n";
+    const nlohmann::json out = {{"runs", runs}, {"ratio_on_off", median_of(medians(on)) / median_of(medians(off))}};
+    write_file_atomically(o.json_path, [&](std::ostream& file) { file << out.dump(2) << "\n"; });
   }
   return a.errors.nan_count == 0 && b.errors.nan_count == 0 ? 0 : 3;
 }
@@ -275,7 +260,12 @@ void check_memory(const CommandOptions& o) {
 }
 
 int run_command(const std::vector<std::string>& args) {
-  const CommandOptions o = parse(args);
+  const std::optional<CommandOptions> parsed = parse(args);
+  if (!parsed) return 0;  // --help
+  const CommandOptions& o = *parsed;
+  // Before anything is built: an output that cannot be written, or that would overwrite the
+  // scene file (or its heightmap) or another output, stops the run now rather than at its end.
+  check_output_paths({o.json_path, o.trace_path, o.dump_state_path}, scene_inputs(o.scene_file));
   check_memory(o);
   if (o.ccd_both) return run_both(o);
   const int repeat = o.repeat > 0 ? o.repeat : 1;
@@ -297,9 +287,7 @@ int run_command(const std::vector<std::string>& args) {
   if (!o.trace_path.empty())
     std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n", o.trace_path.c_str());
   if (!o.json_path.empty()) {
-    std::ofstream out(o.json_path);
-    if (!out) throw std::runtime_error("cannot write " + o.json_path);
-    out << to_json(r).dump(2) << "\n";
+    write_file_atomically(o.json_path, [&](std::ostream& file) { file << to_json(r).dump(2) << "\n"; });
   }
   return r.errors.nan_count == 0 ? 0 : 3;
 }

@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
+#include "cli_args.h"
+#include "gnuplot.h"
 #include "machine_info.h"
 #include "memory_use.h"
+#include "output_file.h"
 #include "scene_run.h"
 
 namespace hail::bench {
@@ -30,53 +31,28 @@ struct ScaleOptions {
   int max_threads = 0;  // 0: hardware threads
   int steps = 300;
   std::string out_dir = "hail-scale";
-  bool plot = true;
+  bool no_plot = false;
   double memory_limit_gb = -1.0;  // < 0: 80% of the memory available at start; 0: no limit
 };
 
-double parse_double(const std::string& flag, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  throw std::invalid_argument(flag + " expects a number, got '" + text + "'");
-}
-
-ScaleOptions parse(const std::vector<std::string>& args) {
+/// Every flag of `hail-bench scale`, parsed by the shared ArgParser; nullopt after --help.
+std::optional<ScaleOptions> parse(const std::vector<std::string>& args) {
   ScaleOptions o;
-  std::size_t k = 0;
-  if (k < args.size() && args[k].rfind("--", 0) != 0) o.scene = args[k++];
-  for (; k < args.size(); ++k) {
-    const std::string& flag = args[k];
-    auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) throw std::invalid_argument(flag + " needs a value");
-      return args[++k];
-    };
-    if (flag == "--min" || flag == "--max") {
-      const double n = parse_double(flag, value());
-      if (!(n >= 1 && n <= kMaxSpheres))
-        throw std::invalid_argument(flag + " must be in [1, 8388608] spheres (about 1 KB each)");
-      (flag == "--min" ? o.min_spheres : o.max_spheres) = static_cast<std::size_t>(n);
-    } else if (flag == "--threads") {
-      o.max_threads = static_cast<int>(parse_double(flag, value()));
-      if (o.max_threads < 0) throw std::invalid_argument("--threads must be >= 0 (0 = hardware threads)");
-    } else if (flag == "--steps") {
-      o.steps = static_cast<int>(parse_double(flag, value()));
-      if (o.steps < 1) throw std::invalid_argument("--steps must be >= 1");
-    } else if (flag == "--out") {
-      o.out_dir = value();
-    } else if (flag == "--memory-limit") {
-      o.memory_limit_gb = parse_double(flag, value());
-      if (!(o.memory_limit_gb >= 0.0)) throw std::invalid_argument("--memory-limit must be >= 0 GB (0: no limit)");
-    } else if (flag == "--no-plot") {
-      o.plot = false;
-    } else {
-      throw std::invalid_argument("unknown option '" + flag + "' (see hail-bench --help)");
-    }
-  }
-  if (o.min_spheres > o.max_spheres) throw std::invalid_argument("--min must not exceed --max");
+  constexpr long long kMax = static_cast<long long>(kMaxSpheres);
+  ArgParser parser("scale", "the scene at doubling sphere counts on 1..T threads: table, CSV, JSON and gnuplot SVGs");
+  parser.positional("scene", o.scene, "a built-in scene (default terrain-rain)")
+      .count("--min", o.min_spheres, 1, kMax, "the smallest sphere count (default 1000)")
+      .count("--max", o.max_spheres, 1, kMax, "the largest sphere count (default 256000)")
+      .count("--threads", o.max_threads, 0, 4096, "the most threads (0: the hardware's)")
+      .count("--steps", o.steps, 1, 100'000'000, "steps of each run (default 300)")
+      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-scale)")
+      .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+              "GB; a count whose estimate exceeds it is not started (default 80% of the memory available; 0: none)")
+      .flag("--no-plot", o.no_plot, "no gnuplot SVGs");
+  if (!parser.parse(args)) return std::nullopt;
+  if (o.min_spheres > o.max_spheres)
+    throw std::invalid_argument("--min (" + std::to_string(o.min_spheres) + ") must not exceed --max (" +
+                                std::to_string(o.max_spheres) + ")");
   if (o.max_threads == 0) o.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return o;
 }
@@ -103,9 +79,11 @@ plot for [k=1:COUNTS] 'speedup.dat' using 1:(column(k + 1)) with linespoints tit
 }  // namespace
 
 int scale_command(const std::vector<std::string>& args) {
-  const ScaleOptions o = parse(args);
+  const std::optional<ScaleOptions> parsed = parse(args);
+  if (!parsed) return 0;  // --help
+  const ScaleOptions& o = *parsed;
   const SceneEntry& entry = find_scene(o.scene);
-  std::filesystem::create_directories(o.out_dir);
+  prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end
   std::vector<std::size_t> counts;
   for (std::size_t n = o.min_spheres; n <= o.max_spheres; n *= 2) counts.push_back(n);
 
@@ -123,8 +101,10 @@ int scale_command(const std::vector<std::string>& args) {
               "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
               "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");
 
-  std::ofstream csv(o.out_dir + "/scale.csv");
-  if (!csv) throw std::runtime_error("cannot write " + o.out_dir + "/scale.csv");
+  // Written row by row (flushed and checked after each, so that a full disk stops the runs
+  // early) into a temporary that replaces scale.csv when every row is in.
+  AtomicOutputFile csv_file(o.out_dir + "/scale.csv");
+  std::ostream& csv = csv_file.stream();
   csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
          "detect_terrain_ms,detect_pairs_ms,solve_ms,sweep_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
          "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_sphere,"
@@ -178,7 +158,7 @@ int scale_command(const std::vector<std::string>& args) {
           << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
           << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << ',' << e.mean_step_sphere_penetration
           << ',' << e.mean_step_static_penetration << '\n';
-      csv.flush();
+      csv_file.flush();
       const std::size_t row = static_cast<std::size_t>(&n - counts.data());
       ns_table[row].push_back(ns);
       speedup_table[row].push_back(speedup);
@@ -188,20 +168,23 @@ int scale_command(const std::vector<std::string>& args) {
     }
   }
   counts.resize(counts_run);  // the counts the memory limit left out have no rows
-  std::ofstream(o.out_dir + "/scale.json") << nlohmann::json{{"scene", o.scene}, {"memory_limit_bytes", limit_bytes}, {"runs", runs}}.dump(2)
-                                           << "\n";
+  csv_file.commit();
+  write_file_atomically(o.out_dir + "/scale.json", [&](std::ostream& out) {
+    out << nlohmann::json{{"scene", o.scene}, {"memory_limit_bytes", limit_bytes}, {"runs", runs}}.dump(2) << "\n";
+  });
   std::printf("  same state hash on every thread count: %s; NaN-free: %s\n", deterministic ? "yes" : "NO", finite ? "yes" : "NO");
 
-  if (o.plot) {
-    {  // closed (flushed) before gnuplot reads them
-      std::ofstream(o.out_dir + "/scale.gp") << kGnuplotScript;
-      std::ofstream ns_dat(o.out_dir + "/ns_per_sphere_step.dat"), speedup_dat(o.out_dir + "/speedup.dat");
+  if (!o.no_plot) {
+    write_file_atomically(o.out_dir + "/scale.gp", [](std::ostream& gp) { gp << kGnuplotScript; });
+    write_file_atomically(o.out_dir + "/ns_per_sphere_step.dat", [&](std::ostream& ns_dat) {
       ns_dat << "# spheres, then ns per sphere-step for 1.." << o.max_threads << " threads\n";
       for (std::size_t c = 0; c < counts.size(); ++c) {
         ns_dat << counts[c];
         for (double v : ns_table[c]) ns_dat << ' ' << v;
         ns_dat << '\n';
       }
+    });
+    write_file_atomically(o.out_dir + "/speedup.dat", [&](std::ostream& speedup_dat) {
       speedup_dat << "threads";
       for (std::size_t n : counts) speedup_dat << " \"" << n << " spheres\"";
       speedup_dat << '\n';
@@ -210,17 +193,12 @@ int scale_command(const std::vector<std::string>& args) {
         for (std::size_t c = 0; c < counts.size(); ++c) speedup_dat << ' ' << speedup_table[c][static_cast<std::size_t>(t - 1)];
         speedup_dat << '\n';
       }
-    }
+    });
     const std::string title = o.scene + " on " + cpu_model() + " (" + simd_path() + ")";
-    const std::string command = "cd '" + o.out_dir + "' && gnuplot -e \"TITLE='" + title + "'; THREADS=" +
-                                std::to_string(o.max_threads) + "; COUNTS=" + std::to_string(counts.size()) + "\" scale.gp";
-    if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
-      std::printf("  plots: gnuplot not found (sudo apt-get install gnuplot-nox), data and scale.gp are in %s/\n",
-                  o.out_dir.c_str());
-    else if (std::system(command.c_str()) != 0)
-      std::printf("  plots: gnuplot failed; run it by hand: %s\n", command.c_str());
-    else
-      std::printf("  plots: %s/ns_per_sphere_step.svg, %s/speedup.svg\n", o.out_dir.c_str(), o.out_dir.c_str());
+    plot_with_gnuplot(o.out_dir, "scale.gp",
+                      "TITLE=" + gnuplot_string(title) + "; THREADS=" + std::to_string(o.max_threads) +
+                          "; COUNTS=" + std::to_string(counts.size()),
+                      o.out_dir + "/ns_per_sphere_step.svg, " + o.out_dir + "/speedup.svg");
   }
   return deterministic && finite ? 0 : 3;
 }

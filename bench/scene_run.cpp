@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -11,6 +10,7 @@
 
 #include "machine_info.h"
 #include "memory_use.h"
+#include "output_file.h"
 
 namespace hail::bench {
 namespace {
@@ -32,9 +32,9 @@ void write_trace(const std::string& path, const PhaseTrace& trace, int threads) 
   for (const TraceSlice& s : trace.slices())
     events.push_back({{"name", phase_name(s.phase)}, {"cat", "step"}, {"ph", "X"}, {"pid", 1}, {"tid", s.thread},
                       {"ts", s.start_us}, {"dur", s.end_us - s.start_us}, {"args", {{"step", s.step}}}});
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
+  });
 }
 
 /// Marks (by handle index) every sphere whose centre is below the ground inside its extent.
@@ -89,16 +89,16 @@ void write_state_csv(const Scene& scene, const std::string& path) {
   if (scene.ids.size() != world.sphere_count())
     throw std::runtime_error("cannot write " + path + ": the scene recorded " + std::to_string(scene.ids.size()) +
                              " sphere handles for " + std::to_string(world.sphere_count()) + " spheres");
-  std::FILE* out = std::fopen(path.c_str(), "w");
-  if (!out) throw std::runtime_error("cannot write " + path);
-  std::fputs("id,x,y,z,vx,vy,vz,wx,wy,wz\n", out);
-  for (std::size_t k = 0; k < scene.ids.size(); ++k) {
-    const Vec3 x = world.position(scene.ids[k]), v = world.velocity(scene.ids[k]), w = world.angular_velocity(scene.ids[k]);
-    std::fprintf(out, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, x.x(), x.y(), x.z(), v.x(), v.y(), v.z(),
-                 w.x(), w.y(), w.z());
-  }
-  const bool failed = std::ferror(out) != 0;
-  if (std::fclose(out) != 0 || failed) throw std::runtime_error("cannot write " + path);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "id,x,y,z,vx,vy,vz,wx,wy,wz\n";
+    char row[256];
+    for (std::size_t k = 0; k < scene.ids.size(); ++k) {
+      const Vec3 x = world.position(scene.ids[k]), v = world.velocity(scene.ids[k]), w = world.angular_velocity(scene.ids[k]);
+      std::snprintf(row, sizeof row, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, x.x(), x.y(), x.z(), v.x(),
+                    v.y(), v.z(), w.x(), w.y(), w.z());
+      out << row;
+    }
+  });
 }
 
 namespace {

@@ -1,11 +1,12 @@
 #include "stress_command.h"
 
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "cli_args.h"
 #include "machine_info.h"
+#include "output_file.h"
 #include "stress_cases.h"
 
 namespace hail::bench {
@@ -13,16 +14,12 @@ namespace hail::bench {
 int stress_command(const std::vector<std::string>& args) {
   std::string only, json_path;
   bool quick = false;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) throw std::invalid_argument(args[k] + " needs a value");
-      return args[++k];
-    };
-    if (args[k] == "--case") only = value();
-    else if (args[k] == "--json") json_path = value();
-    else if (args[k] == "--quick") quick = true;
-    else throw std::invalid_argument("unknown option '" + args[k] + "' (see hail-bench --help)");
-  }
+  ArgParser parser("stress", "the stability battery: each stiff or extreme case with its invariants; exit status 1 if any fails");
+  parser.text("--case", only, "NAME", "run this case alone")
+      .flag("--quick", quick, "skip the slow cases")
+      .text("--json", json_path, "FILE", "every case's worst values as JSON");
+  if (!parser.parse(args)) return 0;  // --help
+  check_output_paths({json_path});
   std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
   std::printf("  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
               "  no NaN, no centre below the terrain surface; worst values over every step\n\n");
@@ -51,7 +48,7 @@ int stress_command(const std::vector<std::string>& args) {
   }
   if (ran == 0) throw std::invalid_argument("no stress case named '" + only + "'");
   std::printf("\n  %d of %d cases passed\n", ran - failed, ran);
-  if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+  if (!json_path.empty()) write_file_atomically(json_path, [&](std::ostream& file) { file << out.dump(2) << "\n"; });
   return failed == 0 ? 0 : 1;
 }
 

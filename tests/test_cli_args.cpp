@@ -1,0 +1,160 @@
+// hail-bench's one command-line parser (bench/cli_args.*) and every command's use of it: counts
+// are whole numbers in range, unknown flags are errors naming the flag, --help for each command.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench/accuracy_command.h"
+#include "bench/cli_args.h"
+#include "bench/compare_command.h"
+#include "bench/pairs_command.h"
+#include "bench/query_command.h"
+#include "bench/run_command.h"
+#include "bench/scale_command.h"
+#include "bench/stress_command.h"
+#include "catch.h"
+
+namespace bench = hail::bench;
+using Command = int (*)(const std::vector<std::string>&);
+
+namespace {
+
+/// The message of the std::invalid_argument `command(args)` throws, or "(no error)".
+std::string refusal(Command command, const std::vector<std::string>& args) {
+  try {
+    command(args);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("A count must be a whole number in its range; the message names the flag, the range and the text", "[bench][cli]") {
+  CHECK(bench::parse_count("--steps", "600", 1, 1000) == 600);
+  CHECK(bench::parse_count("--spheres", "1e6", 1, 100'000'000) == 1'000'000);  // exponent form, a whole number
+  CHECK(bench::parse_count("--threads", "0", 0, 64) == 0);
+  auto message = [](const std::string& text) {
+    try {
+      (void)bench::parse_count("--steps", text, 1, 100'000'000);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  // 1e10 once overflowed an int and came out as "must be >= 1"; 2.7 was truncated to 2.
+  CHECK(message("1e10") == "--steps must be a whole number in [1, 100000000], got '1e10'");
+  CHECK(message("2.7") == "--steps must be a whole number in [1, 100000000], got '2.7'");
+  for (const char* bad : {"0", "-3", "", " 5", "5x", "abc", "inf", "nan", "0.5"}) {
+    INFO(bad);
+    CHECK(contains(message(bad), "[1, 100000000], got '" + std::string(bad) + "'"));
+  }
+  CHECK(bench::parse_real("--dt", "0.01", 0.0, 10.0, true) == 0.01);
+  CHECK_THROWS_AS(bench::parse_real("--dt", "0", 0.0, 10.0, true), std::invalid_argument);
+  CHECK_THROWS_WITH(bench::parse_real("--dt", "11", 0.0, 10.0, true), "--dt must be a number in (0, 10], got '11'");
+}
+
+TEST_CASE("The parser: unknown flags, missing values, --flag=value, a positional, --help", "[bench][cli]") {
+  int steps = 7;
+  bool quiet = false;
+  std::string scene = "default", json;
+  auto parser = [&] {
+    bench::ArgParser p("demo", "a test command");
+    p.positional("scene", scene, "the scene")
+        .count("--steps", steps, 1, 1000, "steps")
+        .flag("--quiet", quiet, "quiet")
+        .text("--json", json, "FILE", "output");
+    return p;
+  };
+  {
+    bench::ArgParser p = parser();
+    REQUIRE(p.parse({"rain", "--steps=12", "--quiet", "--json", "x.json"}));
+    CHECK(scene == "rain");
+    CHECK(steps == 12);
+    CHECK(quiet);
+    CHECK(json == "x.json");
+    CHECK(p.given("--steps"));
+    CHECK(p.given("scene"));
+    CHECK_FALSE(bench::ArgParser(parser()).given("--json"));
+  }
+  auto parse_error = [&](const std::vector<std::string>& args) {
+    try {
+      (void)parser().parse(args);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  CHECK(parse_error({"--stpes", "3"}) == "unknown option '--stpes' for hail-bench demo (see hail-bench demo --help)");
+  CHECK(contains(parse_error({"--steps"}), "--steps needs a value"));
+  CHECK(contains(parse_error({"a", "b"}), "unexpected argument 'b'"));
+  CHECK(contains(parse_error({"--quiet=yes"}), "--quiet takes no value"));
+  steps = 7;
+  CHECK_FALSE(parser().parse({"--steps", "9", "--help", "--bogus"}));  // --help: usage printed, nothing run
+  const std::string usage = parser().usage();
+  CHECK(contains(usage, "usage: hail-bench demo [scene] [options]"));
+  CHECK(contains(usage, "--steps N"));
+  CHECK(contains(usage, "(whole number in [1, 1000])"));
+}
+
+TEST_CASE("Every hail-bench command parses with the shared parser: unknown flags and bad counts are refused", "[bench][cli]") {
+  // query, pairs and bvh-build once ignored unknown flags and reported a bad number as "stoi".
+  const std::pair<const char*, Command> commands[] = {
+      {"run", bench::run_command},         {"accuracy", bench::accuracy_command}, {"compare", bench::compare_command},
+      {"stress", bench::stress_command},   {"scale", bench::scale_command},       {"query", bench::query_command},
+      {"pairs", bench::pairs_command},     {"bvh-build", bench::bvh_build_command}};
+  for (const auto& [name, command] : commands) {
+    INFO(name);
+    CHECK(refusal(command, {"--bogus-flag", "1"}) ==
+          "unknown option '--bogus-flag' for hail-bench " + std::string(name) + " (see hail-bench " + name + " --help)");
+    CHECK(command({"--help"}) == 0);  // prints the command's usage and runs nothing
+  }
+  CHECK(refusal(bench::query_command, {"--queries", "many"}) == "--queries must be a whole number in [1, 100000000], got 'many'");
+  CHECK(contains(refusal(bench::query_command, {"--leaf", "9"}), "--leaf must be a whole number in [1, 8], got '9'"));
+  CHECK(contains(refusal(bench::pairs_command, {"--repeats", "2.5"}), "--repeats must be a whole number"));
+  CHECK(contains(refusal(bench::bvh_build_command, {"--max-side", "x"}), "--max-side must be a whole number"));
+  CHECK(refusal(bench::run_command, {"--steps", "1e10"}) == "--steps must be a whole number in [1, 100000000], got '1e10'");
+  CHECK(contains(refusal(bench::run_command, {"--steps", "2.7"}), "got '2.7'"));
+  CHECK(contains(refusal(bench::run_command, {"--threads", "-1"}), "--threads must be a whole number in [0, 4096], got '-1'"));
+  CHECK(contains(refusal(bench::run_command, {"--pairs", "octree"}), "--pairs must be auto, brute, grid, sweep or bvh"));
+  CHECK(contains(refusal(bench::run_command, {"--warm-start", "2"}), "--warm-start must be on, off or a factor in [0, 1]"));
+  CHECK(contains(refusal(bench::run_command, {"--tile", "3"}), "--tile must be 0 (no solver tiles) or a whole number"));
+  CHECK(contains(refusal(bench::scale_command, {"--min", "64", "--max", "8"}), "--min (64) must not exceed --max (8)"));
+  CHECK(contains(refusal(bench::compare_command, {"--repeat", "0"}), "--repeat must be a whole number in [1, 1000]"));
+}
+
+TEST_CASE("hail-bench accuracy refuses a repeat count that rounds to 0 (it crashed in median())", "[bench][cli]") {
+  CHECK(refusal(bench::accuracy_command, {"--repeats", "0.5"}) == "--repeats must be a whole number in [1, 1000], got '0.5'");
+  CHECK(contains(refusal(bench::accuracy_command, {"--repeats", "0"}), "[1, 1000], got '0'"));
+  CHECK(contains(refusal(bench::accuracy_command, {"--spheres", "0.5"}), "--spheres must be a whole number"));
+  CHECK(contains(refusal(bench::accuracy_command, {"--dt", "1/0"}), "--dt 1/N must be a number in [1, 1e+09], got '0'"));
+}
+
+TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, the others stand", "[bench][cli]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hail-test-cli-args-scene";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string scene = (dir / "scene.json").string(), json = (dir / "run.json").string();
+  std::ofstream(scene) << R"({"format": "hail-scene", "version": 1, "dt": 0.01, "steps": 4,
+    "spheres": [{"list": [{"position": [0, 1, 0], "radius": 0.5}, {"position": [2, 1, 0], "radius": 0.5}]}]})";
+  auto run_json = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{"--scene", scene, "--quiet", "--json", json};
+    args.insert(args.end(), extra.begin(), extra.end());
+    REQUIRE(bench::run_command(args) == 0);
+    std::ifstream in(json);
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json from_file = run_json({});
+  CHECK(from_file["steps"] == 4);
+  CHECK(from_file["dt"].get<double>() == Approx(0.01));
+  const nlohmann::json overridden = run_json({"--steps", "6"});
+  CHECK(overridden["steps"] == 6);
+  CHECK(overridden["dt"].get<double>() == Approx(0.01));
+  std::filesystem::remove_all(dir);
+}
