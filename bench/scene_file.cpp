@@ -389,7 +389,10 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }
     } catch (const InvalidArgument& e) {  // e.g. heights beyond float range
-      (shape == Shape::Bowl ? o.at("coefficient") : o.where()).fail(e.what());
+      if (shape == Shape::Bowl)
+        o.at("coefficient").fail(std::string(e.what()) +
+                                 " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
+      o.where().fail(e.what());
     }
   } else {
     o.forbid("coefficient", "applies to the \"bowl\" function only");
@@ -835,6 +838,9 @@ Scene parse_scene_text(std::string_view text, const std::string& source_name, co
 }
 
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
+  // A directory opens and reads as empty; a pipe is allowed (`--scene <(generate)`).
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw std::invalid_argument(path + ": is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
   std::ostringstream text;

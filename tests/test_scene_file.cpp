@@ -295,6 +295,10 @@ TEST_CASE("scene files: --spheres needs exactly one lattice or random generator"
 
 TEST_CASE("scene files: missing file", "[scene_file]") {
   CHECK_THROWS_AS(hail::bench::load_scene_file("/nonexistent/scene.json"), std::invalid_argument);
+  // A directory read as empty text: "parse error at line 1, column 1".
+  const auto dir = fresh_temp_dir("directory");
+  CHECK_THROWS_WITH(hail::bench::load_scene_file(dir.string()), dir.string() + ": is a directory, not a scene file");
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("scene files: the random generator is deterministic and documented", "[scene_file]") {
