@@ -725,6 +725,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                                                  "shock_mass_ratio", "rotation"}),
                                          settings);
 
+  // The spheres alone first, so that too many are refused before a terrain is built for them.
+  if (top.has("spheres") && top["spheres"].is_array()) check_sphere_total(top["spheres"], top.at("spheres"), overrides, 0.0);
   std::shared_ptr<const Terrain> terrain;
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   if (top.has("terrain") && !top["terrain"].is_null())

@@ -517,6 +517,10 @@ TEST_CASE("scene files: sphere counts and terrain sizes are checked against the 
   // Used to allocate for 12 s and die: a 65,536 x 4,096 terrain.
   const std::string terrain = error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]})"), limited);
   CHECK(terrain.find("scene.json: terrain.size: a 65536 x 4096 terrain needs about 161 GB (600 bytes a cell while it is built)") == 0);
+  // Too many spheres are refused before the terrain is built (it alone would be refused too).
+  CHECK(error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]},
+                             "spheres": [{"lattice": {"count": 100000000}}])"), limited)
+            .find("scene.json: spheres: making 100000000 spheres") == 0);
   // The terrain counts against the spheres' share.
   const std::string both = error_of(scene_text(R"("terrain": {"function": "flat", "size": [1024, 1024]},
                                                   "spheres": [{"lattice": {"count": 300000}}])"), limited);
