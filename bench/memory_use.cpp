@@ -68,4 +68,14 @@ std::string describe_memory_limit(double gb, double limit_bytes) {
   return format_bytes(limit_bytes) + (gb < 0.0 ? " (80% of the memory available now)" : " (--memory-limit)");
 }
 
+MemoryLimit memory_limit(double gb) {
+  const double bytes = memory_limit_bytes(gb);
+  return {bytes, describe_memory_limit(gb, bytes)};
+}
+
+std::string over_memory_limit(double estimate_bytes, const std::string& why, const MemoryLimit& limit) {
+  return "needs about " + format_bytes(estimate_bytes) + " (" + why + "), over the memory limit of " + limit.description +
+         "; --memory-limit GB sets it, 0 turns the check off";
+}
+
 }  // namespace hail::bench

@@ -105,6 +105,7 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
 SceneOverrides file_overrides(const CommandOptions& o) {
   auto given = [&](const char* flag) { return std::find(o.given.begin(), o.given.end(), flag) != o.given.end(); };
   SceneOverrides v;
+  v.memory_limit = memory_limit(o.memory_limit_gb);  // the file's own counts and terrain are checked against it
   if (given("--spheres")) v.spheres = o.params.spheres;
   if (given("--threads")) v.threads = o.params.threads;
   if (given("--steps")) v.steps = o.steps;
@@ -247,8 +248,8 @@ int run_both(const CommandOptions& o) {
 }  // namespace
 
 /// Refuses, before anything is built, a sphere count that could not fit the memory limit at
-/// kBytesPerSphereGuide a sphere (a scene file's own count is checked only when --spheres is
-/// given): the kernel's OOM kill would otherwise end the run after minutes of set-up.
+/// kBytesPerSphereGuide a sphere (a scene file's own counts are checked by its reader, through
+/// SceneOverrides::memory_limit): the kernel's OOM kill would otherwise end the run after minutes of set-up.
 void check_memory(const CommandOptions& o) {
   const bool spheres_known = o.scene_file.empty() || std::find(o.given.begin(), o.given.end(), "--spheres") != o.given.end();
   const double limit = memory_limit_bytes(o.memory_limit_gb);

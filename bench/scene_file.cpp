@@ -4,8 +4,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -34,9 +36,30 @@ struct Where {
   }
 };
 
-/// The value as the file wrote it, for "got ..." (strings and containers with their type).
+/// Appends `j` as compact JSON to `out`, stopping once `out` holds `limit` characters. Unlike
+/// json::dump it never walks more of the value than it prints, so a value nested 60,000 deep or
+/// megabytes long costs a few dozen steps (and a recursion no deeper than `limit`).
+void append_excerpt(const json& j, std::string& out, std::size_t limit) {
+  if (out.size() >= limit) return;
+  if (!j.is_structured()) {
+    out += j.dump();
+    return;
+  }
+  out += j.is_array() ? '[' : '{';
+  bool first = true;
+  for (auto it = j.begin(); it != j.end() && out.size() < limit; ++it, first = false) {
+    if (!first) out += ',';
+    if (j.is_object()) out += json(it.key()).dump() + ':';
+    append_excerpt(*it, out, limit);
+  }
+  out += j.is_array() ? ']' : '}';
+}
+
+/// The value as the file wrote it, for "got ..." (strings and containers with their type),
+/// cut to 48 characters.
 std::string got(const json& j) {
-  std::string text = j.dump();
+  std::string text;
+  append_excerpt(j, text, 49);
   if (text.size() > 48) text = text.substr(0, 45) + "...";
   if (j.is_number() || j.is_boolean() || j.is_null()) return text;
   return std::string(j.type_name()) + " " + text;
@@ -267,8 +290,33 @@ void read_settings(const Object& o, WorldSettings& s) {
 
 // ---- terrain ---------------------------------------------------------------------------------
 
-void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, float& restitution, float& friction,
-                  std::shared_ptr<const Terrain>& terrain) {
+/// What a terrain of cols x rows vertices takes at its peak while it is built.
+double terrain_bytes(std::uint64_t cols, std::uint64_t rows) {
+  return kTerrainBytesPerCellGuide * double(cols - 1) * double(rows - 1);
+}
+
+/// Refuses a grid whose far corner or span is not a finite float: infinite vertex coordinates
+/// give triangles without a box, which the BVH refuses without naming the field.
+void check_terrain_extent(const Object& o, const HeightmapParams& p, std::uint32_t cols, std::uint32_t rows) {
+  const struct {
+    float origin, cell;
+    std::uint32_t vertices;
+    const char* axis;
+  } axes[] = {{p.origin_x, p.cell_x, cols, "x"}, {p.origin_z, p.cell_z, rows, "z"}};
+  for (const auto& a : axes) {
+    const float span = a.cell * static_cast<float>(a.vertices - 1);
+    if (!std::isfinite(span))
+      o.at("cell_size").fail(std::string("times the ") + std::to_string(a.vertices - 1) + " cells along " + a.axis +
+                             " is beyond float range (cell_size * cells must stay below 3.4e38), got " +
+                             got(o["cell_size"]));
+    if (!std::isfinite(a.origin + span))
+      o.at("origin").fail(std::string("plus the terrain's ") + a.axis + " extent is beyond float range, got " +
+                          got(o["origin"]));
+  }
+}
+
+void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimit& limit, Scene& scene,
+                  float& restitution, float& friction, std::shared_ptr<const Terrain>& terrain) {
   o.reject_unknown_keys();
   restitution = unit_interval(o, "restitution", 0.5f);
   friction = non_negative(o, "friction", 0.5f);
@@ -304,6 +352,20 @@ void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, fl
       at.fail("has " + std::to_string(std::uint64_t(cols) * rows) + " vertices, more than the " +
               std::to_string(kMaxHeightmapVertices) + " allowed");
   }
+  if (is_function && !o.has("size")) cols = rows = 256;
+  // The grid's size is known here for functions and raw files: refuse it before allocating.
+  const std::string per_cell = std::to_string(static_cast<int>(kTerrainBytesPerCellGuide)) + " bytes a cell";
+  if (cols > 0) {
+    check_terrain_extent(o, params, cols, rows);
+    if (const double bytes = terrain_bytes(cols, rows); limit.bytes > 0.0 && bytes > limit.bytes)
+      (o.has("size") ? o.at("size") : o.where())
+          .fail("a " + std::to_string(cols) + " x " + std::to_string(rows) + " terrain " +
+                over_memory_limit(bytes, per_cell + " while it is built", limit));
+  } else if (limit.bytes > 0.0) {
+    // PGM and PNG give their size in the file: the loader refuses a header over the limit.
+    params.max_vertices = static_cast<std::uint64_t>(
+        std::clamp(limit.bytes / kTerrainBytesPerCellGuide, 4.0, double(kMaxHeightmapVertices)));
+  }
 
   std::optional<Heightmap> heightmap;
   if (is_function) {
@@ -312,7 +374,6 @@ void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, fl
     enum class Shape { Rain, Bowl, Flat };
     const Shape shape = *o.choice<Shape>("function", {{"terrain-rain", Shape::Rain}, {"bowl", Shape::Bowl}, {"flat", Shape::Flat}});
     if (shape != Shape::Bowl) o.forbid("coefficient", "applies to the \"bowl\" function only");
-    if (!o.has("size")) cols = rows = 256;
     const float k = o.number("coefficient", 0.002f);
     try {
       if (shape == Shape::Rain) {
@@ -328,6 +389,9 @@ void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, fl
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }
     } catch (const InvalidArgument& e) {  // e.g. heights beyond float range
+      if (shape == Shape::Bowl)
+        o.at("coefficient").fail(std::string(e.what()) +
+                                 " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
       o.where().fail(e.what());
     }
   } else {
@@ -351,6 +415,12 @@ void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, fl
     const bool raw = *format != Format::Pgm && *format != Format::Png;
     if (raw && !o.has("size")) o.where().fail("missing required key \"size\" ([columns, rows]) for a raw heightmap");
     if (!raw) o.forbid("size", "applies to raw heightmaps only (PGM and PNG files give their own size)");
+    // Integer samples are at most 65535: a scale that overflows even so is the field's fault.
+    const double highest = std::abs(double(params.height_scale)) * 65535.0 + std::abs(double(params.height_offset)) +
+                           std::abs(double(params.origin_y));
+    if (*format != Format::RawF32 && !(highest <= double(std::numeric_limits<float>::max())))
+      o.at("height_scale").fail("times the largest sample (65535), plus height_offset and origin.y, is beyond float range, got " +
+                                got(o["height_scale"]));
     try {
       switch (*format) {
         case Format::Pgm: heightmap = Heightmap::load_pgm(path.string(), params); break;
@@ -359,10 +429,19 @@ void read_terrain(const Object& o, const std::string& base_dir, Scene& scene, fl
         case Format::RawU16Le: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, true); break;
         case Format::RawU16Be: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, false); break;
       }
+    } catch (const SizeLimitError& e) {  // the header's size is over what the memory limit allows
+      o.at("heightmap").fail(std::string(e.what()) + "; a terrain takes about " + per_cell +
+                             " while it is built, so the memory limit of " + limit.description + " allows " +
+                             std::to_string(params.max_vertices) + " vertices; --memory-limit GB sets it, 0 turns the check off");
     } catch (const std::exception& e) {  // FileError or InvalidArgument from the loader
       o.at("heightmap").fail(e.what());
     }
+    check_terrain_extent(o, params, heightmap->cols(), heightmap->rows());
   }
+  if (!std::isfinite(heightmap->max_height() - heightmap->min_height()))
+    (is_function ? o.where() : o.at("height_scale"))
+        .fail("the heights span " + std::to_string(heightmap->min_height()) + " .. " +
+              std::to_string(heightmap->max_height()) + " m, more than a float holds");
 
   scene.has_terrain = true;
   scene.min_x = heightmap->x_of(0);
@@ -510,6 +589,107 @@ void read_random(const Object& o, const GeneratorContext& g, std::vector<SphereD
 
 bool is_counted_generator(const json& j) { return j.is_object() && (j.contains("lattice") || j.contains("random")); }
 
+/// Adds up the spheres every generator will make and refuses, before any is made, more than
+/// kMaxSpheres or more than fit the memory limit beside the terrain (`terrain_bytes`).
+/// Malformed generators are skipped here: the reader reports them where it meets them.
+void check_sphere_total(const json& generators, const Where& at, const SceneOverrides& overrides, double terrain_bytes) {
+  std::uint64_t total = 0;
+  for (std::size_t k = 0; k < generators.size(); ++k) {
+    const json& g = generators[k];
+    if (!g.is_object() || g.size() != 1) continue;
+    const std::string& kind = g.begin().key();
+    const json& body = g.begin().value();
+    if (kind == "list" && body.is_array()) total += body.size();
+    if ((kind == "lattice" || kind == "random") && body.is_object() && body.contains("count"))
+      total += overrides.spheres ? *overrides.spheres
+                                 : static_cast<std::uint64_t>(to_integer(body["count"], at.index(k).key(kind).key("count"), 0, kMaxSpheres));
+  }
+  if (total > static_cast<std::uint64_t>(kMaxSpheres))
+    at.fail("makes " + std::to_string(total) + " spheres, more than " + std::to_string(kMaxSpheres));
+  const MemoryLimit& limit = overrides.memory_limit;
+  const double bytes = kBytesPerSphereGuide * double(total) + terrain_bytes;
+  if (limit.bytes > 0.0 && bytes > limit.bytes)
+    at.fail("making " + std::to_string(total) + " spheres " +
+            over_memory_limit(bytes, std::to_string(static_cast<int>(kBytesPerSphereGuide)) +
+                                         " bytes a sphere, the most measured: README, Memory" +
+                                         (terrain_bytes > 0.0 ? "; the terrain " + format_bytes(terrain_bytes) : std::string()),
+                              limit));
+}
+
+// ---- parsing -----------------------------------------------------------------------------------
+
+/// Follows the parser's events (json::parse's callback) to know where in the document it is,
+/// so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps the last
+/// silently) and nesting beyond kMaxSceneNesting are named by their path. Refusing deep nesting
+/// here, as the parser meets it, keeps every later recursion over the document shallow.
+class ParseTracker {
+ public:
+  explicit ParseTracker(const std::string& source) : source_(source) {}
+
+  bool operator()(int /*depth*/, json::parse_event_t event, const json& parsed) {
+    using Event = json::parse_event_t;
+    switch (event) {
+      case Event::object_start:
+      case Event::array_start:
+        if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
+          where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
+        frames_.push_back({.is_array = event == Event::array_start, .next_index = 0, .key = {}, .keys = {}});
+        break;
+      case Event::key: {
+        Frame& object = frames_.back();
+        object.key = parsed.get<std::string>();
+        if (!object.keys.insert(object.key).second) {
+          const Where at = container();
+          at.fail("duplicate key \"" + object.key + "\"" + (at.path.empty() ? " at top level" : "") +
+                  " (a key may be given once)");
+        }
+        break;
+      }
+      case Event::value:
+        finish_element();
+        break;
+      case Event::object_end:
+      case Event::array_end:
+        frames_.pop_back();
+        finish_element();
+        break;
+    }
+    return true;
+  }
+
+  /// The value being parsed now ("spheres[2].random.count").
+  [[nodiscard]] Where where() const { return path_through(frames_.size()); }
+
+ private:
+  struct Frame {
+    bool is_array;
+    std::size_t next_index;          ///< arrays: elements finished so far
+    std::string key;                 ///< objects: the latest key
+    std::set<std::string> keys;      ///< objects: every key so far
+  };
+
+  /// The innermost object or array itself.
+  [[nodiscard]] Where container() const { return path_through(frames_.size() - 1); }
+
+  /// The place the first `levels` frames point at.
+  [[nodiscard]] Where path_through(std::size_t levels) const {
+    std::string path;
+    for (std::size_t k = 0; k < levels; ++k) {
+      const Frame& f = frames_[k];
+      if (f.is_array) path += "[" + std::to_string(f.next_index) + "]";
+      else path += (path.empty() ? "" : ".") + f.key;
+    }
+    return {source_, path};
+  }
+
+  void finish_element() {
+    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().next_index;
+  }
+
+  const std::string& source_;
+  std::vector<Frame> frames_;
+};
+
 }  // namespace
 
 Scene parse_scene_json(const json& doc, const std::string& source_name, const SceneOverrides& overrides,
@@ -545,13 +725,15 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                                                  "shock_mass_ratio", "rotation"}),
                                          settings);
 
+  // The spheres alone first, so that too many are refused before a terrain is built for them.
+  if (top.has("spheres") && top["spheres"].is_array()) check_sphere_total(top["spheres"], top.at("spheres"), overrides, 0.0);
   std::shared_ptr<const Terrain> terrain;
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   if (top.has("terrain") && !top["terrain"].is_null())
     read_terrain(Object(top["terrain"], top.at("terrain"), {"function", "heightmap", "format", "size", "cell_size",
                                                             "height_scale", "height_offset", "origin", "coefficient",
                                                             "restitution", "friction"}),
-                 base_dir, scene, terrain_restitution, terrain_friction, terrain);
+                 base_dir, overrides.memory_limit, scene, terrain_restitution, terrain_friction, terrain);
 
   std::vector<PlaneDesc> planes;
   if (top.has("planes")) {
@@ -585,6 +767,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
         at.fail("--spheres needs exactly one \"lattice\" or \"random\" generator to resize, the file has " +
                 std::to_string(counted));
     }
+    check_sphere_total(generators, at, overrides, terrain ? terrain_bytes(terrain->heightmap().cols(), terrain->heightmap().rows()) : 0.0);
     for (std::size_t k = 0; k < generators.size(); ++k) {
       const Object gen(generators[k], at.index(k), {"list", "lattice", "random"});
       gen.reject_unknown_keys();
@@ -606,8 +789,6 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       }
     }
   }
-  if (spheres.size() > static_cast<std::size_t>(kMaxSpheres))
-    top.at("spheres").fail("makes " + std::to_string(spheres.size()) + " spheres, more than " + std::to_string(kMaxSpheres));
 
   // The command line has the last word.
   if (overrides.threads) settings.threads = *overrides.threads;
@@ -644,16 +825,24 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
 
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides,
                        const std::string& base_dir) {
+  ParseTracker tracker(source_name);
   json doc;
   try {
-    doc = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw std::invalid_argument(source_name + ": " + e.what());
+    doc = json::parse(text, std::ref(tracker), /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {  // its message has the line and column
+    tracker.where().fail(e.what());
+  } catch (const json::out_of_range& e) {  // 406: a number beyond a double (1e400)
+    tracker.where().fail(std::string("must be a finite number (a double holds up to about 1.8e308): ") + e.what());
+  } catch (const json::exception& e) {
+    tracker.where().fail(e.what());
   }
   return parse_scene_json(doc, source_name, overrides, base_dir);
 }
 
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
+  // A directory opens and reads as empty; a pipe is allowed (`--scene <(generate)`).
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw std::invalid_argument(path + ": is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
   std::ostringstream text;

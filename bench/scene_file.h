@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "memory_use.h"
 #include "scenes.h"
 
 namespace hail::bench {
@@ -34,6 +35,9 @@ struct SceneOverrides {
   std::optional<float> warm_start_factor = std::nullopt;
   std::optional<bool> continuous_collision = std::nullopt;
   std::optional<bool> rotation = std::nullopt;
+  /// `--memory-limit`: a file whose spheres and terrain would need more (kBytesPerSphereGuide a
+  /// sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before they are allocated.
+  MemoryLimit memory_limit = {};
 };
 
 /// Reads and builds the scene in `path`; a heightmap path inside is relative to the file's
@@ -41,11 +45,18 @@ struct SceneOverrides {
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides = {});
 
 /// The same from JSON text (`//` and `/* */` comments allowed); `source_name` starts every
-/// error message and `base_dir` resolves a relative heightmap path.
+/// error message and `base_dir` resolves a relative heightmap path. Refuses, naming the path,
+/// nesting deeper than kMaxSceneNesting, a key given twice in one object and numbers beyond a
+/// double.
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides = {},
                        const std::string& base_dir = ".");
 
-/// The same from a parsed document.
+/// Arrays and objects nested deeper than this are refused while parsing: the schema needs 4
+/// levels, and a value nested tens of thousands deep would overflow the stack of any code that
+/// walks it recursively.
+inline constexpr int kMaxSceneNesting = 64;
+
+/// The same from a parsed document (duplicate keys are gone by then: only the text is checked).
 Scene parse_scene_json(const nlohmann::json& doc, const std::string& source_name, const SceneOverrides& overrides = {},
                        const std::string& base_dir = ".");
 

@@ -19,4 +19,11 @@ class FileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A file's header asks for a bigger heightmap than the caller allows
+/// (HeightmapParams::max_vertices): the file may be sound, the limit too low for it.
+class SizeLimitError : public FileError {
+ public:
+  using FileError::FileError;
+};
+
 }  // namespace hail

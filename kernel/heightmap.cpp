@@ -28,9 +28,12 @@ void check_heightmap_params(const HeightmapParams& p) {
   finite(p.origin_x, "origin_x");
   finite(p.origin_y, "origin_y");
   finite(p.origin_z, "origin_z");
+  if (p.max_vertices < 4 || p.max_vertices > kMaxHeightmapVertices)
+    throw InvalidArgument("hail: HeightmapParams::max_vertices must be in 4.." + std::to_string(kMaxHeightmapVertices) +
+                          ", got " + std::to_string(p.max_vertices));
 }
 
-void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where) {
+void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where, std::uint64_t max_vertices) {
   const std::string size = std::to_string(cols) + " x " + std::to_string(rows);
   if (cols < 2 || rows < 2)
     throw InvalidArgument("hail: " + where + ": a heightmap needs at least 2 x 2 vertices, got " + size);
@@ -38,6 +41,9 @@ void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::str
   if (cols > kMaxHeightmapSide || rows > kMaxHeightmapSide || cols * rows > kMaxHeightmapVertices)
     throw InvalidArgument("hail: " + where + ": " + size +
                           " vertices exceeds the limit (65536 per side, 2^28 in all)");
+  if (cols * rows > max_vertices)
+    throw InvalidArgument("hail: " + where + ": " + size + " = " + std::to_string(cols * rows) +
+                          " vertices exceeds HeightmapParams::max_vertices = " + std::to_string(max_vertices));
 }
 
 Heightmap::Heightmap(std::uint32_t cols, std::uint32_t rows, const HeightmapParams& params, std::vector<float> heights,
@@ -55,7 +61,7 @@ Heightmap::Heightmap(std::uint32_t cols, std::uint32_t rows, const HeightmapPara
 Heightmap Heightmap::from_samples(std::uint32_t cols, std::uint32_t rows, const HeightmapParams& params,
                                   std::vector<float> samples) {
   check_heightmap_params(params);
-  check_heightmap_size(cols, rows, "Heightmap::from_samples");
+  check_heightmap_size(cols, rows, "Heightmap::from_samples", params.max_vertices);
   if (samples.size() != std::size_t(cols) * rows)
     throw InvalidArgument("hail: Heightmap::from_samples: " + std::to_string(samples.size()) + " samples for " +
                           std::to_string(cols) + " x " + std::to_string(rows) + " vertices");

@@ -8,6 +8,9 @@
 //
 // Factories validate everything before allocating and either return a whole map or throw:
 // InvalidArgument for bad values passed in, FileError ("hail: <path>: <problem>") for bad files.
+// The loaders open regular files only (a FIFO would block, a directory or device has no length),
+// check the header's size against HeightmapParams::max_vertices and the file's length before
+// allocating, and refuse data after the image (see each loader).
 //
 // A Heightmap is a value: it owns its heights (one float per vertex, allocated by the factory;
 // copying copies them, moving does not) and has no mutating members, so its const members may
@@ -29,7 +32,8 @@ namespace hail {
 inline constexpr std::uint64_t kMaxHeightmapSide = 65536;
 inline constexpr std::uint64_t kMaxHeightmapVertices = std::uint64_t{1} << 28;
 
-/// Where a heightmap lies and how file samples become metres. Every field must be finite.
+/// Where a heightmap lies, how file samples become metres, and how big a map may be. Every
+/// float field must be finite.
 struct HeightmapParams {
   float cell_x = 1.0f;         ///< m between columns (along x), > 0
   float cell_z = 1.0f;         ///< m between rows (along z), > 0
@@ -38,6 +42,11 @@ struct HeightmapParams {
   float origin_x = 0.0f;       ///< m, x of column 0
   float origin_y = 0.0f;       ///< m, added to every height (all factories)
   float origin_z = 0.0f;       ///< m, z of row 0
+  /// Most vertices (cols * rows) a factory accepts, 4 .. kMaxHeightmapVertices, checked before
+  /// anything is allocated. The default allows the hard limit (1 GiB of heights); lower it to
+  /// bound memory, e.g. from a memory budget: a Terrain built on the map takes about 600 bytes
+  /// per cell at its peak (kernel/terrain.h). A file header over it throws SizeLimitError.
+  std::uint64_t max_vertices = kMaxHeightmapVertices;
 };
 
 /// The rectangle a heightmap covers in x and z, metres.
@@ -45,12 +54,14 @@ struct HeightmapExtent {
   float min_x, max_x, min_z, max_z;
 };
 
-/// Throws InvalidArgument unless every field of `params` is finite and both cells are > 0.
+/// Throws InvalidArgument unless every float field of `params` is finite, both cells are > 0
+/// and 4 <= max_vertices <= kMaxHeightmapVertices.
 void check_heightmap_params(const HeightmapParams& params);
 
 /// Throws InvalidArgument naming `where` unless 2 <= cols, rows <= kMaxHeightmapSide and
-/// cols * rows <= kMaxHeightmapVertices. Cheap: call it before allocating.
-void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where);
+/// cols * rows <= max_vertices (<= kMaxHeightmapVertices). Cheap: call it before allocating.
+void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where,
+                          std::uint64_t max_vertices = kMaxHeightmapVertices);
 
 class Heightmap {
  public:
@@ -62,7 +73,7 @@ class Heightmap {
   static Heightmap from_function(std::uint32_t cols, std::uint32_t rows, const HeightmapParams& params,
                                  HeightAt&& height_at) {
     check_heightmap_params(params);
-    check_heightmap_size(cols, rows, "Heightmap::from_function");
+    check_heightmap_size(cols, rows, "Heightmap::from_function", params.max_vertices);
     std::vector<float> heights(std::size_t(cols) * rows);
     for (std::uint32_t j = 0; j < rows; ++j)
       for (std::uint32_t i = 0; i < cols; ++i)
@@ -81,12 +92,16 @@ class Heightmap {
   /// 256..65535), or ASCII P2; '#' comments allowed in the header. Samples are used raw
   /// (y = origin_y + height_offset + height_scale * sample). File row 0 becomes j = 0: in the
   /// shipped DEMs row 0 is the north edge, so z grows southwards. Only the first image of a
-  /// multi-image file is read. Throws FileError (InvalidArgument for bad params).
+  /// multi-image file is read. After the raster only whitespace (and, in P2, '#' comments) or
+  /// the next image's magic number may follow: other trailing data means the header's size or
+  /// maxval is wrong. Throws FileError (InvalidArgument for bad params).
   static Heightmap load_pgm(const std::string& path, const HeightmapParams& params);
 
   /// PNG, 8- or 16-bit grey (grey + alpha accepted, alpha ignored; 1/2/4-bit grey is widened
   /// to 0..255 by stb_image). Colour and palette PNGs are refused rather than guessed at.
-  /// Samples used raw as in load_pgm; image row 0 becomes j = 0. Throws FileError.
+  /// Samples used raw as in load_pgm; image row 0 becomes j = 0. The chunks are walked before
+  /// decoding: bytes after IEND are refused, and so is compressed data too short for the size
+  /// the header claims (deflate expands at most 1032:1). Throws FileError.
   static Heightmap load_png(const std::string& path, const HeightmapParams& params);
 
   /// Headerless little-endian IEEE-754 float32 samples, row-major; the file must be exactly

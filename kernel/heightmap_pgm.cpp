@@ -1,6 +1,6 @@
 // PGM loader: binary P5 (8-bit, or 16-bit big-endian when maxval > 255) and ASCII P2.
 // The header is checked in full, and the file's length against what the header promises,
-// before any sample buffer is allocated.
+// before any sample buffer is allocated; what follows the raster is checked after it.
 
 #include <algorithm>
 #include <cctype>
@@ -85,12 +85,29 @@ void read_ascii_samples(std::istream& in, const std::string& path, std::uint64_t
   }
 }
 
+/// After the raster only whitespace (and, in P2, '#' comments) or the next image of a
+/// multi-image file may follow. Anything else is data the header did not account for: a wrong
+/// width, height or maxval, which would otherwise load a sheared or truncated map silently.
+void check_after_raster(std::istream& in, const std::string& path, bool ascii) {
+  const std::uint64_t trailing = detail::bytes_remaining(in);
+  for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+    if (std::isspace(c)) continue;
+    if (c == '#' && ascii) {
+      while ((c = in.get()) != std::char_traits<char>::eof() && c != '\n' && c != '\r') {}
+      continue;
+    }
+    const int kind = in.get(), after = in.peek();
+    if (c == 'P' && (kind == '5' || kind == '2') && std::isspace(after)) return;  // the next image
+    throw_file_error(path, std::to_string(trailing) + " bytes follow the raster, not only whitespace or a next image " +
+                               "(is the header's width, height or maxval wrong?)");
+  }
+}
+
 }  // namespace
 
 Heightmap Heightmap::load_pgm(const std::string& path, const HeightmapParams& params) {
   check_heightmap_params(params);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw_file_error(path, "cannot open file");
+  std::ifstream in = detail::open_heightmap_file(path);
   char magic[2] = {0, 0};
   in.read(magic, 2);
   if (in.gcount() == 0) throw_file_error(path, "empty file");
@@ -102,7 +119,7 @@ Heightmap Heightmap::load_pgm(const std::string& path, const HeightmapParams& pa
   const std::uint64_t rows = read_number(in, path, "height");
   const std::uint64_t maxval = read_number(in, path, "maxval");
   if (maxval == 0 || maxval > 65535) throw_file_error(path, "maxval " + std::to_string(maxval) + " outside 1..65535");
-  detail::check_file_heightmap_size(path, cols, rows);
+  detail::check_file_heightmap_size(path, cols, rows, params.max_vertices);
 
   // Refuse a file too short for its header before allocating what the header promises. An
   // ASCII sample takes at least two bytes (a digit and a separator; the last needs none).
@@ -119,6 +136,7 @@ Heightmap Heightmap::load_pgm(const std::string& path, const HeightmapParams& pa
     read_binary_samples(in, path, maxval, samples);
   else
     read_ascii_samples(in, path, maxval, samples);
+  check_after_raster(in, path, !binary);
   return from_file_samples(path, static_cast<std::uint32_t>(cols), static_cast<std::uint32_t>(rows), params,
                            std::move(samples));
 }

@@ -22,9 +22,8 @@ using detail::throw_file_error;
 std::vector<unsigned char> read_exact(const std::string& path, std::uint32_t cols, std::uint32_t rows,
                                       const HeightmapParams& params, std::size_t bytes_per_sample) {
   check_heightmap_params(params);
-  check_heightmap_size(cols, rows, path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw_file_error(path, "cannot open file");
+  check_heightmap_size(cols, rows, path, params.max_vertices);
+  std::ifstream in = detail::open_heightmap_file(path);
   const std::uint64_t size = detail::bytes_remaining(in);
   const std::uint64_t expected = std::uint64_t{cols} * rows * bytes_per_sample;
   if (size == 0) throw_file_error(path, "empty file");

@@ -9,12 +9,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #if defined(__linux__)
 #include <sys/resource.h>
+#include <sys/stat.h>
 #endif
 
 #include "catch.h"
@@ -427,6 +429,124 @@ TEST_CASE("Bad files are refused with FileError naming the file", "[heightmap]")
     CHECK(after.ru_maxrss - before.ru_maxrss < 64 * 1024);  // KiB: nothing near a gigabyte was touched
 #endif
   }
+}
+
+TEST_CASE("The loaders open regular files only", "[heightmap]") {
+  const TempDir dir;
+  auto all_refuse = [](const std::string& path, const std::string& why) {
+    INFO(path);
+    const std::vector<std::function<void()>> loads = {
+        [&] { (void)Heightmap::load_pgm(path, {}); }, [&] { (void)Heightmap::load_png(path, {}); },
+        [&] { (void)Heightmap::load_raw_f32(path, 2, 2, {}); }, [&] { (void)Heightmap::load_raw_u16(path, 2, 2, {}); }};
+    for (const auto& load : loads) {
+      require_refused<FileError>(path, load);
+      CHECK_THROWS_WITH(load(), Catch::Contains(why));
+    }
+  };
+  // A directory read as "empty file" (PGM, PNG) or a 9223372036854775807-byte file (raw).
+  all_refuse(dir.path.string(), "is a directory");
+  // /dev/null read as "empty file"; /dev/zero would be endless.
+  all_refuse("/dev/null", "is a device");
+#if defined(__linux__)
+  // A FIFO blocked the open forever (no writer ever comes): with the check missing this test hangs.
+  const std::string fifo = (dir.path / "pipe.pgm").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  all_refuse(fifo, "is a FIFO");
+#endif
+  // A symbolic link to a regular file is that file.
+  const std::string target = dir.write("real.pgm", "P2 2 2 255 1 2 3 4");
+  const fs::path link = dir.path / "link.pgm";
+  fs::create_symlink(target, link);
+  CHECK(Heightmap::load_pgm(link.string(), {}).max_height() == 4.0f);
+}
+
+TEST_CASE("PGM: data after the raster is refused; whitespace and a next image are not", "[heightmap]") {
+  const TempDir dir;
+  const std::vector<std::uint16_t> samples = {1, 2, 3, 4};
+  auto pgm = [](const std::string& path) { return [path] { (void)Heightmap::load_pgm(path, {}); }; };
+
+  // Loaded silently before: a header whose size is too small leaves raster behind.
+  std::vector<unsigned char> garbage = make_p5(2, 2, 255, samples);
+  append(garbage, std::vector<unsigned char>(1000, 'x'));
+  const std::string garbage_path = dir.write("garbage.pgm", garbage);
+  require_refused<FileError>(garbage_path, pgm(garbage_path));
+  CHECK_THROWS_WITH(pgm(garbage_path)(), Catch::Contains("1000 bytes follow the raster"));
+  std::vector<unsigned char> binary_zeros = make_p5(2, 2, 255, samples);
+  append(binary_zeros, {0, 0});
+  require_refused<FileError>("zeros.pgm", pgm(dir.write("zeros.pgm", binary_zeros)));
+  require_refused<FileError>("extra.pgm", pgm(dir.write("extra.pgm", "P2 2 2 255 1 2 3 4 5")));
+  require_refused<FileError>("p5x.pgm", pgm(dir.write("p5x.pgm", "P2 2 2 255 1 2 3 4 P5x")));
+
+  // Tolerated: trailing whitespace, comments after an ASCII raster, and a next image.
+  std::vector<unsigned char> spaces = make_p5(2, 2, 255, samples);
+  append(spaces, bytes_of("\n \t\r\n"));
+  CHECK(Heightmap::load_pgm(dir.write("spaces.pgm", spaces), {}).max_height() == 4.0f);
+  CHECK(Heightmap::load_pgm(dir.write("comment.pgm", "P2 2 2 255 1 2 3 4\n# the end\n"), {}).max_height() == 4.0f);
+  std::vector<unsigned char> two_images = make_p5(2, 2, 255, samples);
+  append(two_images, make_p5(3, 3, 255, std::vector<std::uint16_t>(9, 200)));
+  CHECK(Heightmap::load_pgm(dir.write("two.pgm", two_images), {}).max_height() == 4.0f);
+}
+
+TEST_CASE("PNG: data after IEND, and compressed data too short for its header, are refused", "[heightmap]") {
+  const TempDir dir;
+  const std::vector<std::uint16_t> four(16, 9);
+  auto png = [](const std::string& path) { return [path] { (void)Heightmap::load_png(path, {}); }; };
+  std::vector<unsigned char> after_end = make_png(4, 4, 8, 0, four);
+  append(after_end, bytes_of("trailing junk"));
+  const std::string after_end_path = dir.write("after-end.png", after_end);
+  require_refused<FileError>(after_end_path, png(after_end_path));
+  CHECK_THROWS_WITH(png(after_end_path)(), Catch::Contains("13 bytes follow the PNG's IEND chunk"));
+
+#if defined(__linux__)
+  rusage before{};
+  getrusage(RUSAGE_SELF, &before);
+#endif
+  // Within the 2^28-vertex limit, but a few dozen bytes cannot inflate to 16,384^2 samples:
+  // this took 1 GB (the float samples, then stb's image) before stb found the data missing.
+  std::vector<unsigned char> liar = make_png(2, 2, 8, 0, four);
+  liar[16] = 0x00, liar[17] = 0x00, liar[18] = 0x40, liar[19] = 0x00;  // width 16384 (stb skips the CRC)
+  liar[20] = 0x00, liar[21] = 0x00, liar[22] = 0x40, liar[23] = 0x00;  // height 16384
+  const std::string liar_path = dir.write("liar.png", liar);
+  require_refused<FileError>(liar_path, png(liar_path));
+  CHECK_THROWS_WITH(png(liar_path)(), Catch::Contains("cannot hold the 16384 x 16384 image"));
+#if defined(__linux__)
+  rusage after{};
+  getrusage(RUSAGE_SELF, &after);
+  CHECK(after.ru_maxrss - before.ru_maxrss < 64 * 1024);  // KiB
+#endif
+  // A chunk longer than the file.
+  std::vector<unsigned char> long_chunk = make_png(4, 4, 8, 0, four);
+  long_chunk[33 + 0] = 0x7f;  // IDAT's length, just after IHDR's 25 bytes
+  require_refused<FileError>("long-chunk.png", png(dir.write("long-chunk.png", long_chunk)));
+}
+
+TEST_CASE("HeightmapParams::max_vertices bounds every factory before allocating", "[heightmap]") {
+  const TempDir dir;
+  const std::vector<std::uint16_t> sixteen(16, 7);
+  HeightmapParams fifteen;
+  fifteen.max_vertices = 15;
+  HeightmapParams exactly;
+  exactly.max_vertices = 16;
+  // A file's header over the caller's limit: SizeLimitError, a FileError naming the file.
+  const std::string pgm = dir.write("four.pgm", make_p5(4, 4, 255, sixteen));
+  require_refused<hail::SizeLimitError>(pgm, [&] { (void)Heightmap::load_pgm(pgm, fifteen); });
+  CHECK_THROWS_WITH(Heightmap::load_pgm(pgm, fifteen), Catch::Contains("4 x 4 = 16 vertices exceeds HeightmapParams::max_vertices = 15"));
+  CHECK(Heightmap::load_pgm(pgm, exactly).cols() == 4);
+  const std::string png = dir.write("four.png", make_png(4, 4, 8, 0, sixteen));
+  require_refused<hail::SizeLimitError>(png, [&] { (void)Heightmap::load_png(png, fifteen); });
+  CHECK(Heightmap::load_png(png, exactly).rows() == 4);
+  // A size the caller gives: InvalidArgument.
+  const std::string raw = dir.write("four.r16", std::string(32, '\0'));
+  CHECK_THROWS_AS(Heightmap::load_raw_u16(raw, 4, 4, fifteen), InvalidArgument);
+  CHECK(Heightmap::load_raw_u16(raw, 4, 4, exactly).cols() == 4);
+  CHECK_THROWS_AS(Heightmap::from_function(4, 4, fifteen, [](float, float) { return 0.0f; }), InvalidArgument);
+  CHECK_THROWS_AS(Heightmap::from_samples(4, 4, fifteen, std::vector<float>(16, 0.0f)), InvalidArgument);
+  // The limit itself must make sense.
+  HeightmapParams bad;
+  bad.max_vertices = 3;
+  CHECK_THROWS_AS(hail::check_heightmap_params(bad), InvalidArgument);
+  bad.max_vertices = hail::kMaxHeightmapVertices + 1;
+  CHECK_THROWS_AS(hail::check_heightmap_params(bad), InvalidArgument);
 }
 
 TEST_CASE("Terrain triangles follow the documented layout", "[heightmap]") {

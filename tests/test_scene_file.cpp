@@ -276,7 +276,7 @@ TEST_CASE("scene files: every kind of bad input names the file and the field", "
       {R"({"format": "hail-scene"})", "scene.json: missing required key \"version\""},
       {R"({"format": "hail-scene", "version": 2, "new_key": 1})", "scene.json: version: this hail-bench reads version 1, got 2"},
       {R"([1, 2])", "scene.json: must be an object, got array"},
-      {"{\"format\": \"hail-scene\",\n \"version\": 1,\n \"dt\": }", "scene.json: [json.exception.parse_error.101] parse error at line 3, column 8"},
+      {"{\"format\": \"hail-scene\",\n \"version\": 1,\n \"dt\": }", "scene.json: dt: [json.exception.parse_error.101] parse error at line 3, column 8"},
   };
   for (const Case& c : cases) {
     const std::string message = error_of(c.text);
@@ -295,6 +295,10 @@ TEST_CASE("scene files: --spheres needs exactly one lattice or random generator"
 
 TEST_CASE("scene files: missing file", "[scene_file]") {
   CHECK_THROWS_AS(hail::bench::load_scene_file("/nonexistent/scene.json"), std::invalid_argument);
+  // A directory read as empty text: "parse error at line 1, column 1".
+  const auto dir = fresh_temp_dir("directory");
+  CHECK_THROWS_WITH(hail::bench::load_scene_file(dir.string()), dir.string() + ": is a directory, not a scene file");
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("scene files: the random generator is deterministic and documented", "[scene_file]") {
@@ -379,5 +383,169 @@ TEST_CASE("scene files: --dump-state writes spheres in the order they were added
     ++rows;
   }
   CHECK(rows == 40);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("scene files: nesting deeper than 64 levels is refused before anything recurses", "[scene_file]") {
+  auto nested = [](int levels) { return std::string(levels, '[') + std::string(levels, ']'); };
+  // The top-level object is one level: "dt" may hold 63 more (refused by the schema only).
+  CHECK(error_of(scene_text("\"dt\": " + nested(63))).find("scene.json: dt: must be a number, got array [[[[") != std::string::npos);
+  const std::string too_deep = error_of(scene_text("\"dt\": " + nested(64)));
+  CHECK(too_deep.find("scene.json: dt[0][0]") == 0);
+  CHECK(too_deep.find("arrays and objects nest deeper than 64 levels") != std::string::npos);
+  // Used to crash (SIGSEGV) in the message helper's recursive dump, after nlohmann's parse.
+  const std::string crash = error_of(scene_text("\"dt\": " + nested(60'000)));
+  CHECK(crash.find("nest deeper than 64 levels") != std::string::npos);
+  CHECK(crash.size() < 400);
+  CHECK(error_of(scene_text("\"spheres\": [{\"list\": [{\"position\": [0, 0, 0], \"velocity\": " + nested(60'000) + "}]}]"))
+            .find("scene.json: spheres[0].list[0].velocity[0]") == 0);
+}
+
+TEST_CASE("scene files: a deep or huge value in a parsed document is quoted by an excerpt", "[scene_file]") {
+  // parse_scene_json takes any document: "got ..." must not walk all of it (a recursive dump
+  // of 200,000 levels overflows the stack).
+  nlohmann::json deep = nlohmann::json::array();
+  for (int k = 0; k < 200'000; ++k) deep = nlohmann::json::array({std::move(deep)});
+  nlohmann::json doc = {{"format", "hail-scene"}, {"version", 1}, {"dt", std::move(deep)}};
+  try {
+    (void)hail::bench::parse_scene_json(doc, "doc.json");
+    FAIL("no error");
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    CHECK(message == "doc.json: dt: must be a number, got array " + std::string(45, '[') + "...");
+  }
+  doc["dt"] = std::string(10'000'000, 'x');
+  CHECK_THROWS_WITH(hail::bench::parse_scene_json(doc, "doc.json"),
+                    "doc.json: dt: must be a number, got string \"" + std::string(44, 'x') + "...");
+}
+
+TEST_CASE("scene files: numbers beyond a double, or beyond the field's range, name the field", "[scene_file]") {
+  struct Case {
+    std::string body, expected;
+  };
+  const std::vector<Case> cases = {
+      {R"("dt": 1e999)", "scene.json: dt: must be a finite number (a double holds up to about 1.8e308)"},
+      {R"("dt": -1e400)", "scene.json: dt: must be a finite number"},
+      {R"("dt": 1e-400)", "scene.json: dt: must be > 0, got 0.0"},
+      {R"("spheres": [{"lattice": {"count": 1e400}}])", "scene.json: spheres[0].lattice.count: must be a finite number"},
+      {R"("spheres": [{"lattice": {"count": 2.5}}])", "scene.json: spheres[0].lattice.count: must be an integer, got 2.5"},
+      {R"("spheres": [{"lattice": {"count": 1e-400}}])", "scene.json: spheres[0].lattice.count: must be an integer, got 0.0"},
+      {R"("spheres": [{"lattice": {"count": -1}}])", "scene.json: spheres[0].lattice.count: must be >= 0, got -1"},
+      {R"("spheres": [{"lattice": {"count": 18446744073709551615}}])",
+       "scene.json: spheres[0].lattice.count: must be <= 100000000, got 18446744073709551615"},
+      {R"("spheres": [{"lattice": {"count": 18446744073709551616}}])", "scene.json: spheres[0].lattice.count: must be an integer"},
+      {R"("spheres": [{"lattice": {"count": -9223372036854775809}}])", "scene.json: spheres[0].lattice.count: must be an integer"},
+      {R"("steps": 99999999999)", "scene.json: steps: must be <= 2147483647, got 99999999999"},
+      {R"("gravity": [0, 1e39, 0])", "scene.json: gravity[1]: must be a finite number within float range"},
+      {R"("spheres": [{"random": {"count": 1, "seed": -1, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])",
+       "scene.json: spheres[0].random.seed: must be an integer >= 0, got -1"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = error_of(scene_text(c.body));
+    INFO("body: " << c.body << "\nmessage: " << message);
+    CHECK(message.find(c.expected) == 0);
+  }
+  // Still std::invalid_argument, as docs/scene_format.md promises (nlohmann's out_of_range was not).
+  CHECK_THROWS_AS(parse_scene_text(scene_text(R"("dt": 1e999)"), "scene.json"), std::invalid_argument);
+}
+
+TEST_CASE("scene files: a key given twice in one object is refused by name and path", "[scene_file]") {
+  CHECK(error_of(scene_text(R"("dt": 0.01, "dt": 0.02)")) ==
+        "scene.json: duplicate key \"dt\" at top level (a key may be given once)");
+  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0], "radius": 1, "radius": 2}]}])")) ==
+        "scene.json: spheres[0].list[1]: duplicate key \"radius\" (a key may be given once)");
+  CHECK(error_of(scene_text(R"("settings": {"depenetration": {"fraction": 0.5, "fraction": 0.5}})")) ==
+        "scene.json: settings.depenetration: duplicate key \"fraction\" (a key may be given once)");
+  // The same key in different objects is fine.
+  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0]}]}])")) == "(no error)");
+}
+
+TEST_CASE("scene files: terrain fields that would overflow a float are named", "[scene_file]") {
+  struct Case {
+    std::string body, expected;
+  };
+  const std::vector<Case> cases = {
+      // Used to end in "BVH primitive 2 has a non-finite or inverted box".
+      {R"("terrain": {"function": "flat", "cell_size": 3e38})",
+       "scene.json: terrain.cell_size: times the 255 cells along x is beyond float range"},
+      {R"("terrain": {"function": "flat", "cell_size": [1, 3e38], "size": [4, 3]})",
+       "scene.json: terrain.cell_size: times the 2 cells along z is beyond float range"},
+      {R"("terrain": {"function": "flat", "cell_size": 1e36, "origin": [3e38, 0, 0]})",
+       "scene.json: terrain.origin: plus the terrain's x extent is beyond float range"},
+      {R"("terrain": {"function": "bowl", "coefficient": 1e38})", "scene.json: terrain.coefficient: hail: Heightmap::from_function"},
+      {R"("terrain": {"heightmap": "none.pgm", "height_scale": 1e35})",
+       "scene.json: terrain.height_scale: times the largest sample (65535), plus height_offset and origin.y, is beyond float range"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = error_of(scene_text(c.body));
+    INFO("body: " << c.body << "\nmessage: " << message);
+    CHECK(message.find(c.expected) == 0);
+  }
+  // A file's size is known once it is read: checked before the terrain is built.
+  const auto dir = fresh_temp_dir("extent");
+  {
+    std::ofstream pgm(dir / "map.pgm");
+    pgm << "P2 300 2 255\n";
+    for (int k = 0; k < 600; ++k) pgm << "1 ";
+  }
+  try {
+    (void)parse_scene_text(scene_text(R"("terrain": {"heightmap": "map.pgm", "cell_size": 3e36})"), "scene.json", {}, dir.string());
+    FAIL("no error");
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()).find("scene.json: terrain.cell_size: times the 299 cells along x is beyond float range") == 0);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("scene files: sphere counts and terrain sizes are checked against the memory limit first", "[scene_file]") {
+  SceneOverrides limited;
+  limited.memory_limit = {1e9, "1.00 GB (test)"};
+  // Used to end in std::bad_alloc for 1e8 spheres: --spheres was checked, the file's counts not.
+  const std::string many = error_of(scene_text(R"("spheres": [{"lattice": {"count": 100000000}}])"), limited);
+  INFO(many);
+  CHECK(many.find("scene.json: spheres: making 100000000 spheres needs about 210 GB (2100 bytes a sphere") == 0);
+  CHECK(many.find("over the memory limit of 1.00 GB (test); --memory-limit GB sets it, 0 turns the check off") != std::string::npos);
+  // Every generator counts: two lattices each within the limit, together over it.
+  const std::string two = error_of(
+      scene_text(R"("spheres": [{"lattice": {"count": 300000}}, {"random": {"count": 300000, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])"),
+      limited);
+  CHECK(two.find("scene.json: spheres: making 600000 spheres needs about 1.26 GB") == 0);
+  // --spheres replaces the count, and is checked the same way.
+  SceneOverrides resized = limited;
+  resized.spheres = 1'000'000;
+  CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 4}}])"), resized).find("making 1000000 spheres") != std::string::npos);
+  // Used to allocate for 12 s and die: a 65,536 x 4,096 terrain.
+  const std::string terrain = error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]})"), limited);
+  CHECK(terrain.find("scene.json: terrain.size: a 65536 x 4096 terrain needs about 161 GB (600 bytes a cell while it is built)") == 0);
+  // Too many spheres are refused before the terrain is built (it alone would be refused too).
+  CHECK(error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]},
+                             "spheres": [{"lattice": {"count": 100000000}}])"), limited)
+            .find("scene.json: spheres: making 100000000 spheres") == 0);
+  // The terrain counts against the spheres' share.
+  const std::string both = error_of(scene_text(R"("terrain": {"function": "flat", "size": [1024, 1024]},
+                                                  "spheres": [{"lattice": {"count": 300000}}])"), limited);
+  CHECK(both.find("scene.json: spheres: making 300000 spheres needs about 1.26 GB (2100 bytes a sphere, the most measured: README, Memory; the terrain 628 MB)") == 0);
+  // Within the limit: built.
+  CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 1000}}])"), limited) == "(no error)");
+
+  // A PGM's size is in the file: the loader refuses a header over what the limit allows.
+  const auto dir = fresh_temp_dir("memory");
+  {
+    std::ofstream pgm(dir / "big.pgm", std::ios::binary);
+    pgm << "P5 300 300 255\n" << std::string(300 * 300, '\1');
+  }
+  SceneOverrides small;
+  small.memory_limit = {1e7, "10.0 MB (test)"};
+  try {
+    (void)parse_scene_text(scene_text(R"("terrain": {"heightmap": "big.pgm"})"), "scene.json", small, dir.string());
+    FAIL("no error");
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    INFO(message);
+    CHECK(message.find("scene.json: terrain.heightmap: hail: ") == 0);
+    CHECK(message.find("300 x 300 = 90000 vertices exceeds HeightmapParams::max_vertices = 16666") != std::string::npos);
+    CHECK(message.find("the memory limit of 10.0 MB (test) allows 16666 vertices; --memory-limit GB sets it") != std::string::npos);
+  }
+  CHECK(parse_scene_text(scene_text(R"("terrain": {"heightmap": "big.pgm"})"), "scene.json", limited, dir.string()).has_terrain);
   std::filesystem::remove_all(dir);
 }
