@@ -69,7 +69,7 @@ void print_help() {
       "  bvh-build [--max-side 4096]\n"
       "      BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps\n"
       "\n"
-      "scenes (shared/scenes/README.md):");
+      "scenes (defined exactly in docs/scenes.md):");
   for (const auto& s : hail::bench::scene_registry()) std::printf("  %-14s %s\n", s.name, s.summary);
 }
 

@@ -256,7 +256,7 @@ void check_memory(const CommandOptions& o) {
   const double estimate = kBytesPerSphereGuide * double(o.params.spheres);
   if (!spheres_known || limit <= 0.0 || estimate <= limit) return;
   usage_error("--spheres " + std::to_string(o.params.spheres) + " needs about " + format_bytes(estimate) + " (" +
-              std::to_string(static_cast<int>(kBytesPerSphereGuide)) + " bytes a sphere, the most measured: README, Memory), over the memory limit of " +
+              std::to_string(static_cast<int>(kBytesPerSphereGuide)) + " bytes a sphere, the most measured: docs/benchmarks.md, Memory), over the memory limit of " +
               describe_memory_limit(o.memory_limit_gb, limit) + "; --memory-limit GB sets it, 0 turns the check off");
 }
 

@@ -1,5 +1,5 @@
 // bullets: terrain-rain's terrain with spheres fired at it at 100 to 1,000 m/s, the scene that
-// shows what continuous collision prevents (README, "Continuous collision"). Defined exactly,
+// shows what continuous collision prevents (docs/continuous-collision.md). Defined exactly,
 // random numbers included, so that other engines can run the same scene.
 
 #include <cmath>

@@ -533,7 +533,7 @@ void read_lattice(const Object& o, const GeneratorContext& g, std::vector<Sphere
   for (std::size_t k = 0; k < n; ++k) {
     Vec3 position;
     if (layout == Layout::Layers) {
-      // terrain-rain's layering (shared/scenes/README.md): s/2 is a real division.
+      // terrain-rain's layering (docs/scenes.md): s/2 is a real division.
       const float half = static_cast<float>(s) / 2.0f;
       position = {centre.x() + (static_cast<float>(k % s) - half) * spacing,
                   centre.y() + static_cast<float>(k / (s * s)) * spacing,
@@ -611,7 +611,7 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
   if (limit.bytes > 0.0 && bytes > limit.bytes)
     at.fail("making " + std::to_string(total) + " spheres " +
             over_memory_limit(bytes, std::to_string(static_cast<int>(kBytesPerSphereGuide)) +
-                                         " bytes a sphere, the most measured: README, Memory" +
+                                         " bytes a sphere, the most measured: docs/benchmarks.md, Memory" +
                                          (terrain_bytes > 0.0 ? "; the terrain " + format_bytes(terrain_bytes) : std::string()),
                               limit));
 }

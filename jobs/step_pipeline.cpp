@@ -409,7 +409,7 @@ struct StepPipeline {
   /// when there are tiles and threads to share them. On one thread the plain loop is faster
   /// (terrain-rain 64k: 15.6 against 16.1 ms of solve), on two the tiles' colouring no longer
   /// leaves a thread idle (2 threads, solve: 4k 0.338 -> 0.316 ms, 16k 1.54 -> 1.38, 64k 8.93
-  /// -> 8.62; README).
+  /// -> 8.62; docs/benchmarks.md).
   void colour(std::size_t n, std::size_t tile_spheres, const SolveStartVelocities& velocities) {
     if (tile_spheres == 0 || tbb::this_task_arena::max_concurrency() == 1) {
       colour_contacts(w.contacts_, n, w.colouring_, tile_spheres, &velocities);

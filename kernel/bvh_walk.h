@@ -26,7 +26,7 @@ struct NodeVisitCount {
   constexpr void operator()(std::uint32_t) noexcept { ++visited; }
 };
 
-/// The stackless walk of DESIGN.md: a hit on an inner node goes on to i + 1, a miss jumps to
+/// The stackless walk of docs/design.md: a hit on an inner node goes on to i + 1, a miss jumps to
 /// skip. On a leaf hit it also takes skip, which is i + 1 except for the last node, whose skip
 /// is kFlatBvhEnd. Every index taken is larger than the last, so each node is tested at most
 /// once and the walk always ends.

@@ -10,7 +10,7 @@
 // contacts after them. A pass then runs every tile's colours one after another on one thread,
 // tiles in parallel (they share no sphere), and the shared colours last, each in parallel:
 // a tile's bodies stay in that core's cache through all its colours, where untiled colours
-// each sweep the whole body array (measured in the README), and a pass has one parallel stage
+// each sweep the whole body array (measured in docs/benchmarks.md), and a pass has one parallel stage
 // for all tiles instead of one per colour. Without tiles (tile_spheres 0) every contact is
 // shared: the plain colouring.
 

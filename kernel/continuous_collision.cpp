@@ -119,7 +119,7 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
       path_boxes_[j].min[d] = static_cast<float>(lo[d]) - pad, path_boxes_[j].max[d] = static_cast<float>(hi[d]) + pad;
   }
   // Rebuilt every step: over Morton-ordered slots the input-order tree costs O(n) and queries
-  // about as fast as the median split's (terrain-rain 64k: README, "Numbers").
+  // about as fast as the median split's (terrain-rain 64k: docs/benchmarks.md).
   path_bvh_.build(path_boxes_, {.split = slots_coherent ? BvhSplit::InputOrder : BvhSplit::Median});
   // Cells of two diameters: a changed path (a short one, after an impact) covers a few.
   changed_paths_.reset(std::max(4.0f * max_radius, 1e-3f), motions_.size());

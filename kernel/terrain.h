@@ -41,12 +41,12 @@ class Terrain {
   /// Triangles per BVH leaf unless the constructor is told otherwise. 8, not 4: the packet
   /// walk tests a leaf's triangle boxes for all lanes at once, so larger leaves cost little
   /// there and save node tests (terrain-rain detect-terrain 3-5% faster on AVX2 and AVX-512,
-  /// 4k and 64k; `hail-bench query --leaf 4` and `--leaf 8`: README).
+  /// 4k and 64k; `hail-bench query --leaf 4` and `--leaf 8`: docs/benchmarks.md).
   static constexpr std::uint32_t kDefaultLeafSize = 8;
 
   /// Builds triangles and BVH (leaf_size 1..8; InvalidArgument otherwise), on the calling
   /// thread. The BVH build alone takes 0.04 s for 256 x 256 vertices and 18 s for 4096 x 4096
-  /// (README, `hail-bench bvh-build`).
+  /// (docs/benchmarks.md, `hail-bench bvh-build`).
   explicit Terrain(Heightmap heightmap, std::uint32_t leaf_size = kDefaultLeafSize);
 
   /// The heightmap it was built from; surface_height(x, z) is the ground height under a point.

@@ -524,7 +524,7 @@ TEST_CASE("scene files: sphere counts and terrain sizes are checked against the 
   // The terrain counts against the spheres' share.
   const std::string both = error_of(scene_text(R"("terrain": {"function": "flat", "size": [1024, 1024]},
                                                   "spheres": [{"lattice": {"count": 300000}}])"), limited);
-  CHECK(both.find("scene.json: spheres: making 300000 spheres needs about 1.26 GB (2100 bytes a sphere, the most measured: README, Memory; the terrain 628 MB)") == 0);
+  CHECK(both.find("scene.json: spheres: making 300000 spheres needs about 1.26 GB (2100 bytes a sphere, the most measured: docs/benchmarks.md, Memory; the terrain 628 MB)") == 0);
   // Within the limit: built.
   CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 1000}}])"), limited) == "(no error)");
 
