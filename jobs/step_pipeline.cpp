@@ -160,10 +160,14 @@ struct StepPipeline {
       for (std::size_t i = first; i < last; ++i)
         if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
       // One moved right through the ground (pushed by a crowd) ends too deep for push_out's
-      // query to find a triangle: it is lifted above the surface first.
+      // query to find a triangle: it is lifted above the surface first. Not one that is fast
+      // by its own speed: with continuous collision off, tunnelling is what the discrete step
+      // does with those (WorldSettings::continuous_collision), and with it on none is flagged.
       for (std::size_t k = 0; k < flagged_count; ++k) {
         const std::uint32_t i = flagged[k];
-        w.terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+        const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+        if (!is_fast(v2, params.dt, s.radius[i], fast_fraction))
+          w.terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
       }
       const std::size_t count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
       if (count) pushed += count;
