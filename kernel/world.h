@@ -161,7 +161,8 @@ struct WorldSettings {
   /// thread count), and StepStats::sphere_contacts_capped says so. A guard, not a working
   /// limit: 10,000 spheres at one point made 50 million contacts and the step ran out of
   /// memory; spheres in a pile have about 6 each (terrain-rain: under 2), and a large sphere
-  /// may have many small ones on it while its neighbours have few.
+  /// may have many small ones on it while its neighbours have few. A capped step frees the
+  /// excess it found, so it allocates again (an overflow, not a steady state).
   std::size_t max_sphere_contacts_per_sphere = 64;
   /// Each pair's own speculative margin: this many times the distance the two spheres can close
   /// this step by their own speeds, (|va| + |vb|) dt, and never more than the step's margin
@@ -236,8 +237,8 @@ void check_step(const WorldSettings& settings, float dt);
 
 /// What add_sphere accepts (InvalidArgument past them, naming the limit). They keep every
 /// quantity a step derives from a sphere a normal float with room to spare: the inertia
-/// 0.4 m r^2 lies in [4e-25, 4e23] kg m^2 and so does its inverse's reciprocal (radius 1e20
-/// or mass 3e38 made it infinite and kinetic_energy() NaN), impulses m v stay below 1e18 N s
+/// 0.4 m r^2 lies in [4e-25, 4e23] kg m^2, so it and its inverse are normal floats (radius
+/// 1e20 or mass 3e38 made it infinite and kinetic_energy() NaN), impulses m v stay below 1e18 N s
 /// and their squares (friction cones) below 1e36, and squared speeds (the speculative margins)
 /// below 1e12. The range covers dust to small moons: tests, scenes and the stress battery
 /// use 0.01..10 m and 1e-3..1e4 kg.
