@@ -48,13 +48,19 @@ double max_pair_overlap(std::span<const float> px, std::span<const float> py, st
   return deepest;
 }
 
+double max_sphere_overlap(const SphereSoA& s) {
+  // The arrays are padded for SIMD (SphereSoA::padded_size): only the first size() are spheres.
+  const std::size_t n = s.size();
+  return max_pair_overlap(s.px.span().first(n), s.py.span().first(n), s.pz.span().first(n), s.radius.span().first(n));
+}
+
 ErrorFigures measure_errors(const Scene& scene) {
   const World& world = *scene.world;
   const SphereSoA& s = world.soa();
   ErrorFigures e;
   e.nan_count = world.nan_count();
   e.kinetic_energy = world.kinetic_energy();
-  e.max_sphere_penetration = max_pair_overlap(s.px.span(), s.py.span(), s.pz.span(), s.radius.span());
+  e.max_sphere_penetration = max_sphere_overlap(s);
   for (std::size_t i = 0; i < s.size(); ++i) {
     for (const Plane& p : world.planes())
       e.max_terrain_penetration = std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));

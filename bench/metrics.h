@@ -36,4 +36,8 @@ ErrorFigures measure_errors(const Scene& scene);
 double max_pair_overlap(std::span<const float> px, std::span<const float> py, std::span<const float> pz,
                         std::span<const float> radius);
 
+/// max_pair_overlap of the spheres of `spheres` (its first size() slots: never the SIMD
+/// padding lanes, whose parked centres a sphere of radius 1e18 would reach).
+double max_sphere_overlap(const SphereSoA& spheres);
+
 }  // namespace hail::bench

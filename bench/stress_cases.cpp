@@ -2,9 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "scenes.h"
 
@@ -249,6 +251,139 @@ StressResult materials_and_time_scale() {
   return all;
 }
 
+/// 27 spheres on flat ground at time scales 300 (100 substeps a step) and 750 (250 of the 256
+/// allowed), 1 s of frames each; a time scale past the limit is refused, the world unchanged.
+StressResult long_time_steps() {
+  StressResult all;
+  all.name = "time-scale-300-and-750";
+  all.invariants = "27 spheres on flat ground at time scale 300 and 750 (each 1/60 s frame 5 and 12.5 s); 1e4 refused";
+  for (const float scale : {300.0f, 750.0f}) {
+    WorldSettings s = all_threads();
+    s.time_scale = scale;
+    World w(s);
+    w.set_terrain(flat_terrain(), 0.5f, 0.5f);
+    for (int k = 0; k < 27; ++k)
+      w.add_sphere({.position = {31.0f + (k % 3), 0.5f + (k / 9), 31.0f + ((k / 3) % 3)}, .radius = 0.5f, .mass = 1.0f});
+    merge_into(all, watch(w, all.name, all.invariants, scale < 500 ? 18 : 6, 1.0f / 60.0f, {}, 100.0), format("time scale %g: ", scale));
+  }
+  WorldSettings past = all_threads();
+  past.time_scale = 1e4f;
+  World w(past);
+  w.add_sphere({.position = {0, 1, 0}});
+  const std::uint64_t before = w.state_hash();
+  bool refused = false;
+  try {
+    w.step(1.0f / 60.0f);
+  } catch (const InvalidArgument&) {
+    refused = true;
+  }
+  if (!refused || w.state_hash() != before) all.failures.push_back("time scale 1e4 (2,778 substeps) was not refused cleanly");
+  all.note = "time scale 1e4 refused (max_substeps)";
+  return all;
+}
+
+/// Spheres of radius 1e-4 near the origin and of radius 1e4 far out, on planes.
+StressResult radius_extremes() {
+  StressResult all;
+  all.name = "radius-1e-4-and-1e4";
+  all.invariants = "8 spheres of radius 1e-4 (a pile at the origin) and 3 of radius 1e4 (rolling on a tilted plane), 2 s";
+  {
+    World w(all_threads());
+    w.add_plane({});
+    for (int k = 0; k < 8; ++k)
+      w.add_sphere({.position = {0.0002f * (k % 2), 0.0001f + 0.0002f * (k / 4), 0.0002f * ((k / 2) % 2)}, .radius = 1e-4f,
+                    .mass = 1e-9f});
+    merge_into(all, watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 1e-12), "radius 1e-4: ");
+  }
+  {
+    World w(all_threads());
+    w.add_plane({.normal = {0.1f, 1.0f, 0.0f}});
+    for (int k = 0; k < 3; ++k) {
+      // The plane is y = -0.1 x; each centre 1.06 radii from it (|normal| = 1.005 before normalising).
+      const float x = 1e5f + 2.5e4f * static_cast<float>(k);
+      w.add_sphere({.position = {x, 1.06f * 1.005f * 1e4f - 0.1f * x, 0.0f}, .radius = 1e4f, .mass = 1e9f});
+    }
+    merge_into(all, watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 1e12), "radius 1e4: ");
+  }
+  return all;
+}
+
+/// 1,000 spheres with one centre above flat ground: every pair a contact, within the cap.
+StressResult many_coincident() {
+  World w(all_threads());
+  w.set_terrain(flat_terrain(), 0.5f, 0.5f);
+  for (int k = 0; k < 1000; ++k) w.add_sphere({.position = {32.0f, 10.0f, 32.0f}, .radius = 0.5f, .mass = 1.0f});
+  w.step(1.0f / 60.0f);  // every pair a contact: 499,500 found, 64,000 kept (max_sphere_contacts_per_sphere)
+  const bool capped = w.last_step_stats().sphere_contacts_capped;
+  StressBounds b;
+  b.sphere_penetration = b.ground_penetration = b.energy_growth = -1;  // they start inside each other
+  StressResult r = watch(w, "coincident-1000", "1,000 spheres at one point above flat ground, 0.5 s: finite, none below the ground",
+                         29, 1.0f / 60.0f, b, 1e4, 1.0, 10);
+  r.note = capped ? "first step's contacts capped" : "first step's contacts not capped";
+  if (!capped) r.failures.push_back("the first step's contacts were not capped: " + r.note);
+  return r;
+}
+
+/// Spheres placed with their centres inside terrain-rain's hills, 0.01 to 10 radii deep.
+StressResult inside_terrain() {
+  World w(all_threads());
+  w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+  const Heightmap& h = w.terrain()->heightmap();
+  int k = 0;
+  for (const float depth : {0.005f, 0.5f, 5.0f})
+    for (int j = 0; j < 10; ++j, ++k) {
+      const float x = 40.0f + 17.0f * j, z = 60.0f + 40.0f * (k / 10);
+      w.add_sphere({.position = {x, h.surface_height(x, z) - depth, z}, .radius = 0.5f, .mass = 1.0f});
+    }
+  StressBounds b;
+  b.energy_growth = -1;  // lifted out: the start energy is below the ground
+  return watch(w, "start-inside-terrain", "30 spheres starting 0.01, 1 and 10 radii inside terrain-rain's hills, 2 s", 120,
+               1.0f / 60.0f, b, 100.0);
+}
+
+/// A box of five planes (one tilted) with 64 spheres dropped in.
+StressResult plane_box() {
+  World w(all_threads());
+  w.add_plane({.normal = {0.2f, 1.0f, 0.0f}});
+  w.add_plane({.normal = {1, 0, 0}, .offset = -4});
+  w.add_plane({.normal = {-1, 0, 0}, .offset = -4});
+  w.add_plane({.normal = {0, 0, 1}, .offset = -4});
+  w.add_plane({.normal = {0, 0, -1}, .offset = -4});
+  for (int k = 0; k < 64; ++k)
+    w.add_sphere({.position = {-3.0f + (k % 4) * 2.0f, 3.0f + (k / 16) * 1.5f, -3.0f + ((k / 4) % 4) * 2.0f}, .radius = 0.5f,
+                  .mass = 1.0f});
+  return watch(w, "plane-box", "64 spheres dropped into a box of four walls and a tilted floor (planes), 3 s", 180,
+               1.0f / 60.0f, {}, 100.0);
+}
+
+/// Spheres added and removed between steps on terrain-rain's terrain.
+StressResult add_and_remove() {
+  World w(all_threads());
+  w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+  std::vector<SphereId> ids;
+  StressResult all;
+  all.name = "add-and-remove";
+  all.invariants = "terrain-rain's terrain, 4 spheres added and 3 removed (oldest, newest, middle) every step, 2 s";
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int step = 0; step < 120; ++step) {
+    for (int k = 0; k < 4; ++k)
+      ids.push_back(w.add_sphere({.position = {100.0f + 40.0f * u(rng), 15.0f + 5.0f * u(rng), 100.0f + 40.0f * u(rng)},
+                                  .radius = 0.3f + 0.3f * u(rng), .mass = 1.0f}));
+    for (int which = 0; which < 3; ++which) {
+      const std::size_t at = which == 0 ? 0 : which == 1 ? ids.size() - 1 : ids.size() / 2;
+      w.remove_sphere(ids[at]);
+      ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(at));
+    }
+    // One step watched at a time: the energy of a world whose spheres change is not conserved.
+    StressBounds b;
+    b.energy_growth = -1;
+    merge_into(all, watch(w, all.name, all.invariants, 1, 1.0f / 60.0f, b), format("step %.0f: ", step));
+  }
+  all.note = format("%.0f spheres at the end", double(w.sphere_count()));
+  return all;
+}
+
 /// bowl-pile with 10,000 spheres for 20 s: it must end at rest.
 StressResult dense_pile() {
   SceneParams p;
@@ -295,7 +430,14 @@ std::vector<StressCase> stress_cases() {
       {"heights-1e4", false, [] { return far_away(0.0f, 1e4f, "heights-1e4"); }},
       {"far-1e4", false, [] { return far_away(1e4f, 0.0f, "far-1e4"); }},
       {"far-1e5", false, [] { return far_away(1e5f, 0.0f, "far-1e5"); }},
+      {"far-1.25e5", false, [] { return far_away(1.25e5f, 0.0f, "far-1.25e5"); }},
       {"materials-and-time-scale", false, materials_and_time_scale},
+      {"time-scale-300-and-750", false, long_time_steps},
+      {"radius-1e-4-and-1e4", false, radius_extremes},
+      {"coincident-1000", false, many_coincident},
+      {"start-inside-terrain", false, inside_terrain},
+      {"plane-box", false, plane_box},
+      {"add-and-remove", false, add_and_remove},
       {"bowl-pile-10k-20s", true, dense_pile},
   };
 }

@@ -42,6 +42,7 @@ namespace {
 constexpr std::size_t kReorderBlock = 16384;  // spheres per block of the re-sort: few parallel loops at 4k
 constexpr std::size_t kSphereBlock = 256;    // spheres per block in per-sphere phases
 constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
+constexpr std::size_t kPairRowChunk = 16;    // rows per search call once a block may pass its contact cap
 constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
 constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task within one colour
 }  // namespace
@@ -158,6 +159,16 @@ struct StepPipeline {
       std::size_t flagged_count = 0;
       for (std::size_t i = first; i < last; ++i)
         if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
+      // One moved right through the ground (pushed by a crowd) ends too deep for push_out's
+      // query to find a triangle: it is lifted above the surface first. Not one that is fast
+      // by its own speed: with continuous collision off, tunnelling is what the discrete step
+      // does with those (WorldSettings::continuous_collision), and with it on none is flagged.
+      for (std::size_t k = 0; k < flagged_count; ++k) {
+        const std::uint32_t i = flagged[k];
+        const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+        if (!is_fast(v2, params.dt, s.radius[i], fast_fraction))
+          w.terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      }
       const std::size_t count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
       if (count) pushed += count;
     });
@@ -189,6 +200,7 @@ struct StepPipeline {
     grow_block_lists(w.pair_blocks_, blocks);
     grow_block_lists(w.pair_row_scratch_, blocks);
     for (std::size_t b = 0; b < blocks; ++b) w.pair_blocks_[b].clear();
+    w.stats_.sphere_contacts_capped = false;
     if (!w.settings_.sphere_collisions) return;
     PairSearch search = w.settings_.pair_search;
     if (search == PairSearch::Automatic)
@@ -199,19 +211,43 @@ struct StepPipeline {
     if (search == PairSearch::Grid) w.grid_.build(s, margin, own_margins);
     if (search == PairSearch::SweepAndPrune) w.sweep_.build(s, margin);
     if (search == PairSearch::Bvh) w.sphere_bvh_.build(s, margin);
+    const std::size_t per_sphere = w.settings_.max_sphere_contacts_per_sphere;
+    std::atomic<bool> capped{false};  // an OR: the order of stores cannot change it
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::DetectPairs);
       std::vector<SpherePair>& out = w.pair_blocks_[b];
       std::vector<std::uint32_t>& row = w.pair_row_scratch_[b];
-      switch (search) {
-        case PairSearch::Grid: w.grid_.find_pairs(s, first, last, margin, out, row); break;
-        case PairSearch::SweepAndPrune: w.sweep_.find_pairs(s, first, last, margin, out, row); break;
-        case PairSearch::Bvh: w.sphere_bvh_.find_pairs(s, first, last, margin, out, row); break;
-        default: find_sphere_pairs_simd(s, first, last, margin, out); break;
+      auto find = [&](std::size_t from, std::size_t to) {
+        switch (search) {
+          case PairSearch::Grid: w.grid_.find_pairs(s, from, to, margin, out, row); break;
+          case PairSearch::SweepAndPrune: w.sweep_.find_pairs(s, from, to, margin, out, row); break;
+          case PairSearch::Bvh: w.sphere_bvh_.find_pairs(s, from, to, margin, out, row); break;
+          default: find_sphere_pairs_simd(s, from, to, margin, out); break;
+        }
+      };
+      // The block's share of WorldSettings::max_sphere_contacts_per_sphere. A row has fewer
+      // than n pairs, so a small world cannot reach it: one search. Otherwise the rows are
+      // searched a chunk at a time and the search stops at the share, so that coincident
+      // spheres (every pair a contact) hold at most the share plus a chunk's rows of pairs
+      // here, not n^2 / 2. The pairs kept are the first in row order: the same for any
+      // thread count and any search.
+      const std::size_t share = per_sphere * (last - first);
+      if ((last - first) * n <= share) {
+        find(first, last);
+      } else {
+        for (std::size_t from = first; from < last; from += kPairRowChunk) {
+          find(from, std::min(last, from + kPairRowChunk));
+          if (out.size() <= share) continue;
+          out.resize(share);
+          out.shrink_to_fit();  // overflow only: drop what a chunk of coincident spheres made
+          capped.store(true, std::memory_order_relaxed);
+          break;
+        }
       }
       if (!w.fast_.empty()) drop_fast_speculative_pairs(out);
       if (pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
     });
+    w.stats_.sphere_contacts_capped = capped.load();
   }
 
   /// Drops the pairs whose gap is beyond their own margin (WorldSettings::pair_margin_travel):
@@ -743,14 +779,19 @@ struct StepPipeline {
 };
 
 void World::step(float dt) {
-  if (!(std::isfinite(dt) && dt > 0.0f))
-    throw InvalidArgument("hail: World::step dt must be finite and > 0, got " + std::to_string(dt));
-  const float scaled = dt * settings_.time_scale;
+  check_step(settings_, dt);  // before anything changes: a refused step leaves the world as it was
   times_ = {};
-  if (scaled <= 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
-  const int substeps = std::max(1, static_cast<int>(std::ceil(double(scaled) / double(settings_.max_substep))));
-  for (int k = 0; k < substeps; ++k) substep(scaled / static_cast<float>(substeps));
+  const int substeps = static_cast<int>(substeps_needed(settings_, dt));  // <= max_substeps, an int
+  const float scaled = dt * settings_.time_scale;
+  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
+  const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
+  // dt * time_scale in float where it is finite (bitwise what steps always took); in double
+  // where the float product overflows yet each substep does not.
+  const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
+                                           : static_cast<float>(double(dt) * settings_.time_scale / substeps);
+  for (int k = 0; k < substeps; ++k) substep(each);
+  stats_.lifted_out = lifted;
 }
 
 void World::substep(float scaled) {

@@ -101,6 +101,18 @@ class Terrain {
   bool push_out(float& x, float& y, float& z, float r, int rounds = kPushOutRounds) const;
   static constexpr int kPushOutRounds = 4;  ///< push_out's default
 
+  /// A centre below the surface at its x, z (inside the solid, where push_out's query finds no
+  /// triangle once it is a radius deep) is put a radius above the surface there: touching flat
+  /// ground, overlapping a slope by r (1 - cos slope) with the centre on the outer side, so
+  /// that push_out then moves it out along the right normal. Returns whether it moved y; a
+  /// point outside the heightmap's extent is left alone.
+  bool lift_above_surface(float x, float& y, float z, float r) const {
+    const float surface = heightmap_.surface_height(x, z);  // NaN outside: the test fails
+    if (!(y < surface)) return false;
+    y = surface + r;
+    return true;
+  }
+
   /// push_out (default rounds) for each sphere of `spheres` named in `slots`, their walks a
   /// packet of spheres at a time on the active SIMD path (kernel/simd/terrain_push_out.cpp):
   /// the same moves as push_out sphere by sphere, which stays the reference. Returns how many

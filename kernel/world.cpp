@@ -1,7 +1,9 @@
 #include "kernel/world.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -9,6 +11,13 @@
 
 namespace hail {
 namespace {
+
+/// %g: limits such as 1e-12 read as 0.000000 in std::to_string.
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
 
 std::string describe(const char* what, float value) { return std::string(what) + " = " + std::to_string(value); }
 
@@ -36,6 +45,9 @@ void require_material(float restitution, float friction, const char* owner) {
           [&] { return std::string(owner) + " friction must be finite and >= 0, got " + std::to_string(friction); });
 }
 
+/// Distance from a (>= 0) to the next float up: how finely a float places a point at a.
+float float_spacing(float a) { return std::nextafter(a, std::numeric_limits<float>::infinity()) - a; }
+
 }  // namespace
 
 void World::validate(const WorldSettings& s) {
@@ -44,6 +56,10 @@ void World::validate(const WorldSettings& s) {
           "WorldSettings::time_scale must be finite and >= 0, got " + std::to_string(s.time_scale));
   require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
           describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
+  require(s.max_sphere_contacts_per_sphere >= 1, [&] {
+    return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " + std::to_string(s.max_sphere_contacts_per_sphere);
+  });
+  require(s.max_substeps >= 1, "WorldSettings::max_substeps must be >= 1, got " + std::to_string(s.max_substeps));
   require(s.threads >= 0, "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
   require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
@@ -81,6 +97,26 @@ void World::validate(const WorldSettings& s) {
   (void)active_simd_path();
 }
 
+std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
+  require(std::isfinite(dt) && dt > 0.0f, [&] { return "World::step dt must be finite and > 0, got " + std::to_string(dt); });
+  // float * float is exact in double, and the quotient cannot overflow a double.
+  const double count = std::ceil(double(dt) * double(settings.time_scale) / double(settings.max_substep));
+  if (count <= 0.0) return settings.time_scale > 0.0f ? 1 : 0;
+  constexpr double kBeyondInt64 = 9.2e18;  // below 2^63, so the cast below is defined
+  return count >= kBeyondInt64 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(count);
+}
+
+void check_step(const WorldSettings& settings, float dt) {
+  const std::int64_t needed = substeps_needed(settings, dt);
+  require(needed <= settings.max_substeps, [&] {
+    return "World::step dt = " + std::to_string(dt) + " s at time_scale " + std::to_string(settings.time_scale) +
+           " needs " + std::to_string(needed) + " substeps of at most WorldSettings::max_substep = " +
+           std::to_string(settings.max_substep) + " s, more than WorldSettings::max_substeps = " +
+           std::to_string(settings.max_substeps) +
+           ": take shorter steps (several calls), lower time_scale, or raise max_substep or max_substeps";
+  });
+}
+
 World::World(const WorldSettings& settings) : settings_(settings) {
   validate(settings);
   constexpr int all_hardware_threads = tbb::task_arena::automatic;  // a copy: avoids odr-using the member
@@ -102,10 +138,28 @@ SphereId World::add_sphere(const SphereDesc& d) {
   require_finite(d.angular_velocity, "sphere angular_velocity");
   require(std::isfinite(d.radius) && d.radius > 0.0f,
           [&] { return "sphere radius must be finite and > 0, got " + std::to_string(d.radius); });
-  if (!d.is_static)
+  require(d.radius >= kMinSphereRadius && d.radius <= kMaxSphereRadius, [&] {
+    return "sphere radius must be in [kMinSphereRadius, kMaxSphereRadius] = [" + number(kMinSphereRadius) + ", " +
+           number(kMaxSphereRadius) + "] m (kernel/world.h), got " + number(d.radius);
+  });
+  if (!d.is_static) {
     require(std::isfinite(d.mass) && d.mass > 0.0f, [&] {
       return "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass);
     });
+    require(d.mass >= kMinSphereMass && d.mass <= kMaxSphereMass, [&] {
+      return "sphere mass must be in [kMinSphereMass, kMaxSphereMass] = [" + number(kMinSphereMass) + ", " +
+             number(kMaxSphereMass) + "] kg (kernel/world.h), got " + number(d.mass);
+    });
+    // Compared squared in double: the float norm of a finite vector can overflow.
+    require(d.velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpeed) * kMaxSphereSpeed, [&] {
+      return "sphere velocity must be at most kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s, got |v| = " +
+             number(d.velocity.cast<double>().norm());
+    });
+    require(d.angular_velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpin) * kMaxSphereSpin, [&] {
+      return "sphere angular_velocity must be at most kMaxSphereSpin = " + number(kMaxSphereSpin) +
+             " rad/s, got |w| = " + number(d.angular_velocity.cast<double>().norm());
+    });
+  }
   require_material(d.restitution, d.friction, "sphere");
   const bool spins = !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
   require(settings_.rotation || d.is_static || !spins, [&] {
@@ -120,6 +174,14 @@ SphereId World::add_sphere(const SphereDesc& d) {
     return "sphere mass " + std::to_string(d.mass) + " and radius " + std::to_string(d.radius) +
            " give an inertia outside float range";
   });
+  const float farthest = d.position.cwiseAbs().maxCoeff();
+  require(float_spacing(farthest) <= d.radius / kSphereRadiusResolution, [&] {
+    return "sphere position " + number(farthest) + " m from the origin cannot resolve radius " + number(d.radius) +
+           " m: floats there are " + number(float_spacing(farthest)) + " m apart, more than radius / " +
+           "kSphereRadiusResolution = " + number(d.radius / kSphereRadiusResolution) +
+           " m (kernel/world.h); move the scene nearer the origin or use larger spheres";
+  });
+  unchecked_from_ = std::min(unchecked_from_, spheres_.size());
   const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
   const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
   return spheres_.add({d.position.x(), d.position.y(), d.position.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z(),
@@ -129,29 +191,78 @@ SphereId World::add_sphere(const SphereDesc& d) {
 bool World::remove_sphere(SphereId id) {
   // Its id index may be reused by the next sphere added: warm-start data must not carry over.
   contact_cache_.clear();
+  // The last sphere moves into the hole: if it was still unchecked, so is the hole's slot now.
+  const std::int64_t slot = spheres_.slot_of(id);
+  if (slot >= 0 && spheres_.size() - 1 >= unchecked_from_)
+    unchecked_from_ = std::min(unchecked_from_, static_cast<std::size_t>(slot));
   return spheres_.remove(id);
 }
 
 std::size_t World::add_plane(const PlaneDesc& d) {
   require_finite(d.normal, "plane normal");
   require(std::isfinite(d.offset), "plane offset must be finite, got " + std::to_string(d.offset));
-  const float length = d.normal.norm();
-  require(length > 1e-6f, "plane normal must not be zero, got length " + std::to_string(length));
+  // An ordinary normal is divided by its norm, as always. The norm of (1e20, 0, 0) squares past
+  // float range (it stored a zero normal) and that of (1e-20, 0, 0) underflows: those are
+  // scaled by their largest component first, so the norm is of a vector in [1, sqrt 3].
+  float length = d.normal.norm();
+  Vec3 n = d.normal / length;
+  if (!(std::isfinite(length) && length > 1e-18f)) {
+    const float largest = d.normal.cwiseAbs().maxCoeff();
+    const Vec3 scaled = largest > 0.0f ? Vec3(d.normal / largest) : Vec3::Zero();
+    const float scaled_length = scaled.norm();
+    length = largest * scaled_length;  // infinite past float range: the offset below is then ~0
+    n = scaled / scaled_length;
+  }
+  require(length > 1e-6f, [&] { return "plane normal must not be (nearly) zero, got length " + std::to_string(length); });
   require_material(d.restitution, d.friction, "plane");
-  const Vec3 n = d.normal / length;
-  planes_.push_back({n.x(), n.y(), n.z(), d.offset / length, d.restitution, d.friction});
+  const float offset = d.offset / length;
+  require(std::isfinite(offset), [&] {
+    return "plane offset / |normal| must be finite, got " + std::to_string(d.offset) + " / " + std::to_string(length);
+  });
+  planes_.push_back({n.x(), n.y(), n.z(), offset, d.restitution, d.friction});
   return planes_.size() - 1;
 }
 
 #if HAIL_WITH_TERRAIN
 void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
   require_material(restitution, friction, "terrain");
+  if (terrain) {
+    const Heightmap& h = terrain->heightmap();
+    const HeightmapExtent e = h.extent();
+    const float farthest = std::max({std::fabs(e.min_x), std::fabs(e.max_x), std::fabs(e.min_z), std::fabs(e.max_z),
+                                     std::fabs(h.min_height()), std::fabs(h.max_height())});
+    const float cell = std::min(h.params().cell_x, h.params().cell_z);
+    require(float_spacing(farthest) <= cell / kTerrainCellResolution, [&] {
+      return "terrain reaches " + number(farthest) + " m from the origin, where floats are " +
+             number(float_spacing(farthest)) + " m apart, more than its cell size " + number(cell) +
+             " m / kTerrainCellResolution = " + number(cell / kTerrainCellResolution) +
+             " m (kernel/world.h); move it nearer the origin or use larger cells";
+    });
+  }
   terrain_ = std::move(terrain);
+  unchecked_from_ = 0;     // every sphere may be inside the new terrain
   contact_cache_.clear();  // triangle features name another terrain's triangles now
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
 }
 #endif
+
+std::size_t World::lift_out_of_terrain() {
+  std::size_t lifted = 0;
+#if HAIL_WITH_TERRAIN
+  SphereSoA& s = spheres_;
+  if (terrain_) {
+    for (std::size_t i = unchecked_from_; i < s.size(); ++i) {
+      if (!(s.inv_mass[i] > 0.0f)) continue;  // a static sphere never moves
+      if (!terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i])) continue;
+      terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      ++lifted;
+    }
+  }
+#endif
+  unchecked_from_ = spheres_.size();
+  return lifted;
+}
 
 void World::reserve(std::size_t n) { spheres_.reserve(n); }
 

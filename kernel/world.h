@@ -117,6 +117,12 @@ struct WorldSettings {
   /// thousands of times and gained energy 20-fold in the stress battery; 1/20 s keeps every step
   /// of the shipped scenes whole.
   float max_substep = 0.05f;
+  /// Most substeps one step(dt) may be split into, >= 1. A step that needs more
+  /// (substeps_needed below) is refused with InvalidArgument and the world is left unchanged:
+  /// without the cap step(1e5) of one sphere ran two million substeps (seconds), and a count
+  /// past INT_MAX wrapped to one substep of the whole dt. 256 is 12.8 s of simulated time per
+  /// call at the default max_substep, far beyond any frame (time scale 100 at 1/60 s needs 34).
+  int max_substeps = 256;
   Integrator integrator = Integrator::SemiImplicitEuler;
   /// Worker threads for step(); 0 = all hardware threads; 1 = strictly the calling thread.
   /// Ignored when the World is given the caller's task_arena.
@@ -149,6 +155,15 @@ struct WorldSettings {
   /// distance they could close this step (2 * max speed * dt), capped at this many radii of the
   /// larger sphere. Larger: fewer missed fast contacts, more contact pairs.
   float speculative_radii = 1.0f;
+  /// Sphere-sphere contacts a step may make, per sphere (>= 1): at most this many times the
+  /// sphere count in all, shared out over runs of 64 slots (neighbours, in the Morton order).
+  /// Pairs past a run's share are dropped, the first in slot order kept (the same for any
+  /// thread count), and StepStats::sphere_contacts_capped says so. A guard, not a working
+  /// limit: 10,000 spheres at one point made 50 million contacts and the step ran out of
+  /// memory; spheres in a pile have about 6 each (terrain-rain: under 2), and a large sphere
+  /// may have many small ones on it while its neighbours have few. A capped step frees the
+  /// excess it found, so it allocates again (an overflow, not a steady state).
+  std::size_t max_sphere_contacts_per_sphere = 64;
   /// Each pair's own speculative margin: this many times the distance the two spheres can close
   /// this step by their own speeds, (|va| + |vb|) dt, and never more than the step's margin
   /// above (which one fast sphere widens for everyone). Resting neighbours then get contacts
@@ -207,13 +222,58 @@ struct WorldSettings {
   bool rotation = HAIL_WITH_ROTATION != 0;
 };
 
-/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves).
+/// How many substeps World::step(dt) splits a step into under `settings`:
+/// ceil(time_scale * dt / max_substep), at least 1; 0 when time_scale is 0 (nothing moves).
+/// Computed in double, so it never overflows: a count beyond INT64_MAX is returned as
+/// INT64_MAX. Throws InvalidArgument unless dt is finite and > 0. Needs no World: a scene
+/// reader or a command line can call it to refuse a dt (with check_step) before it builds one.
+[[nodiscard]] std::int64_t substeps_needed(const WorldSettings& settings, float dt);
+
+/// Throws InvalidArgument exactly when World::step(dt) under `settings` would: dt not finite
+/// or not > 0, or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
+/// time_scale, max_substep, the count needed and the ways out). `settings` itself is assumed
+/// valid (the World constructor checks it).
+void check_step(const WorldSettings& settings, float dt);
+
+/// What add_sphere accepts (InvalidArgument past them, naming the limit). They keep every
+/// quantity a step derives from a sphere a normal float with room to spare: the inertia
+/// 0.4 m r^2 lies in [4e-25, 4e23] kg m^2, so it and its inverse are normal floats (radius
+/// 1e20 or mass 3e38 made it infinite and kinetic_energy() NaN), impulses m v stay below 1e18 N s
+/// and their squares (friction cones) below 1e36, and squared speeds (the speculative margins)
+/// below 1e12. The range covers dust to small moons: tests, scenes and the stress battery
+/// use 0.01..10 m and 1e-3..1e4 kg.
+inline constexpr float kMinSphereRadius = 1e-6f;  ///< m
+inline constexpr float kMaxSphereRadius = 1e6f;   ///< m
+inline constexpr float kMinSphereMass = 1e-12f;   ///< kg (movable spheres; a static one has none)
+inline constexpr float kMaxSphereMass = 1e12f;    ///< kg
+inline constexpr float kMaxSphereSpeed = 1e6f;    ///< m/s, |velocity|
+inline constexpr float kMaxSphereSpin = 1e6f;     ///< rad/s, |angular_velocity|
+
+/// Resolution: a float cannot place a point more finely than the spacing of floats at its
+/// coordinates (2^-23 of their magnitude), so far from the origin small things blur. add_sphere
+/// requires the spacing at the sphere's largest |coordinate| to be at most radius /
+/// kSphereRadiusResolution: contacts, the depenetration slop and the stress battery's bounds
+/// are a few percent of a radius, and the overlaps grow with the spacing (hail-bench stress,
+/// terrain-rain's terrain moved out: deepest sphere overlap 0.8% of r at 1e4 m, 3.2% at 1e5 m
+/// where the spacing is r / 64, 6.3% past the 5% bound at 2.5e5 m, r / 32). A sphere of radius
+/// 0.5 may so be placed up to 2^17 = 131,072 m out, one of radius 1e-6 within 0.25 m. The
+/// check is made when a sphere is added; a step does not stop a sphere flying further.
+inline constexpr float kSphereRadiusResolution = 64.0f;
+/// set_terrain requires the spacing of floats at the terrain's largest |coordinate| (its
+/// corners' x and z, its highest and lowest heights) to be at most the smaller cell size /
+/// kTerrainCellResolution: a point's cell and place in it, (x - origin) / cell, then err by at
+/// most 1/64 of a cell. At 3e7 m with 1 m cells (spacing 2 m) cells collapsed to zero width and
+/// every value turned NaN once a sphere landed. 1 m cells may lie up to 2^18 = 262,144 m out.
+inline constexpr float kTerrainCellResolution = 64.0f;
+
+/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves). Radius, mass,
+/// speed and spin within the limits above.
 struct SphereDesc {
-  Vec3 position{0.0f, 0.0f, 0.0f};          ///< m
+  Vec3 position{0.0f, 0.0f, 0.0f};          ///< m; resolvable for the radius (kSphereRadiusResolution)
   Vec3 velocity{0.0f, 0.0f, 0.0f};          ///< m/s
   Vec3 angular_velocity{0.0f, 0.0f, 0.0f};  ///< rad/s; must be zero when WorldSettings::rotation is off
-  float radius = 0.5f;                      ///< m, > 0
-  float mass = 1.0f;                        ///< kg, > 0 (ignored when is_static)
+  float radius = 0.5f;                      ///< m, in [kMinSphereRadius, kMaxSphereRadius]
+  float mass = 1.0f;                        ///< kg, in [kMinSphereMass, kMaxSphereMass] (ignored when is_static)
   float restitution = 0.5f;                 ///< [0, 1]
   float friction = 0.5f;                    ///< Coulomb coefficient, >= 0
   bool is_static = false;                   ///< infinite mass: collides but never moves
@@ -266,7 +326,13 @@ struct StepStats {
   std::size_t warm_started = 0;  ///< contacts that found their last-step impulses
   SweepStats sweep;              ///< continuous collision: fast spheres, impacts, capped spheres
   StepParts ran;                 ///< the optional parts that ran (of the last substep)
+  /// Some sphere-sphere pairs were dropped: a run of slots found more than its share of
+  /// WorldSettings::max_sphere_contacts_per_sphere (of the last substep).
+  bool sphere_contacts_capped = false;
   std::size_t pushed_out = 0;    ///< spheres the terrain guard moved out of the terrain (Terrain::push_out)
+  /// Spheres found with their centre below the terrain surface at the start of the step (those
+  /// added, or all after set_terrain, since the last step) and lifted out onto it (World::step).
+  std::size_t lifted_out = 0;
 };
 
 /// Read-only views of the dense sphere state, in slot order (World::slot_of maps a handle to
@@ -300,7 +366,14 @@ class World {
   /// Adds a static plane; returns its index. Throws InvalidArgument on a bad value.
   std::size_t add_plane(const PlaneDesc& desc);
   /// Sets (or with nullptr removes) the static terrain and its material. The terrain is
-  /// immutable and may be shared by several worlds. Throws InvalidArgument on a bad material.
+  /// immutable and may be shared by several worlds. Throws InvalidArgument (world unchanged) on
+  /// a bad material, or a terrain too far out for its cell size (kTerrainCellResolution).
+  /// A movable sphere whose centre lies below the terrain surface (inside a hill: its contacts
+  /// see no triangle, and it fell through forever) is lifted out at the start of the next step,
+  /// as a plane pushes it out: its centre put a radius above the surface at its x, z, then
+  /// moved out along the deepest overlap (Terrain::push_out). This is checked once for each
+  /// sphere added since the last step, and for every sphere after set_terrain;
+  /// StepStats::lifted_out counts them.
 #if HAIL_WITH_TERRAIN
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
 #endif
@@ -311,8 +384,10 @@ class World {
   void reserve(std::size_t spheres);
 
   /// Advances the world by dt * time_scale seconds (split into substeps no longer than
-  /// max_substep). dt must be finite and > 0 (InvalidArgument, world unchanged). Blocks until
-  /// done; runs in parallel inside the World's arena; allocates nothing in a steady state.
+  /// max_substep). dt must be finite and > 0, and the step must need no more than
+  /// WorldSettings::max_substeps substeps (check_step; InvalidArgument, world unchanged).
+  /// Blocks until done; runs in parallel inside the World's arena; allocates nothing in a
+  /// steady state.
   void step(float dt);
 
   [[nodiscard]] std::size_t sphere_count() const { return spheres_.size(); }
@@ -380,6 +455,9 @@ class World {
   /// One pass of the step pipeline over `scaled` (time-scaled) seconds.
   void substep(float scaled);
   std::size_t require_slot(SphereId id) const;
+  /// Lifts the movable spheres of slots [unchecked_from_, n) whose centre is below the terrain
+  /// surface out of it (see set_terrain); returns how many moved.
+  std::size_t lift_out_of_terrain();
 
   WorldSettings settings_;
   std::unique_ptr<tbb::task_arena> own_arena_;
@@ -388,6 +466,9 @@ class World {
   std::vector<Plane> planes_;
   std::shared_ptr<const Terrain> terrain_;
   float terrain_restitution_ = 0.5f, terrain_friction_ = 0.5f;
+  /// Slots from here on have not been checked against the terrain since they were added (or
+  /// the terrain set): lift_out_of_terrain checks them at the start of the next step.
+  std::size_t unchecked_from_ = 0;
 
   // Per-step scratch, reused so that a steady-state step does not allocate.
   std::vector<std::vector<SpherePair>> pair_blocks_;

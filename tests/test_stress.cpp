@@ -41,4 +41,11 @@ TEST_CASE("Stress: 1e5 m from the origin", "[stress]") { run_stress_case("far-1e
 TEST_CASE("Stress: restitution 0/1, friction 0/10, time scale 0/100", "[stress]") {
   run_stress_case("materials-and-time-scale");
 }
+TEST_CASE("Stress: 1.25e5 m from the origin (within kSphereRadiusResolution)", "[stress]") { run_stress_case("far-1.25e5"); }
+TEST_CASE("Stress: time scale 300 and 750 stable, 1e4 refused", "[stress]") { run_stress_case("time-scale-300-and-750"); }
+TEST_CASE("Stress: radius 1e-4 and 1e4 spheres", "[stress]") { run_stress_case("radius-1e-4-and-1e4"); }
+TEST_CASE("Stress: 1,000 spheres at one point", "[stress]") { run_stress_case("coincident-1000"); }
+TEST_CASE("Stress: spheres starting inside the terrain", "[stress]") { run_stress_case("start-inside-terrain"); }
+TEST_CASE("Stress: spheres in a box of planes", "[stress]") { run_stress_case("plane-box"); }
+TEST_CASE("Stress: spheres added and removed between steps", "[stress]") { run_stress_case("add-and-remove"); }
 TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") { run_stress_case("bowl-pile-10k-20s"); }
