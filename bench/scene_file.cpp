@@ -725,6 +725,16 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                                                  "shock_mass_ratio", "rotation"}),
                                          settings);
 
+  // A dt the World would refuse on its first step (too many substeps: World::step's contract,
+  // check_step) is refused now, naming the field or flag, before minutes of set-up.
+  try {
+    check_step(settings, overrides.dt ? *overrides.dt : scene.dt);
+  } catch (const InvalidArgument& e) {
+    const std::string why = std::string(e.what()).substr(std::string_view(e.what()).starts_with("hail: ") ? 6 : 0);
+    if (overrides.dt) throw std::invalid_argument(source_name + ": --dt: " + why);
+    (top.has("dt") ? top.at("dt") : root).fail(why);
+  }
+
   // The spheres alone first, so that too many are refused before a terrain is built for them.
   if (top.has("spheres") && top["spheres"].is_array()) check_sphere_total(top["spheres"], top.at("spheres"), overrides, 0.0);
   std::shared_ptr<const Terrain> terrain;

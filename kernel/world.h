@@ -59,7 +59,7 @@ namespace hail {
 /// How sphere-sphere pairs are found. All give exactly the same pairs in the same order, so the
 /// choice changes speed only, never the simulation (tests/test_broadphase.cpp).
 enum class PairSearch {
-  Automatic,      ///< by sphere count and radius spread, from measured crossovers (README)
+  Automatic,      ///< by sphere count and radius spread, from measured crossovers (docs/benchmarks.md)
   BruteForce,     ///< SIMD all-pairs: O(n^2), fastest for small n
   Grid,           ///< hashed uniform grid sized by the largest reach (diameter + margin): O(n) for similar radii
   SweepAndPrune,  ///< sort along the axis of greatest spread, per radius class
@@ -142,7 +142,7 @@ struct WorldSettings {
   /// tiles of half its spheres (solver_tile_size), so that two threads still share the tiles.
   /// 0: no tiles (every colour spans all spheres). The order in which contacts are solved
   /// depends on the tile size, so states differ bitwise between tile sizes (never between
-  /// thread counts). The default and its measurements: README, "Solver tiles (measured)".
+  /// thread counts). The default and its measurements: docs/benchmarks.md, "Solver tiles".
   std::size_t solver_tile_spheres = 2048;
   DepenetrationParams depenetration{};
   /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
@@ -168,21 +168,21 @@ struct WorldSettings {
   /// this step by their own speeds, (|va| + |vb|) dt, and never more than the step's margin
   /// above (which one fast sphere widens for everyone). Resting neighbours then get contacts
   /// only where they touch, not with the next shell of a pile: terrain-rain 4k, 12.5k -> 7.0k
-  /// sphere contacts per step with the same worst penetration (README). 2 leaves room for
+  /// sphere contacts per step with the same worst penetration (docs/benchmarks.md). 2 leaves room for
   /// speed gained from impacts during the step (1 let spheres sink 0.0085 m instead of 0.005);
   /// 0 gives every pair the step's margin.
   float pair_margin_travel = 2.0f;
   /// Every this many steps the spheres' dense slots are re-sorted by the Morton code of their
   /// centres (handles stay valid; slot order, and so World::spheres() order, changes), so
   /// neighbours sit together in memory and terrain queries run in coherent packets. 0 never
-  /// re-sorts. The sort costs about one step's integrate phase; see the README for what it buys.
+  /// re-sorts. The sort costs about one step's integrate phase; see docs/benchmarks.md for what it buys.
   int reorder_interval = 16;
   /// Start each contact with the impulses it ended the last step with (kernel/contact_cache.h),
   /// so that piles hold their weight from the first resting pass. Off: every step starts from
   /// zero and deep piles sink into the ground.
   bool warm_start = true;
   /// Fraction of last step's impulses a contact starts with, in [0, 1]. Below 1 piles sag
-  /// more into the ground (measured in the README's warm-start table).
+  /// more into the ground (measured in docs/accuracy.md, the warm-start table).
   float warm_start_factor = 1.0f;
   /// Continuous collision (kernel/continuous_collision.h): spheres that travel more than
   /// fast_travel_fraction of their radius in a step are moved along their path impact by impact,

@@ -549,3 +549,17 @@ TEST_CASE("scene files: sphere counts and terrain sizes are checked against the 
   CHECK(parse_scene_text(scene_text(R"("terrain": {"heightmap": "big.pgm"})"), "scene.json", limited, dir.string()).has_terrain);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scene files: a dt the World would split into too many substeps is refused by name", "[scene_file]") {
+  // World::step's contract (check_step): at most max_substeps (256) substeps of max_substep
+  // (0.05 s) each. "dt": 100000 with 1,000 spheres used to make no visible progress for minutes.
+  const std::string huge = error_of(scene_text(R"("dt": 100000)"));
+  CHECK(huge.find("scene.json: dt: ") == 0);
+  CHECK(huge.find("max_substeps") != std::string::npos);
+  // The time scale counts: 1/60 s at time scale 1000 needs 334 substeps.
+  CHECK(error_of(scene_text(R"("dt": 0.0166666675, "settings": {"time_scale": 1000})")).find("scene.json: dt: ") == 0);
+  CHECK(error_of(scene_text(R"("dt": 0.0166666675, "settings": {"time_scale": 100})")) == "(no error)");
+  // A --dt from the command line is judged the same way, and named as the flag.
+  CHECK(error_of(scene_text(R"("settings": {"time_scale": 2})"), {.dt = 10.0f}).find("scene.json: --dt: ") == 0);
+  CHECK(error_of(scene_text(""), {.dt = 10.0f}) == "(no error)");  // 200 substeps
+}
