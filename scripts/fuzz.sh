@@ -23,7 +23,7 @@ mode="${1:-60}"
 # target:corpus:runs:max_len (CI run; seed below). A tests/fuzz/<corpus>.dict, when there is one,
 # is passed as the libFuzzer dictionary (-dict). The scene-file target parses and then steps each
 # small world, so it runs fewer inputs in about the same time; its inputs may be longer than 4 KB.
-ci_runs=(heightmap:heightmap:1500000:8192 scene-file:scene:1500000:65536)
+ci_runs=(heightmap:heightmap:1500000:8192 scene-file:scene:250000:65536)
 ci_seed=20261123
 ci_cap=180  # seconds per target, a safety cap only
 
