@@ -5,10 +5,14 @@
 #   ./scripts/sanitizers.sh asan   # `asan` preset (AddressSanitizer + UBSan, build/asan): every test
 #   ./scripts/sanitizers.sh tsan   # `tsan` preset (ThreadSanitizer, build/tsan): the threaded tests
 #
-# asan builds the hail-tests target only (hail-bench and hail-micro are not tests) and runs the
-# whole ctest suite: a sanitizer report aborts the test that made it, so ctest fails. The preset
-# builds -O2 -g1 without ASan's use-after-scope checks, which made the SIMD kernels 7x slower
-# (the whole suite took 5 minutes instead of 2 on 2 cores); every other ASan and UBSan check is on.
+# asan builds hail-tests and hail-bench (not hail-micro) and runs the whole ctest suite, then
+# every hail-bench command once on a small input (bench_smoke below: a few seconds each), so that
+# the command-line parsing, file output (--json, --trace, CSV) and each command's own code run
+# under the sanitizers too. A sanitizer report aborts the process that made it, so ctest or the
+# command fails. The preset builds -O2 -g1 without ASan's use-after-scope checks, which made the
+# SIMD kernels 7x slower (the whole suite took 5 minutes instead of 2 on 2 cores); every other
+# ASan and UBSan check is on, and float-cast-overflow (an out-of-range float cast to an integer,
+# which -fsanitize=undefined leaves out in GCC) besides.
 #
 # tsan first builds oneTBB with -fsanitize=thread: Debian's libtbb is not instrumented, so
 # ThreadSanitizer cannot see its task hand-offs and reports every one as a race. It takes
@@ -17,8 +21,10 @@
 # libtbb alone (no tbbmalloc, tests or examples) in build/tbb-tsan/ and installs it into
 # build/tbb-tsan/install, which later runs reuse. The `tsan` preset is configured against it
 # (TBB_DIR), hail-tests carries its lib/ as RUNPATH, and the script checks with ldd that the test
-# binary loads the instrumented libtbb before it runs `ctest --preset tsan` (the tests whose name
-# has "thread") with TSAN_OPTIONS=halt_on_error=1: the first report ends the test with an error.
+# binary loads the instrumented libtbb before it runs `ctest --preset tsan` (the tests labelled
+# "threads": those tagged [threads], which step a world or run a stage crew on more than one
+# thread; tests/CMakeLists.txt) with TSAN_OPTIONS=halt_on_error=1: the first report ends the test
+# with an error.
 #
 # As root, missing Debian packages are installed (apt-get); otherwise the sudo line is printed.
 # Parallel jobs: HAIL_JOBS (default: nproc).
@@ -40,13 +46,45 @@ timed() {  # timed LABEL COMMAND...: runs COMMAND, then prints how long it took
 
 need_packages "${hail_test_packages[@]}"
 
+# Every hail-bench command once, small: a scene by name and one from a file, with --json and
+# --trace; compare; accuracy at one dt; one stress case (tests/test_stress.cpp runs them all);
+# scale over two counts; query, pairs and bvh-build at their smallest sizes. Outputs (and the
+# last command's log) go to build/asan/bench-smoke/. Each command's exit status counts: a failure
+# or a sanitizer report fails.
+bench_smoke() {
+  local bench=build/asan/bench/hail-bench out=build/asan/bench-smoke
+  rm -rf "$out" && mkdir -p "$out"
+  local commands=(
+    "run terrain-rain --spheres 200 --steps 5 --threads 2 --json $out/run.json --trace $out/trace.json"
+    "run --scene data/scenes/bowl-pile.json --spheres 200 --steps 5 --threads 2 --dump-state $out/state.csv"
+    "compare implosion --spheres 125 --steps 5 --threads 2 --repeat 1 --json $out/compare.json"
+    "accuracy --dt 1/60 --spheres 100 --repeats 1 --no-plot --out $out/accuracy"
+    "stress --case light-hit-by-heavy --json $out/stress.json"
+    "scale terrain-rain --min 100 --max 200 --threads 2 --steps 3 --no-plot --out $out/scale"
+    "query --queries 1000 --repeats 1"
+    "pairs --max 256 --repeats 1"
+    "bvh-build --max-side 256"
+  )
+  local c t0
+  for c in "${commands[@]}"; do
+    t0=$SECONDS
+    # shellcheck disable=SC2086  # each entry is a command line of words without spaces inside
+    "$bench" $c > "$out/log.txt" 2>&1 || { cat "$out/log.txt"; fail "hail-bench $c"; }
+    say "hail-bench $c: ok, $((SECONDS - t0)) s"
+  done
+}
+
 if [ "$mode" = asan ]; then
-  timed "configure + build (hail-tests)" bash -c \
-    "cmake --preset asan > /dev/null && cmake --build --preset asan -j $jobs --target hail-tests"
+  timed "configure + build (hail-tests, hail-bench)" bash -c \
+    "cmake --preset asan > /dev/null && cmake --build --preset asan -j $jobs --target hail-tests hail-bench"
   # halt_on_error: the first report of either sanitizer ends the process with an error.
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+  # The brute-force comparison tests draw a fifth of their random queries (tests/sample_count.h):
+  # the same checks, and the BVH query test no longer takes half the stage (92 s of 179 here).
+  export HAIL_TEST_SAMPLE_DIVISOR=${HAIL_TEST_SAMPLE_DIVISOR:-5}
   timed "ctest (every test)" ctest --preset asan -j "$jobs" --no-tests=error --timeout 1200
+  timed "hail-bench commands" bench_smoke
   exit 0
 fi
 
@@ -141,4 +179,4 @@ case "$(cat "$check-racy.log")" in
   *) cat "$check-racy.log"; fail "the planted race failed without a ThreadSanitizer report" ;;
 esac
 
-timed "ctest (tests named *thread*)" "${run[@]}" ctest --preset tsan -j "$jobs" --no-tests=error --timeout 1200
+timed "ctest (tests labelled threads)" "${run[@]}" ctest --preset tsan -j "$jobs" --no-tests=error --timeout 1200

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "catch.h"
+#include "sample_count.h"
 #include "kernel/bvh_packet_walk.h"
 #include "kernel/errors.h"
 #include "kernel/flat_bvh.h"
@@ -234,7 +235,7 @@ std::vector<Aabb> build_with_bvh_order_bounds(FlatBvh& bvh, const PrimitiveSet& 
 
 TEST_CASE("Sphere and box queries return exactly the brute-force primitive sets", "[bvh]") {
   for (const PrimitiveSet& set : primitive_sets()) {
-    const std::vector<Sphere> spheres = random_spheres(set, 10000, 42);
+    const std::vector<Sphere> spheres = random_spheres(set, hail::test::sample_count(10000), 42);
     // Brute force once per set, in input indices; every BVH below must reproduce it.
     std::vector<std::vector<std::uint32_t>> expected(spheres.size()), expected_box(spheres.size());
     for (std::size_t q = 0; q < spheres.size(); ++q) {
@@ -310,7 +311,7 @@ TEST_CASE("The ray query finds the brute-force nearest triangle", "[bvh]") {
     struct Ray {
       float o[3], d[3], t_max;
     };
-    std::vector<Ray> rays(3000);
+    std::vector<Ray> rays(static_cast<std::size_t>(hail::test::sample_count(3000)));
     for (std::size_t q = 0; q < rays.size(); ++q) {
       Ray& ray = rays[q];
       const float lift = 1.0f + 0.5f * (all.max[1] - all.min[1]);

@@ -339,7 +339,7 @@ TEST_CASE("A sphere struck into a slow speed is swept against terrain but not ag
   CHECK(world.nan_count() == 0);
 }
 
-TEST_CASE("Swept steps are bitwise the same on 1, 2 and 3 threads, and slow scenes do not change", "[ccd][determinism]") {
+TEST_CASE("Swept steps are bitwise the same on 1, 2 and 3 threads, and slow scenes do not change", "[ccd][determinism][threads]") {
   auto run = [](int threads, bool ccd, bool fire) {
     World world(settings_with(ccd, threads));
     world.set_terrain(rain_terrain(), 0.5f, 0.5f);

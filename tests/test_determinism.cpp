@@ -35,7 +35,7 @@ std::uint64_t run_cloud(int threads, int steps, hail::PairSearch search = hail::
 
 }  // namespace
 
-TEST_CASE("A 2,000-sphere cloud is bitwise identical for 1 and 2 threads and across runs", "[determinism]") {
+TEST_CASE("A 2,000-sphere cloud is bitwise identical for 1 and 2 threads and across runs", "[determinism][threads]") {
   const std::uint64_t one = run_cloud(1, 600);
   const std::uint64_t two = run_cloud(2, 600);
   const std::uint64_t again = run_cloud(2, 600);
@@ -43,12 +43,12 @@ TEST_CASE("A 2,000-sphere cloud is bitwise identical for 1 and 2 threads and acr
   CHECK(two == again);
 }
 
-TEST_CASE("More threads than cores still give the same state", "[determinism]") {
+TEST_CASE("More threads than cores still give the same state", "[determinism][threads]") {
   CHECK(run_cloud(1, 120) == run_cloud(3, 120));
   CHECK(run_cloud(1, 120) == run_cloud(8, 120));
 }
 
-TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", "[determinism][solver]") {
+TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", "[determinism][solver][threads]") {
   // 256 spheres per tile: 8 tiles solved in parallel, then the contacts between them. (With
   // the default, the tests above run two tiles of 1,000.)
   const std::uint64_t one = run_cloud(1, 240, hail::PairSearch::Automatic, 0.1f, 256);
@@ -69,7 +69,7 @@ TEST_CASE("Solver tiles hold the setting's spheres, or half a smaller world's", 
   CHECK(hail::solver_tile_size(64, 1000) == 64);
 }
 
-TEST_CASE("Step stats split the contacts into those within solver tiles and those across them", "[solver]") {
+TEST_CASE("Step stats split the contacts into those within solver tiles and those across them", "[solver][threads]") {
   hail::WorldSettings settings;
   settings.threads = 2;
   settings.solver_tile_spheres = 64;
@@ -89,7 +89,7 @@ TEST_CASE("Step stats split the contacts into those within solver tiles and thos
   CHECK(stats.tile_contacts >= stats.static_contacts);  // a static contact is always its sphere's tile's
 }
 
-TEST_CASE("Every pair search gives bitwise the same simulation", "[determinism][pairs]") {
+TEST_CASE("Every pair search gives bitwise the same simulation", "[determinism][pairs][threads]") {
   // Equal-ish radii and a 1:8 mix (0.15 .. 1.25 m), 2 threads.
   for (float spread : {0.1f, 0.55f}) {
     INFO("radius spread " << spread);

@@ -114,7 +114,7 @@ TEST_CASE("Terrain::raycast misses what it should and rejects bad rays", "[embed
 }
 
 TEST_CASE("A World in the host's task_arena: spans alias its state and contacts name spheres",
-          "[embedding][world]") {
+          "[embedding][world][threads]") {
   auto terrain = std::make_shared<const Terrain>(hills());
   auto run = [&](tbb::task_arena* arena, std::uint64_t& hash) {
     const WorldSettings settings{.threads = 1};

@@ -21,7 +21,7 @@ void fill(hail::World& world) {
 
 }  // namespace
 
-TEST_CASE("The phase trace has a well-formed slice per phase, step and working thread", "[trace]") {
+TEST_CASE("The phase trace has a well-formed slice per phase, step and working thread", "[trace][threads]") {
   hail::WorldSettings settings;
   settings.threads = 2;
   hail::World traced(settings), plain(settings);

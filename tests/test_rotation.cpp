@@ -77,7 +77,7 @@ TEST_CASE("Without rotation a sliding sphere slows at mu g to a stop and never s
   CHECK(std::abs(world.position(id).y() - 0.5) < 1e-3);
 }
 
-TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane impacts never spins", "[rotation]") {
+TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane impacts never spins", "[rotation][threads]") {
   World off({.threads = 2, .rotation = false});
   build_pile(off);
   StepParts any{};
@@ -107,7 +107,7 @@ TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane im
 #endif
 }
 
-TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off", "[rotation]") {
+TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off", "[rotation][threads]") {
   // No friction: the passes do no friction and no angular work either way (kNoFriction).
   auto run = [](bool rotation) {
     World world({.gravity = {0, 0, 0}, .threads = 2, .rotation = rotation});

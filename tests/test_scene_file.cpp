@@ -69,7 +69,7 @@ void require_same_world(Scene& from_file, Scene& built_in, int steps) {
 
 }  // namespace
 
-TEST_CASE("scene files: the shipped scenes build exactly the built-in scenes", "[scene_file]") {
+TEST_CASE("scene files: the shipped scenes build exactly the built-in scenes", "[scene_file][threads]") {
   hail::bench::SceneParams params;
   params.spheres = 4000;
   params.threads = 2;

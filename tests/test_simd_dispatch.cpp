@@ -341,7 +341,7 @@ TEST_CASE("Every SIMD path's path-box scan visits exactly the scalar reference's
   }
 }
 
-TEST_CASE("A small terrain scene has the same state hash on every SIMD path", "[simd][dispatch][determinism]") {
+TEST_CASE("A small terrain scene has the same state hash on every SIMD path", "[simd][dispatch][determinism][threads]") {
   // Brute force and sweep and prune (the two SIMD pair searches), contacts batched by the path's
   // width, the packet walk, the path-box scan of the fast spheres: bitwise the same state.
   for (const PairSearch search : {PairSearch::BruteForce, PairSearch::SweepAndPrune}) {

@@ -82,7 +82,7 @@ TEST_CASE("The re-sort's parts run over blocks in any order give morton_slot_ord
   CHECK(different == 0);
 }
 
-TEST_CASE("A world of several re-sort blocks re-sorts to the same state on 1, 2 and 3 threads", "[soa][order][determinism]") {
+TEST_CASE("A world of several re-sort blocks re-sorts to the same state on 1, 2 and 3 threads", "[soa][order][determinism][threads]") {
   // More spheres than one block of the parallel re-sort (16,384), re-sorted every step.
   auto run = [](int threads) {
     hail::WorldSettings settings;

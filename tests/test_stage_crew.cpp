@@ -43,7 +43,7 @@ std::vector<std::uint64_t> run_chain(int threads, std::size_t stages, std::size_
 }  // namespace
 
 TEST_CASE("A stage crew runs every block of every stage once, after the stage before, on 1 to 8 threads",
-          "[jobs][thread]") {
+          "[jobs][thread][threads]") {
   const std::size_t stages = 200, blocks = 37;
   std::vector<std::uint32_t> runs;
   const std::vector<std::uint64_t> one = run_chain(1, stages, blocks, stages, runs);
@@ -59,14 +59,14 @@ TEST_CASE("A stage crew runs every block of every stage once, after the stage be
 }
 
 TEST_CASE("A stage crew told too few stages runs the rest on the calling thread, with the same result (thread)",
-          "[jobs][thread]") {
+          "[jobs][thread][threads]") {
   std::vector<std::uint32_t> runs;
   const std::vector<std::uint64_t> one = run_chain(1, 60, 16, 60, runs);
   CHECK(run_chain(4, 60, 16, 10, runs) == one);
   CHECK(run_chain(4, 60, 16, 0, runs) == one);
 }
 
-TEST_CASE("A stage crew can be run again and again (threads)", "[jobs][thread]") {
+TEST_CASE("A stage crew can be run again and again (threads)", "[jobs][thread][threads]") {
   hail::StageCrew crew;
   tbb::task_arena arena(3);
   std::uint64_t total = 0;

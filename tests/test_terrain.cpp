@@ -9,6 +9,7 @@
 #include <string>
 
 #include "catch.h"
+#include "sample_count.h"
 #include "kernel/features.h"
 #include "kernel/world.h"
 
@@ -107,7 +108,7 @@ TEST_CASE("Stackless and stack walks return exactly the brute-force triangle set
       const Terrain t(Heightmap::from_function(m.cols, m.rows, {}, m.h), leaf);
       std::uniform_real_distribution<float> ux(-2, float(m.cols) + 1), uz(-2, float(m.rows) + 1),
           uy(t.heightmap().min_height() - 3, t.heightmap().max_height() + 3), ur(0.01f, 3.0f);
-      const int queries = m.cols * m.rows > 1000 ? 2000 : 10000 / 3;
+      const int queries = hail::test::sample_count(m.cols * m.rows > 1000 ? 2000 : 10000 / 3);
       for (int q = 0; q < queries; ++q) {
         const float x = ux(rng), y = uy(rng), z = uz(rng), r = ur(rng);
         // The walks hand out every triangle of each leaf they reach; the visitor's box test

@@ -1,46 +1,137 @@
-// libFuzzer target: the JSON scene parser (bench/scene_file.h) on arbitrary text. A bad document
-// must end in std::invalid_argument naming the field, never a crash, a hang or a sanitizer
-// report. Documents asking for more than 300 of anything (spheres, heightmap vertices per side)
-// are skipped so that each input builds in milliseconds; the parser's own limits on huge counts
-// are tested in tests/test_scene_file.cpp. Run through scripts/fuzz.sh.
+// libFuzzer target: the JSON scene parser (bench/scene_file.h) on arbitrary text, then a few steps
+// of the World it built. A bad document must end in std::invalid_argument naming the field, never
+// a crash, a hang or a sanitizer report; a document the parser accepts must step without one.
+// Run through scripts/fuzz.sh (with tests/fuzz/scene.dict, so that numbers with exponents, huge
+// magnitudes and the format's field names turn up often).
+//
+// Each input must stay fast (libFuzzer runs about a million of them), so the harness refuses,
+// before parsing, documents that ask for much work: more than kMaxCount of anything (a
+// generator's count, a terrain's vertices per side, solver iterations) and brackets nested deeper
+// than kMaxNesting. The parser's own limits on huge counts and deep nesting are tested in
+// tests/test_scene_file.cpp. Everything else, exponents and huge numbers included, reaches the
+// parser. Only a world that is small and ordinary (below) is stepped.
 
-#include <cctype>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "bench/scene_file.h"
 #include "kernel/errors.h"
 
 namespace {
 
-/// True when the text holds an integer part above 300 (the quick way to keep worlds small).
-bool asks_for_a_lot(std::string_view text) {
-  long value = 0;
-  bool in_number = false, after_point = false;
+constexpr std::int64_t kMaxCount = 64;  ///< spheres per generator, terrain vertices per side, iterations
+constexpr int kMaxNesting = 32;         ///< scene files nest 4 deep; 60,000 overflowed the stack (issue 27)
+constexpr std::size_t kMaxStepSpheres = 64;
+constexpr int kSteps = 3;
+/// Stepped only when dt * time_scale is at most this: 10 substeps of the default 0.05 s. Longer
+/// steps are slow, and huge ones hit the known substep-count overflow (issue 27, kernel/world).
+constexpr double kMaxStepSeconds = 0.5;
+/// Stepped only when every number in the document is at most this in magnitude. The known
+/// defects of issue 27 with huge values (a radius or plane normal of 1e20, a terrain at 3e7) are
+/// fixed elsewhere; this keeps them from ending every run until then. Parsing sees all numbers.
+constexpr double kMaxStepMagnitude = 1e6;
+
+/// Deepest [ / { nesting outside strings: nlohmann's parser recurses once per level.
+int nesting_depth(std::string_view text) {
+  int depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
   for (char c : text) {
-    if (std::isdigit(static_cast<unsigned char>(c))) {
-      if (!after_point) value = in_number ? value * 10 + (c - '0') : c - '0';
-      in_number = true;
-      if (!after_point && value > 300) return true;
-    } else {
-      if (in_number && (c == 'e' || c == 'E')) return true;  // 1e9 and the like
-      after_point = in_number && c == '.';
-      in_number = false, value = 0;
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+/// Keys whose integer value sets the work a document asks for.
+bool is_work_key(const std::string& key) {
+  return key == "count" || key == "size" || key == "collision_iterations" || key == "resting_iterations" ||
+         key == "depenetration_iterations";
+}
+
+/// True when a number under a work key (or an element of its array) is an integer above
+/// kMaxCount. Floats there are the parser's to refuse (integer fields take integers only).
+bool asks_for_a_lot(const nlohmann::json& value, bool under_work_key) {
+  if (value.is_number_integer()) {
+    return under_work_key && (value.is_number_unsigned() ? value.get<std::uint64_t>() > kMaxCount
+                                                         : value.get<std::int64_t>() > kMaxCount);
+  }
+  if (value.is_array()) {
+    for (const auto& element : value) {
+      if (asks_for_a_lot(element, under_work_key)) return true;
+    }
+  } else if (value.is_object()) {
+    for (const auto& [key, element] : value.items()) {
+      if (asks_for_a_lot(element, is_work_key(key))) return true;
     }
   }
   return false;
+}
+
+/// True when every number in the document is finite and within kMaxStepMagnitude (the seed and
+/// shock_mass_ratio, whose documented "never" is 1e30, excepted).
+bool ordinary_magnitudes(const nlohmann::json& value) {
+  if (value.is_number()) return std::fabs(value.get<double>()) <= kMaxStepMagnitude;
+  if (value.is_array()) {
+    for (const auto& element : value) {
+      if (!ordinary_magnitudes(element)) return false;
+    }
+  } else if (value.is_object()) {
+    for (const auto& [key, element] : value.items()) {
+      if (key != "seed" && key != "shock_mass_ratio" && !ordinary_magnitudes(element)) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  if (size > 4096 || asks_for_a_lot(text)) return 0;
+  if (nesting_depth(text) > kMaxNesting) return 0;
+  // The same reading as parse_scene_text (comments allowed), only to look at the numbers first.
+  nlohmann::json doc;
   try {
-    (void)hail::bench::parse_scene_text(text, "fuzz.json", {}, "/nonexistent");
+    doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    if (asks_for_a_lot(doc, false)) return 0;
+  } catch (const nlohmann::json::out_of_range&) {
+    // A number beyond a double (1e400): parse_scene_text let nlohmann's out_of_range (406) escape
+    // instead of an invalid_argument, a known defect of issue 27 fixed on the scene-file branch.
+    // Skipped until that is merged; then this catch can go.
+    return 0;
+  } catch (const nlohmann::json::exception&) {  // bad JSON: the parser's own error path, below
+    doc = nlohmann::json();
+  }
+  // One thread: the fuzzer's coverage and the run must not depend on scheduling.
+  hail::bench::SceneOverrides one_thread;
+  one_thread.threads = 1;
+  hail::bench::Scene scene;
+  try {
+    scene = hail::bench::parse_scene_text(text, "fuzz.json", one_thread, "/nonexistent");
   } catch (const std::invalid_argument&) {  // the parser's own refusal, naming the field
-  } catch (const hail::FileError&) {          // a heightmap file named in the document
+    return 0;
+  } catch (const hail::FileError&) {  // a heightmap file named in the document
+    return 0;
+  }
+  if (scene.world->sphere_count() > kMaxStepSpheres || !ordinary_magnitudes(doc)) return 0;
+  const double seconds = static_cast<double>(scene.dt) * scene.world->settings().time_scale;
+  if (!(seconds <= kMaxStepSeconds)) return 0;
+  try {
+    for (int i = 0; i < kSteps; ++i) scene.world->step(scene.dt);
+  } catch (const hail::InvalidArgument&) {  // a dt the World refuses (it throws before changing anything)
   }
   return 0;
 }
