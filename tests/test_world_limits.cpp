@@ -11,6 +11,7 @@
 #include "catch.h"
 #include "kernel/features.h"
 #include "kernel/world.h"
+#include "world_refusal.h"
 
 using hail::InvalidArgument;
 using hail::PlaneDesc;
@@ -20,34 +21,7 @@ using hail::Vec3;
 using hail::World;
 using hail::WorldSettings;
 
-namespace {
-
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-struct Snapshot {
-  std::size_t spheres, planes;
-  std::uint64_t hash;
-  friend bool operator==(const Snapshot&, const Snapshot&) = default;
-};
-Snapshot snapshot(const World& w) { return {w.sphere_count(), w.planes().size(), w.state_hash()}; }
-
-/// Runs `call`, which must throw InvalidArgument whose message contains every needle, and
-/// checks the world did not change.
-template <class Call>
-void expect_rejected(World& w, Call&& call, std::initializer_list<const char*> needles) {
-  const Snapshot before = snapshot(w);
-  try {
-    call();
-    FAIL("expected hail::InvalidArgument");
-  } catch (const InvalidArgument& e) {
-    INFO("message: " << e.what());
-    for (const char* needle : needles) CHECK(std::string(e.what()).find(needle) != std::string::npos);
-  }
-  CHECK(snapshot(w) == before);
-}
-
-}  // namespace
+using namespace hail::testing;
 
 TEST_CASE("substeps_needed counts in double and never overflows", "[invalid][limits]") {
   const WorldSettings s;  // max_substep 0.05
