@@ -1,5 +1,6 @@
 #include "stress_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -20,6 +21,13 @@ int stress_command(const std::vector<std::string>& args) {
       .text("--json", json_path, "FILE", "every case's worst values as JSON");
   if (!parser.parse(args)) return 0;  // --help
   check_output_paths({json_path});
+  const std::vector<StressCase> cases = stress_cases();
+  // A misspelt case name is refused before the header, naming the cases there are.
+  if (!only.empty() && std::none_of(cases.begin(), cases.end(), [&](const StressCase& c) { return c.name == only; })) {
+    std::string names;
+    for (const StressCase& c : cases) names += (names.empty() ? "" : ", ") + c.name;
+    throw std::invalid_argument("no stress case named '" + only + "' (the cases: " + names + ")");
+  }
   std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
   std::printf("  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
               "  no NaN, no centre below the terrain surface; worst values over every step\n\n");
@@ -27,7 +35,7 @@ int stress_command(const std::vector<std::string>& args) {
               "pen. gnd", "energy +", "s");
   int failed = 0, ran = 0;
   nlohmann::json out = nlohmann::json::array();
-  for (const StressCase& c : stress_cases()) {
+  for (const StressCase& c : cases) {
     if (!only.empty() && c.name != only) continue;
     if (quick && c.slow) continue;
     const StressResult r = c.run();
@@ -46,7 +54,7 @@ int stress_command(const std::vector<std::string>& args) {
                    {"energy_growth", w.energy_growth}, {"momentum_drift", w.momentum_drift}, {"wall_s", r.wall_s},
                    {"note", r.note}, {"failures", r.failures}});
   }
-  if (ran == 0) throw std::invalid_argument("no stress case named '" + only + "'");
+  if (ran == 0) throw std::invalid_argument("--case " + only + " is a slow case: run it without --quick");
   std::printf("\n  %d of %d cases passed\n", ran - failed, ran);
   if (!json_path.empty()) write_file_atomically(json_path, [&](std::ostream& file) { file << out.dump(2) << "\n"; });
   return failed == 0 ? 0 : 1;

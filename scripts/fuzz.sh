@@ -23,7 +23,10 @@ mode="${1:-60}"
 # target:corpus:runs:max_len (CI run; seed below). A tests/fuzz/<corpus>.dict, when there is one,
 # is passed as the libFuzzer dictionary (-dict). The scene-file target parses and then steps each
 # small world, so it runs fewer inputs in about the same time; its inputs may be longer than 4 KB.
-ci_runs=(heightmap:heightmap:1500000:8192 scene-file:scene:250000:65536)
+# The heightmap run is the first 900,000 inputs of the 1,500,000 it once had (same seed, so a
+# prefix of a run that passed): 73 s instead of 122 on a 2-core AVX2 machine, to keep the whole
+# of CI under 30 minutes there.
+ci_runs=(heightmap:heightmap:900000:8192 scene-file:scene:250000:65536)
 ci_seed=20261123
 ci_cap=180  # seconds per target, a safety cap only
 

@@ -127,6 +127,10 @@ TEST_CASE("Every hail-bench command parses with the shared parser: unknown flags
   CHECK(contains(refusal(bench::run_command, {"--tile", "3"}), "--tile must be 0 (no solver tiles) or a whole number"));
   CHECK(contains(refusal(bench::scale_command, {"--min", "64", "--max", "8"}), "--min (64) must not exceed --max (8)"));
   CHECK(contains(refusal(bench::compare_command, {"--repeat", "0"}), "--repeat must be a whole number in [1, 1000]"));
+  // A misspelt stress case is refused naming the cases there are (it printed the table's header first).
+  CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile"}), "no stress case named 'bowl-pile' (the cases: "));
+  CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile"}), "bowl-pile-10k-20s"));
+  CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile-10k-20s", "--quick"}), "is a slow case"));
 }
 
 TEST_CASE("hail-bench accuracy refuses a repeat count that rounds to 0 (it crashed in median())", "[bench][cli]") {
