@@ -49,6 +49,20 @@ inline TrianglePoint along(const float* from, const float* dir, float t, Triangl
   return {{from[0] + t * dir[0], from[1] + t * dir[1], from[2] + t * dir[2]}, region};
 }
 
+/// Whether q lies over the triangle's footprint on the ground (its x, z inside the projection
+/// of a, b, c along y), edges included up to rounding, so that a point over an edge shared by
+/// two triangles belongs to at least one of them. Terrain triangles come from a heightfield
+/// (y up), so their footprints tile the map and none is vertical.
+inline bool over_footprint(const float q[3], const float a[3], const float b[3], const float c[3]) {
+  const float e0 = (b[0] - a[0]) * (q[2] - a[2]) - (b[2] - a[2]) * (q[0] - a[0]);
+  const float e1 = (c[0] - b[0]) * (q[2] - b[2]) - (c[2] - b[2]) * (q[0] - b[0]);
+  const float e2 = (a[0] - c[0]) * (q[2] - c[2]) - (a[2] - c[2]) * (q[0] - c[0]);
+  const float twice_area = e0 + e1 + e2;  // its sign is the winding's
+  const float slack = 1e-5f * std::fabs(twice_area);
+  return twice_area >= 0.0f ? (e0 >= -slack && e1 >= -slack && e2 >= -slack)
+                            : (e0 <= slack && e1 <= slack && e2 <= slack);
+}
+
 /// Whether the closest point lies on an edge or vertex internal to a smooth surface.
 inline bool region_is_internal(TriangleRegion region, std::uint8_t internal) {
   switch (region) {
@@ -99,14 +113,25 @@ inline TrianglePoint closest_point_on_triangle(const float q[3], const float a[3
 
 /// The second half of sphere_triangle_contact, once the closest point is known and within
 /// reach: `d` = closest.p - centre, `distance` = |d| (sqrt of its dot3), `height` = the signed
-/// distance of the centre to the face plane. Picks the normal; false where the neighbour owns
-/// the contact. The SIMD terrain kernels compute the first half for a batch of candidates
+/// distance of the centre to the face plane. Picks the normal; false where another triangle
+/// owns the contact. The SIMD terrain kernels compute the first half for a batch of candidates
 /// (kernel/simd/sphere_triangle_lanes.h) and finish here, so both give the same bits.
+///
+/// Below the plane, the heightfield decides: a centre behind the plane and over this
+/// triangle's footprint is under the surface (sunk), and goes out along the face normal, never
+/// through. A centre behind the plane but over another triangle's footprint is not inside the
+/// terrain because of this triangle: on steep ground such a plane passes metres above the
+/// surface the sphere is over (beside a cliff, or beyond a ridge), and its depth was a ghost
+/// contact that threw spheres through ridges (issue 28). The triangle under the centre, or
+/// the ones the sphere faces, own its contacts.
 inline bool contact_from_closest_point(const float centre[3], float radius, const TrianglePoint& closest,
                                        const float d[3], float distance, float height, const float face_normal[3],
-                                       float face_d, std::uint8_t internal_edges, SphereTriangleContact& out) {
-  if (closest.region == TriangleRegion::Face || distance <= 1e-12f) {
-    // Over the face, or sunk below it: push out along the face normal, never through.
+                                       float face_d, std::uint8_t internal_edges, const float a[3], const float b[3],
+                                       const float c[3], SphereTriangleContact& out) {
+  const bool behind = height <= 0.0f;
+  if (behind ? triangle_detail::over_footprint(centre, a, b, c)
+             : (closest.region == TriangleRegion::Face || distance <= 1e-12f)) {
+    // Over the face, or sunk below it: along the face normal, the distance to the plane.
     out.n[0] = -face_normal[0];
     out.n[1] = -face_normal[1];
     out.n[2] = -face_normal[2];
@@ -114,9 +139,7 @@ inline bool contact_from_closest_point(const float centre[3], float radius, cons
     out.surface_d = -face_d;
     return true;
   }
-  // Outside this face and below its plane: the triangle whose face the centre is over owns
-  // the contact (at a convex fold this plane passes above the neighbour's surface).
-  if (height <= 0.0f) return false;
+  if (behind) return false;
   if (triangle_detail::region_is_internal(closest.region, internal_edges)) {
     // Smooth fold: the true distance, but the face normal, so the edge cannot stick up.
     out.n[0] = -face_normal[0];
@@ -139,8 +162,9 @@ inline bool contact_from_closest_point(const float centre[3], float radius, cons
 
 /// Contact of sphere (centre, radius) with the triangle whose unit face normal is `face_normal`
 /// (pointing out of the solid) and plane offset face_d = face_normal . a. Returns false when
-/// the gap exceeds max_gap. Centres below the triangle's plane always get the face normal, so a
-/// sphere that sank is pushed out upwards, never through.
+/// the gap exceeds max_gap. A centre below the plane and over the triangle's footprint gets the
+/// face normal, so a sphere that sank is pushed out upwards, never through; one below the plane
+/// and beside the footprint gets no contact from it (contact_from_closest_point).
 inline bool sphere_triangle_contact(const float centre[3], float radius, const float a[3], const float b[3], const float c[3],
                              const float face_normal[3], float face_d, std::uint8_t internal_edges, float max_gap,
                              SphereTriangleContact& out) {
@@ -151,8 +175,8 @@ inline bool sphere_triangle_contact(const float centre[3], float radius, const f
   triangle_detail::sub3(closest.p, centre, d);
   const float distance = std::sqrt(triangle_detail::dot3(d, d));  // depth before normalising
   if (distance - radius > max_gap) return false;
-  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges,
-                                    out);
+  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges, a,
+                                    b, c, out);
 }
 
 }  // namespace HAIL_SIMD_NS

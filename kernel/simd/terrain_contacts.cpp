@@ -91,9 +91,11 @@ void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const Pac
       const TrianglePoint at{{px[l], py[l], pz[l]}, static_cast<TriangleRegion>(static_cast<int>(region[l]))};
       const float to[3] = {at.p[0] - centre[0], at.p[1] - centre[1], at.p[2] - centre[2]};
       const float normal[3] = {t.nx[tri], t.ny[tri], t.nz[tri]};
+      const float corner0[3] = {t.v0x[tri], t.v0y[tri], t.v0z[tri]},
+                  corner1[3] = {t.v1x[tri], t.v1y[tri], t.v1z[tri]}, corner2[3] = {t.v2x[tri], t.v2y[tri], t.v2z[tri]};
       SphereTriangleContact st;
       if (contact_from_closest_point(centre, s.radius[i], at, to, distance[l], height[l], normal, t.d[tri],
-                                     t.internal_edges[tri], st))
+                                     t.internal_edges[tri], corner0, corner1, corner2, st))
         add_terrain_contact(s, i, st, tri, restitution, friction, lanes[sphere_lane]);
     }
   }
