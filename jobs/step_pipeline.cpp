@@ -45,6 +45,10 @@ constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-fo
 constexpr std::size_t kPairRowChunk = 16;    // rows per search call once a block may pass its contact cap
 constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
 constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task within one colour
+// Terrain guard in steps of mixed masses: a sphere whose centre is lower than (1 - this) of its
+// radius above the surface under it overlaps flat ground by more than this share of its radius
+// (the depenetration slop is 1%, the stress battery's bound 5%), and is pushed out.
+constexpr float kGuardSinkFraction = 0.02f;
 }  // namespace
 
 struct StepPipeline {
@@ -145,7 +149,7 @@ struct StepPipeline {
 #if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
     SphereSoA& s = w.spheres_;
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
-    for_each_block(s.size(), kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t block, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
       // Flags first, branch-free so that it vectorises; then the few flagged spheres, a packet
       // at a time (Terrain::push_out_spheres).
@@ -154,6 +158,24 @@ struct StepPipeline {
         const float dx = s.px[i] - w.start_x_[i], dy = s.py[i] - w.start_y_[i], dz = s.pz[i] - w.start_z_[i];
         beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > w.reach2_[i]) &
                             static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
+      }
+      // Where masses differ (shock propagation runs), a light sphere between a heavy one and
+      // the ground takes nearly all of their pair's depenetration, and is pressed into the
+      // ground a little more each step; one struck while it had no ground contact is driven
+      // further than its own speed reached. So in such steps a sphere is pushed out too when
+      // one of its ground contacts (this block's, from detection) now overlaps by more than
+      // kGuardSinkFraction of its radius, or when its centre ended lower than that short of
+      // resting on the surface under it. Only then: with equal masses no sphere is driven
+      // through its ground contact, and scenes that never mix masses pay nothing (issue 28).
+      if (shock) {
+        for (const Contact& c : w.contact_blocks_[block])
+          if (c.b == kStaticBody && current_gap(s, c) < -kGuardSinkFraction * s.radius[c.a])
+            beyond[c.a - first] = static_cast<std::uint8_t>(s.inv_mass[c.a] > 0.0f);
+        const Heightmap& ground = w.terrain_->heightmap();
+        for (std::size_t i = first; i < last; ++i)
+          if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
+              s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i])
+            beyond[i - first] = 1;
       }
       std::uint32_t flagged[kSphereBlock];
       std::size_t flagged_count = 0;
