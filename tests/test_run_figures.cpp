@@ -155,7 +155,7 @@ TEST_CASE("A run's peak kinetic energy: the largest after any step, and when", "
   CHECK(j["kinetic_energy_peak_step"] == peak_step);
 }
 
-TEST_CASE("--dump-every: the state at step 0 and every K steps, each file named by its step", "[bench][dump]") {
+TEST_CASE("Run state dumps (--dump-every): the state at step 0 and every K steps, each file named by its step", "[bench][dump]") {
   CHECK(bench::step_dump_path("out/state.csv", 60) == "out/state-000060.csv");
   CHECK(bench::step_dump_path("state.csv", 0) == "state-000000.csv");
   CHECK(bench::step_dump_path("state", 1234567) == "state-1234567");
