@@ -32,7 +32,7 @@ void print_help() {
       "               failed, 3 if a run ended with NaN (stress: 1 if a case failed)\n"
       "\n"
       "commands:\n"
-      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--pairs auto|brute|grid|sweep|bvh] [--warm-start on|off|FACTOR] [--resting N] [--tile N] [--ccd on|off|both] [--rotation on|off] [--repeat R] [--json FILE] [--trace FILE] [--memory-limit GB] [--quiet]\n"
+      "  run <scene> [--spheres N] [--steps S] [--threads T] [--dt DT] [--reorder K] [--pairs auto|brute|grid|sweep|bvh] [--warm-start on|off|FACTOR] [--resting N] [--tile N] [--ccd on|off|both] [--rotation on|off] [--repeat R] [--json FILE] [--trace FILE] [--dump-state FILE.csv [--dump-every K]] [--memory-limit GB] [--quiet]\n"
       "      step a scene; print ms/step (mean, median), per-phase split and error figures\n"
       "      (penetration, tunnelled, fell off, NaN, energy and momentum drift, state hash);\n"
       "      --trace writes a Chrome trace-event JSON (Perfetto): one slice per phase per step per thread;\n"

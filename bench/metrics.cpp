@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -76,6 +77,33 @@ ErrorFigures measure_errors(const Scene& scene) {
       e.max_terrain_penetration = std::max<double>(e.max_terrain_penetration, terrain->penetration(x, s.py[i], z, s.radius[i]));
   }
   return e;
+}
+
+double centre_depth(const World& world, float x, float y, float z) {
+  double depth = -std::numeric_limits<double>::infinity();
+  if (const Terrain* terrain = world.terrain()) {
+    const float surface = terrain->heightmap().surface_height(x, z);  // NaN outside the extent
+    if (!std::isnan(surface)) depth = double(surface) - double(y);
+  }
+  for (const Plane& p : world.planes())
+    depth = std::max(depth, double(p.offset) - (double(p.nx) * x + double(p.ny) * y + double(p.nz) * z));
+  return depth;
+}
+
+void TunnellingCounter::after_step(const World& world) {
+  ++figures_.steps;
+  if (world.terrain() == nullptr && world.planes().empty()) return;
+  const SphereSoA& s = world.soa();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double depth = centre_depth(world, s.px[i], s.py[i], s.pz[i]);
+    if (!(depth > 0.0)) continue;
+    ++figures_.events;
+    figures_.worst_depth = std::max(figures_.worst_depth, depth);
+    const std::uint32_t id = s.id_at(i).index;
+    if (seen_.size() <= id) seen_.resize(std::size_t{id} + 1, 0);
+    if (seen_[id] == 0) ++figures_.spheres;
+    seen_[id] = 1;
+  }
 }
 
 }  // namespace hail::bench

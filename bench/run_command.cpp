@@ -27,6 +27,7 @@ struct CommandOptions {
   bool quiet = false;
   std::string scene_file;       // --scene FILE.json (instead of a scene name)
   std::string dump_state_path;  // --dump-state FILE.csv
+  int dump_every = 0;           // --dump-every K (0: the final state only)
   bool scene_named = false;
   std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
   bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
@@ -88,14 +89,20 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
       .text("--json", o.json_path, "FILE", "every figure of the (last) run as JSON")
       .text("--trace", o.trace_path, "FILE", "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
       .text("--dump-state", o.dump_state_path, "FILE.csv", "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
+      .count("--dump-every", o.dump_every, 1, 100'000'000,
+             "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, before .csv)")
       .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
               "GB; a sphere count over it is refused before anything is built (default 80% of the memory available; 0: none)")
-      .flag("--quiet", o.quiet, "no progress lines on stderr");
+      .flag("--quiet", o.quiet,
+            "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
+            "progress lines on stderr; with --ccd both, the table");
   if (!parser.parse(args)) return std::nullopt;
   for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
                            "--rotation", "--warm-start"})
     if (parser.given(flag)) o.given.emplace_back(flag);
   o.scene_named = parser.given("scene");
+  if (o.dump_every > 0 && o.dump_state_path.empty())
+    usage_error("--dump-every " + std::to_string(o.dump_every) + " needs --dump-state FILE.csv (the files are named after it)");
   if (o.scene_named && !o.scene_file.empty())
     usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   return o;
@@ -143,7 +150,8 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
   const RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
-                               .progress_label = "", .dump_state_path = last ? o.dump_state_path : ""};
+                               .progress_label = "", .dump_state_path = last ? o.dump_state_path : "",
+                               .dump_every = last ? o.dump_every : 0};
   if (o.scene_file.empty()) return run_scene(find_scene(o.scene), params, run_options);
   CommandOptions file_options = o;
   file_options.params = params;
@@ -182,16 +190,37 @@ void print_report(const RunResult& r) {
               "a step's deepest, mean: %.4g / %.4g m\n",
               e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
               e.mean_step_static_penetration);
-  if (r.tunnelled_tracked)
-    std::printf("  tunnel    %zu spheres were below the ground after some step (checked after every step)\n", e.tunnelled_ever);
-  std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e), momentum drift %.3e kg m/s\n", e.kinetic_energy,
-              r.energy_start, r.energy_drift, r.momentum_drift);
+  if (r.tunnelling_checked)
+    std::printf("  tunnel    %zu spheres tunnelled, %zu sphere-steps with the centre below the terrain or behind a plane, "
+                "deepest %.4g m (checked after every step)\n",
+                r.tunnelling.spheres, r.tunnelling.events, r.tunnelling.worst_depth);
+  std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e; peak %.6g J after step %d), momentum drift %.3e kg m/s\n",
+              e.kinetic_energy, r.energy_start, r.energy_drift, r.energy_peak, r.energy_peak_step, r.momentum_drift);
   if (r.heap_measured)
     std::printf("  memory    heap %s after set-up, %s at the end (terrain %s; %.0f bytes per sphere besides)\n",
                 format_bytes(double(r.heap_after_setup)).c_str(), format_bytes(double(r.heap_at_end)).c_str(),
                 format_bytes(double(r.terrain_bytes)).c_str(), r.bytes_per_sphere());
   std::printf("  state     hash %s\n", r.state_hash.c_str());
 }
+
+}  // namespace
+
+std::string summary_line(const RunResult& r) {
+  const ErrorFigures& e = r.errors;
+  char line[512];
+  std::snprintf(line, sizeof line, "%s: %zu spheres, %d steps, %.3f ms/step, worst penetration %.4g m, ", r.scene.c_str(),
+                r.spheres, r.steps, r.mean_ms, std::max(e.worst_sphere_penetration, e.worst_static_penetration));
+  std::string text = line;
+  if (r.tunnelling_checked)
+    std::snprintf(line, sizeof line, "tunnelled %zu (%zu sphere-steps), ", r.tunnelling.spheres, r.tunnelling.events);
+  else
+    std::snprintf(line, sizeof line, "tunnelled -, ");
+  text += line;
+  std::snprintf(line, sizeof line, "NaN %zu, hash %s", e.nan_count, r.state_hash.c_str());
+  return text + line;
+}
+
+namespace {
 
 /// --ccd both: runs with continuous collision on and off, alternating in ABBA order so that a
 /// drift in machine speed falls on both alike; one table with the ratio of the medians.
@@ -231,7 +260,7 @@ int run_both(const CommandOptions& o) {
     std::printf("  %-4s %10.3f %10s %9.1f %9.1f %10.4g %10.4g %9zu %9s %9zu %5zu  %s\n", runs == &on ? "on" : "off",
                 median_of(m), spread.c_str(), r.swept, r.sweep_events, r.errors.max_sphere_penetration,
                 r.errors.max_terrain_penetration, r.errors.tunnelled,
-                r.tunnelled_tracked ? std::to_string(r.errors.tunnelled_ever).c_str() : "-", r.errors.fell_off,
+                r.tunnelling_checked ? std::to_string(r.tunnelling.spheres).c_str() : "-", r.errors.fell_off,
                 r.errors.nan_count, r.state_hash.c_str());
   }
   std::printf("  ratio on / off of the median ms/step: %.3f\n", median_of(medians(on)) / median_of(medians(off)));
@@ -266,15 +295,19 @@ int run_command(const std::vector<std::string>& args) {
   const CommandOptions& o = *parsed;
   // Before anything is built: an output that cannot be written, or that would overwrite the
   // scene file (or its heightmap) or another output, stops the run now rather than at its end.
-  check_output_paths({o.json_path, o.trace_path, o.dump_state_path}, scene_inputs(o.scene_file));
+  // --dump-every's files lie beside --dump-state's: the first of them stands for them all.
+  check_output_paths({o.json_path, o.trace_path, o.dump_state_path,
+                      o.dump_every > 0 ? step_dump_path(o.dump_state_path, 0) : std::string()},
+                     scene_inputs(o.scene_file));
   check_memory(o);
   if (o.ccd_both) return run_both(o);
   const int repeat = o.repeat > 0 ? o.repeat : 1;
   std::vector<RunResult> runs;
   for (int k = 0; k < repeat; ++k) runs.push_back(run_once(o, o.params, k + 1 == repeat));
   const RunResult& r = runs.back();
-  print_report(r);
-  if (repeat > 1) {
+  if (o.quiet) std::printf("%s\n", summary_line(r).c_str());
+  else print_report(r);
+  if (repeat > 1 && !o.quiet) {
     std::vector<double> m;
     std::string all;
     for (const RunResult& x : runs) {
@@ -284,8 +317,13 @@ int run_command(const std::vector<std::string>& args) {
     }
     std::printf("  repeats   median of %d runs' medians: %.3f ms/step (runs:%s)\n", repeat, median_of(m), all.c_str());
   }
-  if (!o.dump_state_path.empty()) std::printf("  dump      final state of every sphere written to %s\n", o.dump_state_path.c_str());
-  if (!o.trace_path.empty())
+  if (!o.dump_state_path.empty() && !o.quiet) {
+    std::printf("  dump      final state of every sphere written to %s\n", o.dump_state_path.c_str());
+    if (o.dump_every > 0)
+      std::printf("  dump      and the state at step 0 and every %d steps to %s, ...\n", o.dump_every,
+                  step_dump_path(o.dump_state_path, 0).c_str());
+  }
+  if (!o.trace_path.empty() && !o.quiet)
     std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n", o.trace_path.c_str());
   if (!o.json_path.empty()) {
     write_file_atomically(o.json_path, [&](std::ostream& file) { file << to_json(r).dump(2) << "\n"; });

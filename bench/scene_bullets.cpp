@@ -30,7 +30,6 @@ Scene build_bullets(const SceneParams& p) {
   Scene scene = scene_on_terrain(p, Heightmap::from_function(256, 256, {}, terrain_rain_height),
                                  "bullets: terrain-rain's terrain, spheres r 0.25 fired downwards at 100..1000 m/s");
   scene.default_steps = 120;
-  scene.track_tunnelling = true;
   // Per sphere, six draws in this order: x, y, z, azimuth, dip below the horizon, speed.
   SplitMix64 rng{2026};
   constexpr float kPi = 3.14159265358979f;

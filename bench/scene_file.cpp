@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -223,21 +224,61 @@ std::pair<float, float> range(const Object& o, std::string_view key, float fallb
   return r;
 }
 
-/// radius / mass / restitution / friction / static, defaulting from `base`.
+/// radius / mass or density / restitution / friction / static, defaulting from `base`.
 struct Material {
   float radius = 0.5f, mass = 1.0f, restitution = 0.5f, friction = 0.5f;
+  /// kg/m^3: when set, each sphere's mass is mass_of(density, its radius) and `mass` is unused.
+  std::optional<float> density = std::nullopt;
   bool is_static = false;
 };
 
+/// kg of a solid sphere: density (kg/m^3) times 4/3 pi r^3, in double and rounded once to float
+/// (beyond float range it is infinite, which check_mass refuses).
+float mass_of(float density, float radius) {
+  constexpr double kFourThirdsPi = 4.0 / 3.0 * 3.14159265358979323846;
+  const double r = radius;
+  return static_cast<float>(kFourThirdsPi * double(density) * r * r * r);
+}
+
+/// A mass made from a density must lie where World::add_sphere accepts it; refused here so that
+/// the message names the density and radius that gave it.
+void check_mass(float mass, float density, float radius, const Where& at) {
+  if (mass >= kMinSphereMass && mass <= kMaxSphereMass) return;
+  char text[256];
+  std::snprintf(text, sizeof text, "density %g kg/m^3 and radius %g m give a mass of %g kg, %s", double(density),
+                double(radius), double(mass),
+                mass > kMaxSphereMass ? "more than the World's limit of 1e12 kg (kMaxSphereMass)"
+                                      : "less than the World's limit of 1e-12 kg (kMinSphereMass)");
+  at.fail(text);
+}
+
+/// "mass" and "density" say the same thing two ways: one object may give one of them.
+void forbid_mass_and_density(const Object& o) {
+  if (o.has("mass") && o.has("density"))
+    o.where().fail("give \"mass\" or \"density\" (mass = density * 4/3 pi radius^3), not both");
+}
+
+/// `ranges_elsewhere`: radius and mass (or density) are [min, max] ranges the caller reads.
 Material read_material(const Object& o, const Material& base, bool ranges_elsewhere = false) {
   Material m = base;
+  forbid_mass_and_density(o);
+  m.is_static = o.boolean("static", base.is_static);
   if (!ranges_elsewhere) {
     m.radius = positive(o, "radius", base.radius);
-    m.mass = positive(o, "mass", base.mass);
+    if (o.has("mass")) {
+      m.mass = positive(o, "mass", base.mass);
+      m.density.reset();
+    } else if (o.has("density")) {
+      m.density = positive(o, "density", 0.0f);
+    }
+    if (m.density) {
+      m.mass = mass_of(*m.density, m.radius);
+      // A static sphere has no mass (World ignores it): any density will do.
+      if (!m.is_static) check_mass(m.mass, *m.density, m.radius, o.has("density") ? o.at("density") : o.where());
+    }
   }
   m.restitution = unit_interval(o, "restitution", base.restitution);
   m.friction = non_negative(o, "friction", base.friction);
-  m.is_static = o.boolean("static", base.is_static);
   return m;
 }
 
@@ -498,8 +539,8 @@ VelocityRule read_velocity_rule(const Object& o) {
 void read_list(const json& list, const Where& at, const GeneratorContext& g, std::vector<SphereDesc>& out) {
   if (!list.is_array()) at.fail("must be an array of spheres, got " + got(list));
   for (std::size_t k = 0; k < list.size(); ++k) {
-    const Object o(list[k], at.index(k), {"position", "velocity", "angular_velocity", "radius", "mass", "restitution",
-                                          "friction", "static"});
+    const Object o(list[k], at.index(k), {"position", "velocity", "angular_velocity", "radius", "mass", "density",
+                                          "restitution", "friction", "static"});
     o.reject_unknown_keys();
     const Material m = read_material(o, g.material);
     out.push_back(sphere(to_vec3(o.required("position"), o.at("position")), o.vec3("velocity", Vec3::Zero()),
@@ -561,19 +602,46 @@ void read_random(const Object& o, const GeneratorContext& g, std::vector<SphereD
     if (!(lo[a] <= hi[a])) o.where().fail("box_min must be <= box_max on every axis, got " + got(o["box_min"]) + " and " + got(o["box_max"]));
   const Material m = read_material(o, g.material, true);
   const auto radius = range(o, "radius", g.material.radius, false);
-  const auto mass = range(o, "mass", g.material.mass, false);
+  enum class Spread { Uniform, LogUniform };
+  const Spread radius_spread =
+      o.choice<Spread>("radius_distribution", {{"uniform", Spread::Uniform}, {"log-uniform", Spread::LogUniform}})
+          .value_or(Spread::Uniform);
+  // The mass slot of the sequence draws a mass, or a density that makes the mass from the
+  // radius (the generator's own key, else the top-level material's).
+  const bool by_density = o.has("density") || (!o.has("mass") && g.material.density.has_value());
+  const auto mass = by_density ? range(o, "density", g.material.density.value_or(0.0f), false)
+                               : range(o, "mass", g.material.mass, false);
+  if (by_density && !m.is_static) {  // the mass grows with both: the extremes bound every sphere's
+    const Where at = o.has("density") ? o.at("density") : o.where();
+    check_mass(mass_of(mass.first, radius.first), mass.first, radius.first, at);
+    check_mass(mass_of(mass.second, radius.second), mass.second, radius.second, at);
+  }
   const auto speed = range(o, "speed", 0.0f, true);
 
-  // The documented sequence (docs/scene_format.md): per sphere x, y, z, radius, mass, speed,
-  // then direction triples until one lies inside the unit ball (and not at its centre).
+  // The documented sequence (docs/scene_format.md): per sphere x, y, z, radius, mass (or
+  // density), speed, then direction triples until one lies inside the unit ball (and not at
+  // its centre).
   std::mt19937_64 rng(seed);
   auto between = [&](float a, float b) { return a + (b - a) * unit_float(rng); };
+  // min (max/min)^u: each decade of radii as likely as the next. In double, rounded once to
+  // float, so any libm within an ulp of double gives the same float; clamped against rounding.
+  auto log_between = [&](float a, float b) {
+    const double r = double(a) * std::exp(double(unit_float(rng)) * std::log(double(b) / double(a)));
+    return std::clamp(static_cast<float>(r), a, b);
+  };
   out.reserve(out.size() + n);
   for (std::size_t k = 0; k < n; ++k) {
     Material mk = m;
-    const Vec3 position(between(lo.x(), hi.x()), between(lo.y(), hi.y()), between(lo.z(), hi.z()));
-    mk.radius = between(radius.first, radius.second);
-    mk.mass = between(mass.first, mass.second);
+    // One statement each: the arguments of one call are drawn in an order the compiler picks
+    // (GCC: z, y, x), which made the scene differ between compilers.
+    const float x = between(lo.x(), hi.x());
+    const float y = between(lo.y(), hi.y());
+    const float z = between(lo.z(), hi.z());
+    const Vec3 position(x, y, z);
+    mk.radius = radius_spread == Spread::LogUniform ? log_between(radius.first, radius.second)
+                                                    : between(radius.first, radius.second);
+    const float drawn = between(mass.first, mass.second);
+    mk.mass = by_density ? mass_of(drawn, mk.radius) : drawn;
     const float v = between(speed.first, speed.second);
     float dx, dy, dz, length2;
     do {
@@ -761,7 +829,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
 
   GeneratorContext context{.material = {}, .terrain = terrain.get(), .count_override = std::nullopt};
   if (top.has("material")) {
-    const Object m(top["material"], top.at("material"), {"radius", "mass", "restitution", "friction"});
+    const Object m(top["material"], top.at("material"), {"radius", "mass", "density", "restitution", "friction"});
     m.reject_unknown_keys();
     context.material = read_material(m, {});
   }
@@ -789,12 +857,13 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       } else if (gen.has("lattice")) {
         read_lattice(Object(gen["lattice"], gen.at("lattice"),
                             {"count", "layout", "layer_side", "max_layer_side", "spacing", "centre", "y_from", "velocity",
-                             "towards", "angular_velocity", "radius", "mass", "restitution", "friction", "static"}),
+                             "towards", "angular_velocity", "radius", "mass", "density", "restitution", "friction",
+                             "static"}),
                      g, spheres);
       } else {
         read_random(Object(gen["random"], gen.at("random"),
-                           {"count", "seed", "box_min", "box_max", "radius", "mass", "speed", "restitution", "friction",
-                            "static"}),
+                           {"count", "seed", "box_min", "box_max", "radius", "radius_distribution", "mass", "density",
+                            "speed", "restitution", "friction", "static"}),
                     g, spheres);
       }
     }

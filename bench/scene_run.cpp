@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -37,19 +38,6 @@ void write_trace(const std::string& path, const PhaseTrace& trace, int threads) 
   });
 }
 
-/// Marks (by handle index) every sphere whose centre is below the ground inside its extent.
-void mark_below_ground(const Scene& scene, std::vector<std::uint8_t>& below) {
-  const SphereSoA& s = scene.world->soa();
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const float x = s.px[i], z = s.pz[i];
-    if (!(x >= scene.min_x && x <= scene.max_x && z >= scene.min_z && z <= scene.max_z)) continue;
-    if (!(s.py[i] < scene.ground_height(x, z))) continue;
-    const std::uint32_t id = s.id_at(i).index;
-    if (below.size() <= id) below.resize(id + 1, 0);
-    below[id] = 1;
-  }
-}
-
 void add(PhaseTimes& sum, const PhaseTimes& t, double weight) {
   sum.reorder += weight * t.reorder;
   sum.predict += weight * t.predict;
@@ -82,6 +70,16 @@ const SceneEntry& find_scene(const std::string& name) {
 
 RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options) {
   return run_scene(entry.name, [&] { return entry.build(params); }, options);
+}
+
+std::string step_dump_path(const std::string& path, int step) {
+  const std::filesystem::path p(path);
+  char number[32];
+  std::snprintf(number, sizeof number, "-%06d", step);
+  std::filesystem::path name = p.stem();
+  name += number;
+  name += p.extension();
+  return (p.parent_path() / name).string();
 }
 
 void write_state_csv(const Scene& scene, const std::string& path) {
@@ -163,24 +161,30 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.reorder_interval = world.settings().reorder_interval;
   r.warm_start = world.settings().warm_start;
   r.continuous_collision = world.settings().continuous_collision;
-  r.tunnelled_tracked = scene.track_tunnelling;
+  r.tunnelling_checked = world.terrain() != nullptr || !world.planes().empty();
 
   if (!options.trace_path.empty()) world.enable_trace(true);
-  r.energy_start = world.kinetic_energy();
+  r.energy_start = r.energy_peak = world.kinetic_energy();
+  const bool dump_steps = options.dump_every > 0 && !options.dump_state_path.empty();
+  if (dump_steps) write_state_csv(scene, step_dump_path(options.dump_state_path, 0));
   const Eigen::Vector3d momentum_start = world.linear_momentum();
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(r.steps));
   const double weight = 1.0 / static_cast<double>(r.steps - r.warmup);
   auto last_progress = clock::now();
   const auto run_start = clock::now();
-  std::vector<std::uint8_t> went_below;  // by SphereId index, for Scene::track_tunnelling
+  TunnellingCounter tunnelling;
   double worst_sphere = 0.0, worst_static = 0.0;  // ErrorFigures::worst_*_penetration
   double mean_sphere = 0.0, mean_static = 0.0;    // ErrorFigures::mean_step_*_penetration
   for (int k = 0; k < r.steps; ++k) {
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
-    if (scene.track_tunnelling) mark_below_ground(scene, went_below);
+    // Untimed, as every figure below: a pass over the spheres each, part of the error report.
+    tunnelling.after_step(world);
+    if (const double energy = world.kinetic_energy(); energy > r.energy_peak) r.energy_peak = energy, r.energy_peak_step = k + 1;
+    if (dump_steps && (k + 1) % options.dump_every == 0)
+      write_state_csv(scene, step_dump_path(options.dump_state_path, k + 1));
     if (k >= r.warmup) {
       double deepest_sphere = 0.0, deepest_static = 0.0;
       for (const Contact& c : world.last_contacts()) {  // untimed, like the tunnelling check
@@ -216,7 +220,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.median_ms = median(timed);
   r.heap_at_end = heap_added();
   r.errors = measure_errors(scene);
-  r.errors.tunnelled_ever = static_cast<std::size_t>(std::count(went_below.begin(), went_below.end(), std::uint8_t{1}));
+  r.tunnelling = tunnelling.figures();
   r.errors.worst_sphere_penetration = worst_sphere;
   r.errors.worst_static_penetration = worst_static;
   r.errors.mean_step_sphere_penetration = mean_sphere;
@@ -255,10 +259,14 @@ nlohmann::json to_json(const RunResult& r) {
       {"mean_step_sphere_penetration", e.mean_step_sphere_penetration},
       {"mean_step_static_penetration", e.mean_step_static_penetration},
       {"tunnelled", e.tunnelled},
-      {"tunnelled_ever", e.tunnelled_ever},
+      {"tunnelled_ever", r.tunnelling.spheres},
+      {"tunnelling", {{"checked", r.tunnelling_checked}, {"events", r.tunnelling.events}, {"spheres", r.tunnelling.spheres},
+                      {"worst_depth", r.tunnelling.worst_depth}, {"steps_checked", r.tunnelling.steps}}},
       {"fell_off", e.fell_off},
       {"kinetic_energy", e.kinetic_energy},
       {"kinetic_energy_start", r.energy_start},
+      {"kinetic_energy_peak", r.energy_peak},
+      {"kinetic_energy_peak_step", r.energy_peak_step},
       {"momentum_drift", r.momentum_drift},
       {"energy_drift", r.energy_drift},
       {"nan_count", e.nan_count},

@@ -26,7 +26,16 @@ struct RunResult {
   std::string state_hash;
   std::string pair_search;  ///< the search the last step used
   bool continuous_collision = true;
-  bool tunnelled_tracked = false;  ///< errors.tunnelled_ever was counted (Scene::track_tunnelling)
+  /// Checked after every step (untimed), for every scene with a terrain or planes
+  /// (tunnelling_checked): fast spheres that tunnel soon leave the terrain's extent, and light
+  /// ones driven through may be pushed back out, where the end count (errors.tunnelled) no
+  /// longer sees them.
+  TunnellingFigures tunnelling;
+  bool tunnelling_checked = false;  ///< the world has a terrain or planes to tunnel through
+  /// J, the largest kinetic energy of the run (the start included) and the step after which it
+  /// was reached (0: the start): a run that gains energy shows it here even when it ends calm.
+  double energy_peak = 0;
+  int energy_peak_step = 0;
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
   double swept_meeting_spheres = 0;     ///< of the swept, those swept against spheres too (mean per timed step)
   std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
@@ -57,7 +66,15 @@ struct RunOptions {
   bool progress = true;        ///< a line on stderr every 2 s
   std::string progress_label;  ///< prefix of the progress lines
   std::string dump_state_path; ///< non-empty: write every sphere's final state there (write_state_csv)
+  /// > 0 (with dump_state_path): also the state before the first step and after every
+  /// dump_every-th, each to step_dump_path(dump_state_path, step); untimed.
+  int dump_every = 0;
 };
+
+/// Where --dump-every writes the state after `step` steps: `path` with "-" and the step, zero-padded
+/// to 6 digits, inserted before its extension ("out/state.csv", 60: "out/state-000060.csv"; a
+/// path without an extension gets it appended).
+std::string step_dump_path(const std::string& path, int step);
 
 /// The registered scene of that name; InvalidArgument-style std::invalid_argument listing the known ones.
 const SceneEntry& find_scene(const std::string& name);

@@ -49,10 +49,6 @@ struct Scene {
   std::function<float(float, float)> ground_height;
   float min_x = 0, max_x = 0, min_z = 0, max_z = 0;  ///< ground extent (fell_off outside)
   std::string description;
-  /// Check after every step (untimed) which spheres are below the ground inside its extent, and
-  /// report how many ever were: fast spheres that tunnel soon leave the extent, where the end
-  /// count (ErrorFigures::tunnelled) no longer sees them.
-  bool track_tunnelling = false;
   float dt = 1.0f / 60.0f;  ///< s per step (SceneParams::dt, or the scene file's)
   /// Handles of the spheres in the order they were added (the World re-sorts its slots), so
   /// that `--dump-state` writes sphere k on row k.

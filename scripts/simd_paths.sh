@@ -26,7 +26,8 @@ echo "paths this CPU supports: ${paths[*]}"
 declare -A runs
 for ((r = 1; r <= repeats; ++r)); do
   for p in "${paths[@]}"; do
-    out=$("$bench" run terrain-rain --spheres 4000 --threads 1 --quiet "$@" --simd "$p")
+    # The full summary (--quiet prints one line, without the median); progress goes to stderr.
+    out=$("$bench" run terrain-rain --spheres 4000 --threads 1 "$@" --simd "$p")
     median=$(sed -n 's/.* ms\/step mean, \([0-9.]*\) median.*/\1/p' <<< "$out")
     hash=$(sed -n 's/.*state     hash \([0-9a-f]*\).*/\1/p' <<< "$out")
     echo "run $r  $p  median $median ms/step  hash $hash"

@@ -1,7 +1,14 @@
 // hail-bench's one command-line parser (bench/cli_args.*) and every command's use of it: counts
-// are whole numbers in range, unknown flags are errors naming the flag, --help for each command.
+// are whole numbers in range, unknown flags are errors naming the flag, --help for each command;
+// hail-bench run's --quiet line and --dump-every.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -33,6 +40,14 @@ std::string refusal(Command command, const std::vector<std::string>& args) {
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// An empty folder of that name under the temporary folder.
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
 
 }  // namespace
 
@@ -141,9 +156,7 @@ TEST_CASE("hail-bench accuracy refuses a repeat count that rounds to 0 (it crash
 }
 
 TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, the others stand", "[bench][cli]") {
-  const auto dir = std::filesystem::temp_directory_path() / "hail-test-cli-args-scene";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = fresh_dir("hail-test-cli-args-scene");
   const std::string scene = (dir / "scene.json").string(), json = (dir / "run.json").string();
   std::ofstream(scene) << R"({"format": "hail-scene", "version": 1, "dt": 0.01, "steps": 4,
     "spheres": [{"list": [{"position": [0, 1, 0], "radius": 0.5}, {"position": [2, 1, 0], "radius": 0.5}]}]})";
@@ -160,5 +173,63 @@ TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, 
   const nlohmann::json overridden = run_json({"--steps", "6"});
   CHECK(overridden["steps"] == 6);
   CHECK(overridden["dt"].get<double>() == Approx(0.01));
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+/// What `command(args)` prints on stdout (file descriptor 1, where printf writes), and its status.
+std::pair<int, std::string> stdout_of(Command command, const std::vector<std::string>& args, const std::string& capture) {
+  std::fflush(stdout);
+  const int saved = ::dup(1);
+  const int file = ::open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(saved >= 0);
+  REQUIRE(file >= 0);
+  ::dup2(file, 1);
+  ::close(file);
+  int status = -1;
+  try {
+    status = command(args);
+  } catch (...) {
+    std::fflush(stdout);
+    ::dup2(saved, 1);
+    ::close(saved);
+    throw;
+  }
+  std::fflush(stdout);
+  ::dup2(saved, 1);
+  ::close(saved);
+  std::ifstream in(capture);
+  return {status, std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>())};
+}
+
+}  // namespace
+
+TEST_CASE("hail-bench run --quiet prints one summary line; --dump-every needs --dump-state", "[bench][cli]") {
+  const auto dir = fresh_dir("hail-test-cli-args-quiet");
+  const std::string scene = (dir / "scene.json").string(), capture = (dir / "stdout.txt").string();
+  std::ofstream(scene) << R"({"format": "hail-scene", "version": 1, "dt": 0.01, "steps": 4,
+    "planes": [{"normal": [0, 1, 0]}],
+    "spheres": [{"list": [{"position": [0, 1, 0], "radius": 0.5}, {"position": [2, 1, 0], "radius": 0.5}]}]})";
+  // It printed the whole summary (14 lines) with --quiet, which silenced only the progress.
+  const auto [status, quiet] = stdout_of(bench::run_command, {"--scene", scene, "--quiet", "--threads", "1"}, capture);
+  CHECK(status == 0);
+  INFO(quiet);
+  CHECK(std::count(quiet.begin(), quiet.end(), '\n') == 1);
+  CHECK(quiet.rfind(scene + ": 2 spheres, 4 steps, ", 0) == 0);
+  for (const char* part : {" ms/step, worst penetration ", " m, tunnelled 0 (0 sphere-steps), NaN 0, hash "}) CHECK(contains(quiet, part));
+  const auto [full_status, full] = stdout_of(bench::run_command, {"--scene", scene, "--threads", "1"}, capture);
+  CHECK(full_status == 0);
+  CHECK(std::count(full.begin(), full.end(), '\n') > 5);
+  // The same hash on both.
+  CHECK(contains(full, "hash " + quiet.substr(quiet.size() - 17, 16)));
+
+  CHECK(refusal(bench::run_command, {"--scene", scene, "--dump-every", "10"}) ==
+        "--dump-every 10 needs --dump-state FILE.csv (the files are named after it)");
+  CHECK(contains(refusal(bench::run_command, {"--dump-every", "0"}), "--dump-every must be a whole number in [1, 100000000]"));
+  // A folder that cannot take the files is refused before the run.
+  CHECK(contains(refusal(bench::run_command, {"--scene", scene, "--dump-state", (dir / "no-such-folder" / "s.csv").string(),
+                                              "--dump-every", "2"}),
+                 "does not exist"));
   std::filesystem::remove_all(dir);
 }

@@ -1,11 +1,14 @@
 // Scene files (bench/scene_file.h): the shipped files are the built-in scenes exactly; bad files
 // are refused with the file and the field named; the random generator is deterministic.
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -324,7 +327,12 @@ TEST_CASE("scene files: the random generator is deterministic and documented", "
   Scene d = parse_scene_text(random_scene(7), "d.json");
   std::mt19937_64 rng(7);
   const auto between = [&](float lo, float hi) { return lo + (hi - lo) * hail::bench::unit_float(rng); };
-  const hail::Vec3 position(between(-10, 10), between(0, 20), between(-10, 10));
+  // One draw per statement: as arguments of one call GCC draws z first (the reader did, until
+  // this test spelt the documented order out).
+  const float x = between(-10, 10);
+  const float y = between(0, 20);
+  const float z = between(-10, 10);
+  const hail::Vec3 position(x, y, z);
   const float radius = between(0.2f, 0.6f);
   const float mass = between(1, 3);
   const float speed = between(0, 4);
@@ -562,4 +570,168 @@ TEST_CASE("scene files: a dt the World would split into too many substeps is ref
   // A --dt from the command line is judged the same way, and named as the flag.
   CHECK(error_of(scene_text(R"("settings": {"time_scale": 2})"), {.dt = 10.0f}).find("scene.json: --dt: ") == 0);
   CHECK(error_of(scene_text(""), {.dt = 10.0f}) == "(no error)");  // 200 substeps
+}
+
+namespace {
+
+/// The mass the format documents for a density: 4/3 pi r^3 density, in double, rounded once.
+float mass_from(float density, float radius) {
+  const double r = radius;
+  return static_cast<float>(4.0 / 3.0 * 3.14159265358979323846 * double(density) * r * r * r);
+}
+
+/// World keeps 1 / mass, rounded: compare it with 1 / the mass expected.
+float inverse_mass_of_sphere(const Scene& scene, std::size_t k) {
+  const auto slot = static_cast<std::size_t>(scene.world->slot_of(scene.ids[k]));
+  return scene.world->soa().inv_mass[slot];
+}
+
+float radius_of_sphere(const Scene& scene, std::size_t k) {
+  return scene.world->soa().radius[static_cast<std::size_t>(scene.world->slot_of(scene.ids[k]))];
+}
+
+}  // namespace
+
+TEST_CASE("scene files: a density instead of a mass makes each sphere's mass from its radius", "[scene_file][density]") {
+  const Scene scene = parse_scene_text(scene_text(R"("material": {"radius": 0.5, "density": 1000},
+      "spheres": [
+        {"list": [{"position": [0, 0, 0]}, {"position": [3, 0, 0], "radius": 2}, {"position": [9, 0, 0], "mass": 7},
+                  {"position": [15, 0, 0], "radius": 0.1, "density": 7800}]},
+        {"lattice": {"count": 2, "spacing": 3, "centre": [0, 10, 0], "radius": 1}},
+        {"lattice": {"count": 1, "centre": [0, 20, 0], "radius": 1, "mass": 2}},
+        {"random": {"count": 20, "seed": 3, "box_min": [-50, 30, -50], "box_max": [50, 60, 50], "radius": [0.1, 1]}},
+        {"random": {"count": 20, "seed": 4, "box_min": [-50, 70, -50], "box_max": [50, 90, 50], "radius": [0.1, 1],
+                    "density": [500, 2000]}}])"),
+                                       "density.json");
+  REQUIRE(scene.ids.size() == 47);
+  CHECK(inverse_mass_of_sphere(scene, 0) == 1.0f / mass_from(1000, 0.5f));  // the material's density and radius
+  CHECK(1.0f / inverse_mass_of_sphere(scene, 0) == Approx(523.599));
+  CHECK(inverse_mass_of_sphere(scene, 1) == 1.0f / mass_from(1000, 2));     // the material's density, its own radius
+  CHECK(inverse_mass_of_sphere(scene, 2) == 1.0f / 7.0f);                   // a mass of its own instead
+  CHECK(inverse_mass_of_sphere(scene, 3) == 1.0f / mass_from(7800, 0.1f));  // a density of its own
+  CHECK(inverse_mass_of_sphere(scene, 4) == 1.0f / mass_from(1000, 1));
+  CHECK(inverse_mass_of_sphere(scene, 5) == 1.0f / mass_from(1000, 1));
+  CHECK(inverse_mass_of_sphere(scene, 6) == 1.0f / 2.0f);
+  for (std::size_t k = 7; k < 27; ++k)
+    CHECK(inverse_mass_of_sphere(scene, k) == 1.0f / mass_from(1000, radius_of_sphere(scene, k)));
+
+  // A drawn density takes the mass's place in the sequence: x, y, z, radius, density, speed.
+  std::mt19937_64 rng(4);
+  const auto between = [&](float lo, float hi) { return lo + (hi - lo) * hail::bench::unit_float(rng); };
+  (void)between(-50, 50), (void)between(70, 90), (void)between(-50, 50);
+  const float radius = between(0.1f, 1);
+  const float density = between(500, 2000);
+  CHECK(radius_of_sphere(scene, 27) == radius);
+  CHECK(inverse_mass_of_sphere(scene, 27) == 1.0f / mass_from(density, radius));
+  int distinct_densities = 0;
+  for (std::size_t k = 28; k < 47; ++k) {
+    const float volume = 4.0f / 3.0f * 3.14159265f * std::pow(radius_of_sphere(scene, k), 3.0f);
+    const float d = 1.0f / inverse_mass_of_sphere(scene, k) / volume;
+    CHECK(d >= 499.0f);
+    CHECK(d <= 2001.0f);
+    distinct_densities += std::fabs(d - 1000.0f) > 10.0f;
+  }
+  CHECK(distinct_densities > 10);
+}
+
+TEST_CASE("scene files: mass and density together, or a density out of range, are refused by name", "[scene_file][density]") {
+  const std::string list_head = R"("spheres": [{"list": [)";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {scene_text(list_head + R"({"position": [0, 0, 0], "mass": 1, "density": 1000}]}])"),
+       "scene.json: spheres[0].list[0]: give \"mass\" or \"density\" (mass = density * 4/3 pi radius^3), not both"},
+      {scene_text(R"("material": {"mass": 1, "density": 1000})"), "scene.json: material: give \"mass\" or \"density\""},
+      {scene_text(R"("spheres": [{"lattice": {"count": 2, "mass": 1, "density": 1}}])"),
+       "scene.json: spheres[0].lattice: give \"mass\" or \"density\""},
+      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "mass": 1, "density": 1}}])"),
+       "scene.json: spheres[0].random: give \"mass\" or \"density\""},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": 0}]}])"), "scene.json: spheres[0].list[0].density: must be > 0, got 0"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": -5}]}])"), "scene.json: spheres[0].list[0].density: must be > 0, got -5"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": "heavy"}]}])"),
+       "scene.json: spheres[0].list[0].density: must be a number, got string \"heavy\""},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": 1e39}]}])"),
+       "scene.json: spheres[0].list[0].density: must be a finite number within float range"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1000, "density": 1e6}]}])"),
+       "scene.json: spheres[0].list[0].density: density 1e+06 kg/m^3 and radius 1000 m give a mass of 4.18879e+15 kg, more than "
+       "the World's limit of 1e12 kg (kMaxSphereMass)"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1e-5, "density": 1e-3}]}])"),
+       "give a mass of 4.18879e-18 kg, less than the World's limit of 1e-12 kg (kMinSphereMass)"},
+      // Inherited from the material, the message names the sphere that makes it too heavy.
+      {scene_text(R"("material": {"density": 1e6}, "spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [9, 0, 0], "radius": 1000}]}])"),
+       "scene.json: spheres[0].list[1]: density 1e+06 kg/m^3 and radius 1000 m give a mass of"},
+      // A random generator's extremes bound every sphere it draws: refused before any is made.
+      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1],
+                                              "radius": [1, 1000], "density": [1, 1e6]}}])"),
+       "scene.json: spheres[0].random.density: density 1e+06 kg/m^3 and radius 1000 m give a mass of"},
+      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "density": [2, 1]}}])"),
+       "scene.json: spheres[0].random.density: min must be <= max"},
+      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "radius_distribution": "log"}}])"),
+       "scene.json: spheres[0].random.radius_distribution: must be one of \"uniform\", \"log-uniform\", got \"log\""},
+      {scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0], "radius_distribution": "uniform"}]}])"),
+       "scene.json: spheres[0].list[0]: unknown key \"radius_distribution\""},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string message = error_of(text);
+    INFO("file: " << text << "\nmessage: " << message);
+    CHECK(message.find(expected) != std::string::npos);
+  }
+  // A static sphere has no mass: any density is accepted for it.
+  CHECK(error_of(scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1000, "density": 1e6, "static": true}]}])")) ==
+        "(no error)");
+}
+
+TEST_CASE("scene files: log-uniform radii: every decade alike, drawn in the radius's place", "[scene_file][density]") {
+  const Scene scene = parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 2000, "seed": 11,
+      "box_min": [-500, 0, -500], "box_max": [500, 500, 500], "radius": [0.05, 5], "radius_distribution": "log-uniform",
+      "density": 1000}}])"),
+                                       "log.json");
+  REQUIRE(scene.ids.size() == 2000);
+  std::size_t below_half = 0, below_tenth_of_max = 0;
+  float smallest = 10, largest = 0;
+  for (std::size_t k = 0; k < scene.ids.size(); ++k) {
+    const float r = radius_of_sphere(scene, k);
+    smallest = std::min(smallest, r), largest = std::max(largest, r);
+    below_half += r < 0.5f;  // the geometric middle of [0.05, 5]: half of a log-uniform draw
+    below_tenth_of_max += r < 0.05f * std::pow(10.0f, 1.5f);
+    CHECK(inverse_mass_of_sphere(scene, k) == 1.0f / mass_from(1000, r));
+  }
+  CHECK(smallest >= 0.05f);
+  CHECK(largest <= 5.0f);
+  CHECK(smallest < 0.06f);
+  CHECK(largest > 4.0f);
+  // Uniform radii would put 9% below 0.5 m; log-uniform puts half there (and three quarters
+  // below 10^1.5 min), within a few percent for 2,000 draws.
+  CHECK(below_half > 900);
+  CHECK(below_half < 1100);
+  CHECK(below_tenth_of_max > 1400);
+  CHECK(below_tenth_of_max < 1600);
+
+  // The first sphere's radius is min (max/min)^u with u the fourth draw, in double, rounded once.
+  std::mt19937_64 rng(11);
+  for (int k = 0; k < 3; ++k) (void)hail::bench::unit_float(rng);
+  const double u = hail::bench::unit_float(rng);
+  CHECK(radius_of_sphere(scene, 0) == static_cast<float>(0.05f * std::exp(u * std::log(5.0 / double(0.05f)))));
+
+  // One value: the draw is made (the sequence does not shift) and gives that value.
+  const Scene one = parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 3, "seed": 11, "box_min": [0, 0, 0],
+      "box_max": [9, 9, 9], "radius": 0.3, "radius_distribution": "log-uniform"}}])"), "one.json");
+  const Scene uniform = parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 3, "seed": 11, "box_min": [0, 0, 0],
+      "box_max": [9, 9, 9], "radius": 0.3}}])"), "uniform.json");
+  for (std::size_t k = 0; k < 3; ++k) {
+    CHECK(radius_of_sphere(one, k) == 0.3f);
+    CHECK(one.world->position(one.ids[k]) == uniform.world->position(uniform.ids[k]));
+  }
+}
+
+TEST_CASE("scene files: wide-mix-rain: radii over two decades at one density, over terrain-rain's terrain", "[scene_file][density]") {
+  const Scene scene = hail::bench::load_scene_file(kScenes + "wide-mix-rain.json", {.spheres = 500});
+  REQUIRE(scene.ids.size() == 500);
+  CHECK(scene.has_terrain);
+  float smallest = 10, largest = 0;
+  for (std::size_t k = 0; k < scene.ids.size(); ++k) {
+    const float r = radius_of_sphere(scene, k);
+    smallest = std::min(smallest, r), largest = std::max(largest, r);
+    CHECK(inverse_mass_of_sphere(scene, k) == 1.0f / mass_from(1000, r));
+  }
+  CHECK(smallest < 0.07f);
+  CHECK(largest > 3.5f);
 }
