@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernel/coincident_normal.h"
 #include "kernel/contact_impulse.h"
 #include "kernel/path_box_scan.h"
 #include "kernel/simd_kernels.h"
@@ -252,10 +253,12 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       double len2 = 0.0;
       for (int d = 0; d < 3; ++d) n[d] = motions_[mb].x[d] - motions_[ma].x[d], len2 += n[d] * n[d];
       const double len = std::sqrt(len2);
-      if (len > 0.0) {
+      if (!centres_coincide(static_cast<float>(len), s.radius[a], s.radius[e.other])) {
         for (double& x : n) x /= len;
       } else {
-        n[0] = 0.0, n[1] = 1.0, n[2] = 0.0;  // coincident centres: a fixed normal, never NaN
+        float pair[3];  // no direction from the centres: the pair's own (make_sphere_contact's)
+        coincident_normal(s.id_at(a).index, s.id_at(e.other).index, pair);
+        for (int d = 0; d < 3; ++d) n[d] = pair[d];
       }
       contact.restitution = combine_restitution(s.restitution[a], s.restitution[e.other]);
       contact.friction = combine_friction(s.friction[a], s.friction[e.other]);

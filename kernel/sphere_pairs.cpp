@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "kernel/coincident_normal.h"
 #include "kernel/simd_kernels.h"
 
 namespace hail {
@@ -34,12 +35,16 @@ Contact make_sphere_contact(const SphereSoA& s, SpherePair pair) {
   c.a = a;
   c.b = b;
   c.gap = distance - s.radius[a] - s.radius[b];
-  // Coincident centres have no direction: a fixed fallback normal, never NaN.
-  if (distance > 1e-12f) {
+  if (!centres_coincide(distance, s.radius[a], s.radius[b])) {
     const float inv = 1.0f / distance;
     c.nx = dx * inv;
     c.ny = dy * inv;
     c.nz = dz * inv;
+  } else {
+    // No direction from the centres: the pair's own, from the spheres' stable ids (slots move).
+    float n[3];
+    coincident_normal(s.id_at(a).index, s.id_at(b).index, n);
+    c.nx = n[0], c.ny = n[1], c.nz = n[2];
   }
   c.restitution = combine_restitution(s.restitution[a], s.restitution[b]);
   c.friction = combine_friction(s.friction[a], s.friction[b]);

@@ -36,7 +36,8 @@ void find_sphere_pairs_simd(const SphereSoA& spheres, std::size_t first, std::si
                             std::vector<SpherePair>& out);
 
 /// Turns a pair into a contact: normal from a to b, gap = distance - ra - rb (computed before
-/// the normal is normalised), material combined. Coincident centres get the normal +y.
+/// the normal is normalised), material combined. Coincident centres (centres_coincide) get the
+/// pair's own direction from the two spheres' ids (kernel/coincident_normal.h).
 Contact make_sphere_contact(const SphereSoA& spheres, SpherePair pair);
 
 /// Effective friction of two materials: the geometric mean, so equal values combine to themselves.

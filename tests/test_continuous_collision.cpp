@@ -16,8 +16,10 @@
 #include "kernel/path_box_scan.h"
 #include "kernel/swept_sphere.h"
 #include "kernel/world.h"
+#include "pair_overlap.h"
 
 using namespace hail;
+using hail::testing::max_pair_overlap;
 
 namespace {
 
@@ -44,17 +46,6 @@ WorldSettings settings_with(bool ccd, int threads = 1) {
   s.threads = threads;
   s.continuous_collision = ccd;
   return s;
-}
-
-double max_pair_overlap(const World& w) {
-  const SphereState s = w.spheres();
-  double worst = 0.0;
-  for (std::size_t i = 0; i < w.sphere_count(); ++i)
-    for (std::size_t j = i + 1; j < w.sphere_count(); ++j) {
-      const double dx = s.px[j] - s.px[i], dy = s.py[j] - s.py[i], dz = s.pz[j] - s.pz[i];
-      worst = std::max(worst, s.radius[i] + s.radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz));
-    }
-  return worst;
 }
 
 /// First time in [0, t_max] at which the sphere c + v t of radius r touches triangle (a, b, cc),
