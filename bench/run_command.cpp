@@ -33,6 +33,7 @@ struct CommandOptions {
   int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
   double memory_limit_gb = -1.0;  // --memory-limit GB (< 0: 80% of the memory available; 0: none)
   double origin = 0.0;            // --origin D: the scene moved by (D, 0, D) m (bench/scene_origin.cpp)
+  int home_after = 0;             // --home-after K: after step K, shift the scene back by (D, 0, D)
 };
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
@@ -87,6 +88,8 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
       })
       .number("--origin", o.origin, -1e7, 1e7,
               "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin")
+      .count("--home-after", o.home_after, 1, 100'000'000,
+             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)")
       .count("--repeat", o.repeat, 1, 1000, "runs (default 1; 3 with --ccd both)")
       .text("--json", o.json_path, "FILE", "every figure of the (last) run as JSON")
       .text("--trace", o.trace_path, "FILE", "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
@@ -95,6 +98,7 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
               "GB; a sphere count over it is refused before anything is built (default 80% of the memory available; 0: none)")
       .flag("--quiet", o.quiet, "no progress lines on stderr");
   if (!parser.parse(args)) return std::nullopt;
+  if (o.home_after > 0 && o.origin == 0.0) usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
   for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
                            "--rotation", "--warm-start"})
     if (parser.given(flag)) o.given.emplace_back(flag);
@@ -145,9 +149,13 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
 
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
-  const RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
-                               .progress_label = "", .dump_state_path = last ? o.dump_state_path : ""};
+  RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
+                         .progress_label = "", .dump_state_path = last ? o.dump_state_path : ""};
   const float d = static_cast<float>(o.origin);
+  if (o.home_after > 0)
+    run_options.after_step = [&](Scene& scene, int step) {
+      if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
+    };
   auto moved = [&](Scene scene) {
     if (d != 0.0f) move_scene(scene, Vec3(d, 0.0f, d));
     return scene;

@@ -180,6 +180,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+    if (options.after_step) options.after_step(scene, k + 1);
     if (scene.track_tunnelling) mark_below_ground(scene, went_below);
     if (k >= r.warmup) {
       double deepest_sphere = 0.0, deepest_static = 0.0;

@@ -57,6 +57,9 @@ struct RunOptions {
   bool progress = true;        ///< a line on stderr every 2 s
   std::string progress_label;  ///< prefix of the progress lines
   std::string dump_state_path; ///< non-empty: write every sphere's final state there (write_state_csv)
+  /// Called after every step (untimed) with the scene and the step's number from 1, e.g. to
+  /// shift the origin mid-run (`hail-bench run --origin D --home-after K`).
+  std::function<void(Scene&, int)> after_step;
 };
 
 /// The registered scene of that name; InvalidArgument-style std::invalid_argument listing the known ones.
