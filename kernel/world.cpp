@@ -289,6 +289,7 @@ void World::shift_origin(const Vec3& offset) {
   SphereSoA& m = spheres_;
   for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
   for (Impact& i : impacts_) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
+#if HAIL_WITH_TERRAIN
   if (moved_terrain) {
     // Warm starting keys terrain contacts by triangle index in BVH order (Contact::feature).
     // The moved terrain's BVH is built over moved boxes; rounding can make two centroids equal
@@ -298,6 +299,7 @@ void World::shift_origin(const Vec3& offset) {
     if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) contact_cache_.clear();
     terrain_ = std::move(moved_terrain);
   }
+#endif
 }
 
 std::size_t World::lift_out_of_terrain() {
