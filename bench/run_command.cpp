@@ -33,6 +33,8 @@ struct CommandOptions {
   bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
   int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
   double memory_limit_gb = -1.0;  // --memory-limit GB (< 0: 80% of the memory available; 0: none)
+  double origin = 0.0;            // --origin D: the scene moved by (D, 0, D) m (bench/scene_origin.cpp)
+  int home_after = 0;             // --home-after K: after step K, shift the scene back by (D, 0, D)
 };
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
@@ -85,6 +87,10 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
         if (v != "on" && v != "off") usage_error("--rotation must be on or off, got '" + v + "'");
         p.rotation = v == "on";
       })
+      .number("--origin", o.origin, -1e7, 1e7,
+              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin")
+      .count("--home-after", o.home_after, 1, 100'000'000,
+             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)")
       .count("--repeat", o.repeat, 1, 1000, "runs (default 1; 3 with --ccd both)")
       .text("--json", o.json_path, "FILE", "every figure of the (last) run as JSON")
       .text("--trace", o.trace_path, "FILE", "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
@@ -97,6 +103,7 @@ std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
             "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
             "progress lines on stderr; with --ccd both, the table");
   if (!parser.parse(args)) return std::nullopt;
+  if (o.home_after > 0 && o.origin == 0.0) usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
   for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
                            "--rotation", "--warm-start"})
     if (parser.given(flag)) o.given.emplace_back(flag);
@@ -149,13 +156,25 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
 
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
-  const RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
-                               .progress_label = "", .dump_state_path = last ? o.dump_state_path : "",
-                               .dump_every = last ? o.dump_every : 0};
-  if (o.scene_file.empty()) return run_scene(find_scene(o.scene), params, run_options);
+  RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
+                         .progress_label = "", .dump_state_path = last ? o.dump_state_path : "",
+                         .dump_every = last ? o.dump_every : 0};
+  const float d = static_cast<float>(o.origin);
+  if (o.home_after > 0)
+    run_options.after_step = [&](Scene& scene, int step) {
+      if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
+    };
+  auto moved = [&](Scene scene) {
+    if (d != 0.0f) move_scene(scene, Vec3(d, 0.0f, d));
+    return scene;
+  };
+  if (o.scene_file.empty()) {
+    const SceneEntry& entry = find_scene(o.scene);
+    return run_scene(entry.name, [&] { return moved(entry.build(params)); }, run_options);
+  }
   CommandOptions file_options = o;
   file_options.params = params;
-  return run_scene(o.scene_file, [&] { return load_scene_file(o.scene_file, file_overrides(file_options)); }, run_options);
+  return run_scene(o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
 }
 
 double median_of(std::vector<double> v) {

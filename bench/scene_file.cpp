@@ -416,16 +416,24 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     const Shape shape = *o.choice<Shape>("function", {{"terrain-rain", Shape::Rain}, {"bowl", Shape::Bowl}, {"flat", Shape::Flat}});
     if (shape != Shape::Bowl) o.forbid("coefficient", "applies to the \"bowl\" function only");
     const float k = o.number("coefficient", 0.002f);
+    // The function is evaluated at each vertex's place relative to the terrain's origin (vertex
+    // (0, 0)) and the map then moved to the origin, so that moving `origin` moves the same
+    // shape. Evaluated at world x, z, terrain-rain's waves showed another part of the field and,
+    // 1e5 m out, x and z came in 7.8 mm steps, so the sines and the bowl's (x - cx)^2 went
+    // ragged (tests/test_scene_file.cpp, "a function terrain keeps its shape when moved").
+    HeightmapParams local = params;
+    local.origin_x = local.origin_z = 0.0f;
+    const Vec3 to_origin(params.origin_x, 0.0f, params.origin_z);
     try {
       if (shape == Shape::Rain) {
-        heightmap = Heightmap::from_function(cols, rows, params, terrain_rain_height);
+        heightmap = Heightmap::from_function(cols, rows, local, terrain_rain_height).moved(to_origin);
       } else if (shape == Shape::Bowl) {
         // h = k ((x - cx)^2 + (z - cz)^2), centred on the map: bowl-pile's bowl for the defaults.
-        const float cx = params.origin_x + 0.5f * static_cast<float>(cols - 1) * params.cell_x;
-        const float cz = params.origin_z + 0.5f * static_cast<float>(rows - 1) * params.cell_z;
-        heightmap = Heightmap::from_function(cols, rows, params, [=](float x, float z) {
+        const float cx = 0.5f * static_cast<float>(cols - 1) * params.cell_x;
+        const float cz = 0.5f * static_cast<float>(rows - 1) * params.cell_z;
+        heightmap = Heightmap::from_function(cols, rows, local, [=](float x, float z) {
           return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
-        });
+        }).moved(to_origin);
       } else {
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }

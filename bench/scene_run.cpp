@@ -180,6 +180,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
     const auto t0 = clock::now();
     world.step(scene.dt);
     step_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+    if (options.after_step) options.after_step(scene, k + 1);
     // Untimed, as every figure below: a pass over the spheres each, part of the error report.
     tunnelling.after_step(world);
     if (const double energy = world.kinetic_energy(); energy > r.energy_peak) r.energy_peak = energy, r.energy_peak_step = k + 1;

@@ -69,6 +69,9 @@ struct RunOptions {
   /// > 0 (with dump_state_path): also the state before the first step and after every
   /// dump_every-th, each to step_dump_path(dump_state_path, step); untimed.
   int dump_every = 0;
+  /// Called after every step (untimed) with the scene and the step's number from 1, e.g. to
+  /// shift the origin mid-run (`hail-bench run --origin D --home-after K`).
+  std::function<void(Scene&, int)> after_step;
 };
 
 /// Where --dump-every writes the state after `step` steps: `path` with "-" and the step, zero-padded

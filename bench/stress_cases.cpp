@@ -428,6 +428,28 @@ StressResult coincident_heap() {
   return all;
 }
 
+/// terrain-rain's pile 1e4 m out: 1,024 spheres in one 32 x 32 layer (1.5 m apart) dropped
+/// from 13 m, 150 steps there, then World::shift_origin brings everything home for 150 more.
+/// Every step checks centres below the surface and overlaps, before and after the shift.
+StressResult far_rain_shifted_home() {
+  constexpr float kFar = 1e4f;
+  World w(all_threads());
+  HeightmapParams params;
+  params.origin_x = params.origin_z = kFar;
+  w.set_terrain(rain_terrain(params), 0.5f, 0.5f);
+  for (int k = 0; k < 1024; ++k)
+    w.add_sphere({.position = {kFar + 127.5f + (float(k % 32) - 16.0f) * 1.5f, 13.0f, kFar + 127.5f + (float(k / 32) - 16.0f) * 1.5f},
+                  .radius = 0.5f, .mass = 1.0f});
+  StressResult all;
+  all.name = "far-1e4-rain-shifted-home";
+  all.invariants = "1,024 spheres raining onto terrain-rain's terrain 1e4 m out, 2.5 s; shift_origin home; 2.5 s more";
+  all.bounds = StressBounds{};
+  merge_into(all, watch(w, all.name, all.invariants, 150, 1.0f / 60.0f, all.bounds, 1000.0), "1e4 m out: ");
+  w.shift_origin({kFar, 0.0f, kFar});
+  merge_into(all, watch(w, all.name, all.invariants, 150, 1.0f / 60.0f, all.bounds, 1000.0), "shifted home: ");
+  return all;
+}
+
 }  // namespace
 
 void judge(StressResult& r) {
@@ -469,6 +491,7 @@ std::vector<StressCase> stress_cases() {
       {"plane-box", false, plane_box},
       {"add-and-remove", false, add_and_remove},
       {"coincident-500-on-ground", false, coincident_heap},
+      {"far-1e4-rain-shifted-home", false, far_rain_shifted_home},
       {"bowl-pile-10k-20s", true, dense_pile},
   };
 }

@@ -79,6 +79,21 @@ Heightmap Heightmap::from_file_samples(const std::string& path, std::uint32_t co
   }
 }
 
+Heightmap Heightmap::moved(const Vec3& by) const {
+  if (!std::isfinite(by.x()) || !std::isfinite(by.y()) || !std::isfinite(by.z()))
+    throw InvalidArgument("hail: Heightmap::moved: offset (" + std::to_string(by.x()) + ", " + std::to_string(by.y()) + ", " +
+                          std::to_string(by.z()) + ") is not finite");
+  HeightmapParams params = params_;
+  params.origin_x += by.x();
+  params.origin_y += by.y();
+  params.origin_z += by.z();
+  check_heightmap_params(params);  // an origin pushed past float range
+  std::vector<float> heights = heights_;
+  if (by.y() != 0.0f)
+    for (float& h : heights) h += by.y();
+  return Heightmap(cols_, rows_, params, std::move(heights), "Heightmap::moved");
+}
+
 float Heightmap::surface_height(float x, float z) const {
   const float u_total = (x - params_.origin_x) / params_.cell_x, w_total = (z - params_.origin_z) / params_.cell_z;
   // Written so that NaN input fails the test too.

@@ -115,6 +115,12 @@ class Heightmap {
   static Heightmap load_raw_u16(const std::string& path, std::uint32_t cols, std::uint32_t rows,
                                 const HeightmapParams& params, bool little_endian = true);
 
+  /// The same map moved by `by` (m): origin x and z plus by.x and by.z, every height plus by.y
+  /// (by.y = 0 keeps the heights bit for bit). The samples are copied, not re-sampled: a
+  /// function map keeps the shape it was sampled with. Throws InvalidArgument (naming the
+  /// value) for a non-finite `by`, or an origin or height that is no longer a finite float.
+  [[nodiscard]] Heightmap moved(const Vec3& by) const;
+
   /// Vertices along x (>= 2).
   [[nodiscard]] std::uint32_t cols() const { return cols_; }
   /// Vertices along z (>= 2).

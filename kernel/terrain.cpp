@@ -9,7 +9,7 @@
 
 namespace hail {
 
-Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std::move(heightmap)) {
+Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std::move(heightmap)), leaf_size_(leaf_size) {
   TerrainTriangles in_grid_order = build_terrain_triangles(heightmap_);
   std::vector<Aabb> bounds(in_grid_order.size());
   for (std::size_t t = 0; t < bounds.size(); ++t) terrain_triangle_bounds(in_grid_order, t, bounds[t].min, bounds[t].max);

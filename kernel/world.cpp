@@ -224,21 +224,27 @@ std::size_t World::add_plane(const PlaneDesc& d) {
 }
 
 #if HAIL_WITH_TERRAIN
+namespace {
+/// set_terrain's rule (kTerrainCellResolution): floats at the terrain's farthest coordinate
+/// resolve its cells.
+void require_terrain_resolvable(const Terrain& terrain) {
+  const Heightmap& h = terrain.heightmap();
+  const HeightmapExtent e = h.extent();
+  const float farthest = std::max({std::fabs(e.min_x), std::fabs(e.max_x), std::fabs(e.min_z), std::fabs(e.max_z),
+                                   std::fabs(h.min_height()), std::fabs(h.max_height())});
+  const float cell = std::min(h.params().cell_x, h.params().cell_z);
+  require(float_spacing(farthest) <= cell / kTerrainCellResolution, [&] {
+    return "terrain reaches " + number(farthest) + " m from the origin, where floats are " +
+           number(float_spacing(farthest)) + " m apart, more than its cell size " + number(cell) +
+           " m / kTerrainCellResolution = " + number(cell / kTerrainCellResolution) +
+           " m (kernel/world.h); move it nearer the origin or use larger cells";
+  });
+}
+}  // namespace
+
 void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
   require_material(restitution, friction, "terrain");
-  if (terrain) {
-    const Heightmap& h = terrain->heightmap();
-    const HeightmapExtent e = h.extent();
-    const float farthest = std::max({std::fabs(e.min_x), std::fabs(e.max_x), std::fabs(e.min_z), std::fabs(e.max_z),
-                                     std::fabs(h.min_height()), std::fabs(h.max_height())});
-    const float cell = std::min(h.params().cell_x, h.params().cell_z);
-    require(float_spacing(farthest) <= cell / kTerrainCellResolution, [&] {
-      return "terrain reaches " + number(farthest) + " m from the origin, where floats are " +
-             number(float_spacing(farthest)) + " m apart, more than its cell size " + number(cell) +
-             " m / kTerrainCellResolution = " + number(cell / kTerrainCellResolution) +
-             " m (kernel/world.h); move it nearer the origin or use larger cells";
-    });
-  }
+  if (terrain) require_terrain_resolvable(*terrain);
   terrain_ = std::move(terrain);
   unchecked_from_ = 0;     // every sphere may be inside the new terrain
   contact_cache_.clear();  // triangle features name another terrain's triangles now
@@ -246,6 +252,55 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   terrain_friction_ = friction;
 }
 #endif
+
+void World::shift_origin(const Vec3& offset) {
+  require_finite(offset, "World::shift_origin: offset");
+  // Everything is checked (and the moved terrain built) before anything changes, so that a
+  // refusal leaves the world as it was.
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    const Plane& p = planes_[k];
+    const float moved = p.offset - (p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z());
+    require(std::isfinite(moved), [&] {
+      return "World::shift_origin: plane " + std::to_string(k) + "'s offset would be " + number(moved) + " (not finite)";
+    });
+  }
+  const SphereSoA& s = spheres_;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const bool finite = std::isfinite(s.px[i] - offset.x()) && std::isfinite(s.py[i] - offset.y()) &&
+                        std::isfinite(s.pz[i] - offset.z());
+    require(finite, [&] {
+      return "World::shift_origin: sphere " + std::to_string(s.id_at(i).index) + " at (" + number(s.px[i]) + ", " +
+             number(s.py[i]) + ", " + number(s.pz[i]) + ") would leave float range";
+    });
+  }
+  std::shared_ptr<const Terrain> moved_terrain;
+#if HAIL_WITH_TERRAIN
+  if (terrain_) {
+    try {
+      moved_terrain = std::make_shared<const Terrain>(terrain_->moved(-offset));
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(std::string("hail: World::shift_origin: the terrain cannot move there: ") + e.what());
+    }
+    require_terrain_resolvable(*moved_terrain);
+  }
+#endif
+
+  for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
+  SphereSoA& m = spheres_;
+  for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
+  for (Impact& i : impacts_) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
+#if HAIL_WITH_TERRAIN
+  if (moved_terrain) {
+    // Warm starting keys terrain contacts by triangle index in BVH order (Contact::feature).
+    // The moved terrain's BVH is built over moved boxes; rounding can make two centroids equal
+    // that were not and so reorder triangles. Only then do the remembered impulses name other
+    // triangles, and only then are they dropped (the next step starts its contacts from zero,
+    // as after set_terrain).
+    if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) contact_cache_.clear();
+    terrain_ = std::move(moved_terrain);
+  }
+#endif
+}
 
 std::size_t World::lift_out_of_terrain() {
   std::size_t lifted = 0;

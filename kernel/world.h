@@ -377,6 +377,25 @@ class World {
 #if HAIL_WITH_TERRAIN
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
 #endif
+  /// Moves the world's origin to `offset`: every sphere's position (static ones too) becomes
+  /// position - offset, every plane and the terrain move with them, and velocities, spins,
+  /// handles and warm-start impulses are kept, so the motion goes on as before, only where
+  /// floats are finer. PhysX's PxScene::shiftOrigin: a game whose action wanders far (floats at
+  /// 1e5 m are 7.8 mm apart) moves it back near the origin now and then, e.g. when the player
+  /// is past 1-2 km out (docs/embedding.md, "Keeping the action near the origin").
+  /// Cost: O(spheres + planes), plus a new Terrain built from terrain()->moved(-offset) (its
+  /// BVH rebuilt: 0.04 s for 256 x 256 vertices), which this World then holds instead of the
+  /// shared one. Warm-start impulses are kept unless the moved terrain's BVH orders its
+  /// triangles differently (then they are dropped, as after set_terrain). last_contacts() is
+  /// unchanged (it holds no positions); last_impacts() points move too.
+  /// Exactness: a coordinate p becomes p - o exactly when o is a multiple of p's float spacing
+  /// (any whole number of metres for |p| < 2^24 m) and |p - o| is below the power of two above
+  /// |p|. So bringing the action back towards the origin by whole metres is exact; moving it
+  /// out rounds each coordinate once, to half the spacing where it lands.
+  /// Throws InvalidArgument (world unchanged) for a non-finite offset, a position or plane
+  /// offset that would leave float range, or a terrain that set_terrain would refuse where it
+  /// lands (kTerrainCellResolution).
+  void shift_origin(const Vec3& offset);
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
   [[nodiscard]] float terrain_friction() const { return terrain_friction_; }

@@ -735,3 +735,31 @@ TEST_CASE("scene files: wide-mix-rain: radii over two decades at one density, ov
   CHECK(smallest < 0.07f);
   CHECK(largest > 3.5f);
 }
+
+TEST_CASE("scene files: a function terrain keeps its shape when its origin moves", "[scene_file][far_origin]") {
+  // The function is of the place relative to the terrain's origin, so a terrain moved out to
+  // 1e4 or 1e5 m has bit for bit the heights it has at the origin (and its vertices the moved
+  // places). Evaluated at world x, z it showed another stretch of terrain-rain's waves and, at
+  // 1e5 m where floats are 7.8 mm apart, a ragged bowl.
+  for (const char* function : {R"("terrain-rain")", R"("bowl", "coefficient": 0.002)"}) {
+    auto heights_at = [&](const std::string& origin) {
+      const Scene scene = parse_scene_text(
+          scene_text(std::string(R"("terrain": {"function": )") + function + R"(, "size": [64, 48], "cell_size": [1, 0.5], "origin": )" +
+                     origin + "}"),
+          "scene.json");
+      const hail::Heightmap& h = scene.world->terrain()->heightmap();
+      return std::vector<float>(h.heights().begin(), h.heights().end());
+    };
+    const std::vector<float> home = heights_at("[0, 0, 0]");
+    for (const char* far : {"[10000, 0, 10000]", "[100000, 0, -100000]"}) {
+      CAPTURE(function, far);
+      CHECK(heights_at(far) == home);
+    }
+    CHECK(heights_at("[0, 2, 0]")[7] == home[7] + 2.0f);
+  }
+  const Scene far = parse_scene_text(
+      scene_text(R"("terrain": {"function": "terrain-rain", "size": [64, 48], "origin": [100000, 0, -100000]})"), "scene.json");
+  CHECK(far.min_x == 100000.0f);
+  CHECK(far.max_z == -100000.0f + 47.0f);
+  CHECK(far.ground_height(100000.0f + 5.0f, -100000.0f + 7.0f) == Approx(hail::bench::terrain_rain_height(5.0f, 7.0f)).margin(1e-5));
+}

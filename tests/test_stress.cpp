@@ -49,4 +49,7 @@ TEST_CASE("Stress: spheres starting inside the terrain", "[stress]") { run_stres
 TEST_CASE("Stress: spheres in a box of planes", "[stress]") { run_stress_case("plane-box"); }
 TEST_CASE("Stress: spheres added and removed between steps", "[stress]") { run_stress_case("add-and-remove"); }
 TEST_CASE("Stress: 500 spheres created at one point on the ground", "[stress]") { run_stress_case("coincident-500-on-ground"); }
+TEST_CASE("Stress: 1,024 spheres 1e4 m out, then shifted home (World::shift_origin)", "[stress][far_origin]") {
+  run_stress_case("far-1e4-rain-shifted-home");
+}
 TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") { run_stress_case("bowl-pile-10k-20s"); }
