@@ -158,7 +158,7 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
   RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
                          .progress_label = "", .dump_state_path = last ? o.dump_state_path : "",
-                         .dump_every = last ? o.dump_every : 0};
+                         .dump_every = last ? o.dump_every : 0, .after_step = {}};
   const float d = static_cast<float>(o.origin);
   if (o.home_after > 0)
     run_options.after_step = [&](Scene& scene, int step) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "scenes.h"
+#include "steep_heightmaps.h"
 
 namespace hail::bench {
 namespace {
@@ -450,6 +451,96 @@ StressResult far_rain_shifted_home() {
   return all;
 }
 
+/// The steepest slope between neighbouring vertices along x or z, degrees.
+double steepest_slope_deg(const Heightmap& h) {
+  double steepest = 0.0;
+  for (std::uint32_t j = 0; j + 1 < h.rows(); ++j)
+    for (std::uint32_t i = 0; i + 1 < h.cols(); ++i) {
+      const double here = h.height(i, j);
+      steepest = std::max({steepest, std::fabs(h.height(i + 1, j) - here) / h.params().cell_x,
+                           std::fabs(h.height(i, j + 1) - here) / h.params().cell_z});
+    }
+  return std::atan(steepest) * 180.0 / 3.14159265358979;
+}
+
+/// Rain over steep ground (issue 28, part 1): the shipped DEMs (slopes to 84 degrees) and the
+/// generated noise, cliff, spike and fold maps (bench/steep_heightmaps.h), every step checked
+/// for centres below the surface and for ground overlap, where a ghost contact from a steep
+/// triangle's plane used to throw spheres through ridges.
+StressResult steep_rains() {
+  StressResult all;
+  all.name = "steep-terrain-rain";
+  all.invariants = "rain on the two shipped DEMs and four generated steep maps (slopes past 80 degrees), 4 s each";
+  std::vector<std::pair<std::string, std::shared_ptr<const Terrain>>> maps;
+  // The DEMs at 1 m cells, heights divided by 6 (Jacksboro: 0-140 m) and by 100 (Salish: 36 m
+  // of relief): steps of up to 5-10 m between neighbouring samples, slopes to 84 degrees.
+  struct Dem { const char* label; const char* file; float scale, offset, divide; };
+  for (const Dem& d : {Dem{"jacksboro", "jacksboro_srtm3_403x344.pgm", 0.0128175783932f, 236.0f, 6.0f},
+                       Dem{"salish", "salish_topobathy_120x91.pgm", 0.0555733577478f, -1437.0f, 100.0f}}) {
+    HeightmapParams params;
+    params.height_scale = d.scale / d.divide;
+    params.height_offset = d.offset / d.divide;
+    maps.emplace_back(d.label, std::make_shared<const Terrain>(
+                                   Heightmap::load_pgm(std::string(HAIL_SOURCE_DIR) + "/data/" + d.file, params)));
+  }
+  for (const SteepKind kind : kSteepKinds)
+    maps.emplace_back(steep_kind_name(kind), std::make_shared<const Terrain>(steep_heightmap(kind, 28, 48, 48)));
+  for (const auto& [label, terrain] : maps) {
+    World w(all_threads());
+    w.set_terrain(terrain, 0.3f, 0.6f);
+    const HeightmapExtent e = terrain->heightmap().extent();
+    std::mt19937 rng(28);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    // 144 spheres on a 12 x 12 lattice over the middle of the map, dropped from 1-10 m above
+    // the surface under them, so that they land at up to 14 m/s among ridges and pits.
+    for (int k = 0; k < 144; ++k) {
+      const float x = e.min_x + (e.max_x - e.min_x) * (0.1f + 0.8f * ((k % 12) + 0.5f * u(rng)) / 12.0f);
+      const float z = e.min_z + (e.max_z - e.min_z) * (0.1f + 0.8f * ((k / 12) + 0.5f * u(rng)) / 12.0f);
+      const float r = 0.15f + 0.35f * u(rng);
+      float y = terrain->heightmap().surface_height(x, z) + r + 1.0f + 9.0f * u(rng);
+      while (terrain->penetration(x, y, z, r + 0.01f) > 0.0f) y += 0.25f * r;  // clear of every steep wall
+      w.add_sphere({.position = {x, y, z}, .radius = r, .mass = 1.0f});
+    }
+    StressBounds b;
+    b.energy_growth = 0.01;
+    // Spheres bounce off cliffs mid-step (swept): a pair they meet after such a bounce is found
+    // only in the next step, from the path predicted at the step's start. On the cliff map one
+    // such pair overlapped by 17% of the smaller radius for one step (7.8 m/s after the bounce,
+    // 2026-11-27); the ground, below-surface and energy bounds are the ones this case is for.
+    b.sphere_penetration = 0.25;
+    merge_into(all, watch(w, all.name, all.invariants, 240, 1.0f / 60.0f, b, 1000.0), label + ": ");
+    all.note += (all.note.empty() ? "steepest: " : ", ") + label + format(" %.0f deg", steepest_slope_deg(terrain->heightmap()));
+  }
+  all.bounds.energy_growth = 0.01;
+  all.bounds.sphere_penetration = 0.25;
+  return all;
+}
+
+/// A rain whose radii span two orders of magnitude at equal density (issue 28, part 2): masses
+/// from 0.5 kg to 5e5 kg, so light spheres are struck by ones 1e6 times heavier while they
+/// lie on the ground. Every step checks that no centre is below the surface.
+StressResult wide_mix_rain() {
+  World w(all_threads());
+  w.set_terrain(rain_terrain(), 0.5f, 0.5f);
+  std::mt19937 rng(28);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  constexpr float density = 1000.0f, min_r = 0.05f, max_r = 5.0f;
+  // Two layers of a 10.5 m lattice (no sphere touches another at the start), 20 and 35 m up.
+  for (int layer = 0; layer < 2; ++layer)
+    for (int i = 0; i < 17; ++i)
+      for (int j = 0; j < 17; ++j) {
+        const float r = min_r * std::pow(max_r / min_r, u(rng));  // log-uniform
+        const float mass = density * 4.18879f * r * r * r;
+        w.add_sphere({.position = {40.0f + 10.5f * i + u(rng), 20.0f + 15.0f * layer, 40.0f + 10.5f * j + u(rng)},
+                      .radius = r, .mass = mass});
+      }
+  StressBounds b;
+  b.energy_growth = 0.01;
+  b.sphere_penetration = -1.0;  // reported: a 5 cm sphere under a 5 m one is judged by the ground
+  return watch(w, "wide-mix-rain", "578 spheres, radii 0.05-5 m log-uniform at 1000 kg/m^3 (mass ratio 1e6), 10 s",
+               600, 1.0f / 60.0f, b, 1e6);
+}
+
 }  // namespace
 
 void judge(StressResult& r) {
@@ -492,6 +583,8 @@ std::vector<StressCase> stress_cases() {
       {"add-and-remove", false, add_and_remove},
       {"coincident-500-on-ground", false, coincident_heap},
       {"far-1e4-rain-shifted-home", false, far_rain_shifted_home},
+      {"steep-terrain-rain", false, steep_rains},
+      {"wide-mix-rain", false, wide_mix_rain},
       {"bowl-pile-10k-20s", true, dense_pile},
   };
 }

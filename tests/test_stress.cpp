@@ -52,4 +52,6 @@ TEST_CASE("Stress: 500 spheres created at one point on the ground", "[stress]") 
 TEST_CASE("Stress: 1,024 spheres 1e4 m out, then shifted home (World::shift_origin)", "[stress][far_origin]") {
   run_stress_case("far-1e4-rain-shifted-home");
 }
+TEST_CASE("Stress: rain on steep real DEMs and generated cliffs, spikes, folds", "[stress][steep]") { run_stress_case("steep-terrain-rain"); }
+TEST_CASE("Stress: rain of radii 0.05-5 m at one density (mass ratio 1e6)", "[stress]") { run_stress_case("wide-mix-rain"); }
 TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") { run_stress_case("bowl-pile-10k-20s"); }
