@@ -232,7 +232,7 @@ struct StepPipeline {
     if (!w.settings_.sphere_collisions) return;
     PairSearch search = w.settings_.pair_search;
     if (search == PairSearch::Automatic)
-      search = automatic_pair_search(n, min_radius, max_radius, w.settings_.reorder_interval > 0);
+      search = automatic_pair_search(n, min_radius, max_radius);
     w.stats_.pair_search = search;
     // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
     const PairMargins own_margins = pair_margins ? PairMargins{w.travel_.data(), w.settings_.pair_margin_travel} : PairMargins{};
@@ -820,10 +820,10 @@ struct StepPipeline {
 };
 
 void World::step(float dt) {
-  check_step(settings_, dt);  // before anything changes: a refused step leaves the world as it was
+  // Before anything changes: a refused step leaves the world as it was.
+  const int substeps = static_cast<int>(check_step(settings_, dt));  // <= max_substeps, an int
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
-  const int substeps = static_cast<int>(substeps_needed(settings_, dt));  // <= max_substeps, an int
   const float scaled = dt * settings_.time_scale;
   if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
   const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain

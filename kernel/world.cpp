@@ -106,7 +106,7 @@ std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
   return count >= kBeyondInt64 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(count);
 }
 
-void check_step(const WorldSettings& settings, float dt) {
+std::int64_t check_step(const WorldSettings& settings, float dt) {
   const std::int64_t needed = substeps_needed(settings, dt);
   require(needed <= settings.max_substeps, [&] {
     return "World::step dt = " + std::to_string(dt) + " s at time_scale " + std::to_string(settings.time_scale) +
@@ -115,6 +115,7 @@ void check_step(const WorldSettings& settings, float dt) {
            std::to_string(settings.max_substeps) +
            ": take shorter steps (several calls), lower time_scale, or raise max_substep or max_substeps";
   });
+  return needed;
 }
 
 World::World(const WorldSettings& settings) : settings_(settings) {

@@ -96,11 +96,8 @@ inline constexpr std::size_t kMinSolverTileSpheres = 64;
 }
 
 /// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
-/// `morton_ordered` (the world keeps its slots in Morton order, reorder_interval > 0) no longer
-/// changes the choice since the grid's rewrite; it stays for callers.
-[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius,
-                                                         bool morton_ordered = true) {
-  static_cast<void>(morton_ordered);
+/// The slot order (Morton or not) does not change the choice since the grid's rewrite.
+[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius) {
   if (max_radius > kGiantRadiusSpread * min_radius)
     return n < kGiantPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Bvh;
   const bool mixed = max_radius > kMixedRadiusSpread * min_radius;
@@ -231,9 +228,9 @@ struct WorldSettings {
 
 /// Throws InvalidArgument exactly when World::step(dt) under `settings` would: dt not finite
 /// or not > 0, or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
-/// time_scale, max_substep, the count needed and the ways out). `settings` itself is assumed
-/// valid (the World constructor checks it).
-void check_step(const WorldSettings& settings, float dt);
+/// time_scale, max_substep, the count needed and the ways out). Returns that count otherwise
+/// (0 at time_scale 0). `settings` itself is assumed valid (the World constructor checks it).
+std::int64_t check_step(const WorldSettings& settings, float dt);
 
 /// What add_sphere accepts (InvalidArgument past them, naming the limit). They keep every
 /// quantity a step derives from a sphere a normal float with room to spare: the inertia

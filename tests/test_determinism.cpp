@@ -107,7 +107,6 @@ TEST_CASE("Automatic pair search follows the measured crossovers", "[pairs]") {
   CHECK(hail::automatic_pair_search(1000, 0.5f, 0.5f) == PairSearch::Grid);
   CHECK(hail::automatic_pair_search(2000, 0.25f, 5.0f) == PairSearch::BruteForce);  // mixed radii
   CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f) == PairSearch::Grid);
-  CHECK(hail::automatic_pair_search(8000, 0.25f, 5.0f, false) == PairSearch::Grid);  // any slot order
   CHECK(hail::automatic_pair_search(8000, 0.25f, 50.0f) == PairSearch::BruteForce);  // giants
   CHECK(hail::automatic_pair_search(16000, 0.25f, 50.0f) == PairSearch::Bvh);
 }

@@ -29,7 +29,7 @@ constexpr std::size_t W = batch::size;
 void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::size_t last, const DepenetrationArrays& s,
                          std::uint32_t now, std::uint32_t previous) {
   const std::int32_t static_slot = s.static_slot;
-  const ibatch b_static_slot(static_slot), b_previous(static_cast<std::int32_t>(previous)), zero_index(0);
+  const ibatch b_static_slot(static_slot), b_previous(static_cast<std::int32_t>(previous));
   const batch zero(0.0f), slop(s.params.slop_fraction), fraction(s.params.fraction);
   const auto* moved = reinterpret_cast<const std::int32_t*>(s.moved);
   alignas(64) float out[6][W];
@@ -47,8 +47,12 @@ void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
       if (!xsimd::any(kept)) continue;
     }
     const auto has_a = a != b_static_slot, dynamic_b = b != b_static_slot;
-    // Indices that exist: the static slot (padding, static b) reads slot 0, then unused.
-    const ibatch ia = xsimd::select(has_a, a, zero_index), ib = xsimd::select(dynamic_b, b, zero_index);
+    // Indices that exist for the lanes whose values go unused (padding, a static b): this
+    // batch's own spheres (lane 0 is never padding, and its a is a sphere), never another's.
+    // Slot 0 (as it was) could be a sphere that another batch of the same colour moves on
+    // another thread at that moment: a data race (ThreadSanitizer), if a harmless-looking one.
+    const ibatch own(static_cast<std::int32_t>(c.a[o]));
+    const ibatch ia = xsimd::select(has_a, a, own), ib = xsimd::select(dynamic_b, b, ia);
     const batch pxa = gather_floats(s.px, ia), pya = gather_floats(s.py, ia), pza = gather_floats(s.pz, ia);
     const batch pxb = gather_floats(s.px, ib), pyb = gather_floats(s.py, ib), pzb = gather_floats(s.pz, ib);
     const auto dyn = xsimd::bool_cast(dynamic_b);
