@@ -68,6 +68,9 @@ PngChunks walk_chunks(std::FILE* file, const std::string& path, std::uint64_t fi
       found.colour_type = ihdr[9];
       have_header = true;
     } else if (type == "IDAT") {
+      // stb_image reads a leading empty IDAT through a null pointer (memcpy(NULL, .., 0):
+      // undefined behaviour, found by fuzz-heightmap); no image needs one.
+      if (length == 0) throw_file_error(path, "corrupt PNG: empty IDAT chunk");
       found.idat_bytes += length;
     }
     at += length + 4;

@@ -376,6 +376,15 @@ TEST_CASE("Bad files are refused with FileError naming the file", "[heightmap]")
     std::vector<unsigned char> png_bytes = make_png(4, 4, 8, 0, four);
     png_bytes.resize(png_bytes.size() / 2);
     require_refused<FileError>("short.png", png(dir.write("short.png", png_bytes)));
+    // An empty IDAT chunk before the data (fuzz-heightmap: stb_image then copied through a null
+    // pointer, undefined behaviour under UBSan).
+    std::vector<unsigned char> empty_idat;
+    put_be32(empty_idat, 0);
+    append(empty_idat, {'I', 'D', 'A', 'T'});
+    put_be32(empty_idat, crc32(empty_idat.data() + 4, 4));
+    png_bytes = make_png(4, 4, 8, 0, four);
+    png_bytes.insert(png_bytes.begin() + 33, empty_idat.begin(), empty_idat.end());  // after IHDR (8 + 25 bytes)
+    require_refused<FileError>("empty-idat.png", png(dir.write("empty-idat.png", png_bytes)));
     require_refused<FileError>("short.r32", f32(dir.write("short.r32", std::string(15, '\0')), 2, 2));
     require_refused<FileError>("long.r16", u16(dir.write("long.r16", std::string(9, '\0')), 2, 2));
   }
