@@ -67,9 +67,9 @@ Scene build_bowl_pile(const SceneParams& p) {
 Scene build_terrain_rain_dem(const SceneParams& p) {
   // The Jacksboro SRTM DEM at 1 m cells, heights divided by 80 (data/README.md).
   HeightmapParams params;
-  params.height_scale = 0.0128175783932f / 80.0f;
-  params.height_offset = 236.0f / 80.0f;
-  Heightmap heightmap = Heightmap::load_pgm(std::string(HAIL_SOURCE_DIR) + "/data/jacksboro_srtm3_403x344.pgm", params);
+  params.height_scale = kJacksboroScaleM / 80.0f;
+  params.height_offset = kJacksboroOffsetM / 80.0f;
+  Heightmap heightmap = Heightmap::load_pgm(std::string(HAIL_SOURCE_DIR) + "/data/" + kJacksboroFile, params);
   const float top = heightmap.max_height();
   return with_terrain(p, std::move(heightmap), top + 2.0f, 160, 1.5f, 201.0f, 171.5f,
                       "terrain-rain-dem: Jacksboro SRTM DEM, 1 m cells, heights / 80");

@@ -80,6 +80,11 @@ void move_scene(Scene& scene, const Vec3& by);
 Scene build_implosion(const SceneParams& params);
 Scene build_terrain_rain(const SceneParams& params);
 Scene build_terrain_rain_dem(const SceneParams& params);
+
+/// The Jacksboro DEM's file and sample scale (data/jacksboro_srtm3_403x344.txt: height_m =
+/// offset_m + sample * scale_m), for the scenes and stress cases that load it.
+inline constexpr const char* kJacksboroFile = "jacksboro_srtm3_403x344.pgm";
+inline constexpr float kJacksboroScaleM = 0.0128175783932f, kJacksboroOffsetM = 236.0f;
 Scene build_bowl_pile(const SceneParams& params);
 Scene build_bullets(const SceneParams& params);
 

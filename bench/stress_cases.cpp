@@ -475,7 +475,7 @@ StressResult steep_rains() {
   // The DEMs at 1 m cells, heights divided by 6 (Jacksboro: 0-140 m) and by 100 (Salish: 36 m
   // of relief): steps of up to 5-10 m between neighbouring samples, slopes to 84 degrees.
   struct Dem { const char* label; const char* file; float scale, offset, divide; };
-  for (const Dem& d : {Dem{"jacksboro", "jacksboro_srtm3_403x344.pgm", 0.0128175783932f, 236.0f, 6.0f},
+  for (const Dem& d : {Dem{"jacksboro", kJacksboroFile, kJacksboroScaleM, kJacksboroOffsetM, 6.0f},
                        Dem{"salish", "salish_topobathy_120x91.pgm", 0.0555733577478f, -1437.0f, 100.0f}}) {
     HeightmapParams params;
     params.height_scale = d.scale / d.divide;
