@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "cli_args.h"
-#include "kernel/terrain.h"
+#include "kernel/terrain/terrain_parts.h"
 #include "machine_info.h"
 #include "metrics.h"
 #include "output_file.h"

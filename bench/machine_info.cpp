@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-#include "kernel/simd_dispatch.h"
+#include "kernel/dispatch/simd_dispatch.h"
 
 namespace hail::bench {
 

@@ -6,7 +6,7 @@
 namespace hail::bench {
 
 std::string cpu_model();
-/// The active SIMD path of the kernels (kernel/simd_dispatch.h): "avx2", "avx512", "sse4.2".
+/// The active SIMD path of the kernels (kernel/dispatch/simd_dispatch.h): "avx2", "avx512", "sse4.2".
 std::string simd_path();
 /// simd_path() with how it was chosen and what this CPU offers, e.g.
 /// "avx2 (auto; CPU supports sse4.2 avx2)" or "sse4.2 (--simd/HAIL_SIMD ...)".

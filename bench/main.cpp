@@ -9,8 +9,8 @@
 
 #include "accuracy_command.h"
 #include "compare_command.h"
-#include "kernel/errors.h"
-#include "kernel/simd_dispatch.h"
+#include "hail/errors.h"
+#include "kernel/dispatch/simd_dispatch.h"
 #include "pairs_command.h"
 #include "query_command.h"
 #include "run_command.h"

@@ -27,7 +27,7 @@ namespace hail::bench {
 inline constexpr double kBytesPerSphereGuide = 2100.0;
 
 /// What a terrain takes at its peak while it is built, per heightmap cell: two triangles at
-/// about 140 bytes kept and twice that during the build (kernel/terrain.h), plus the heights,
+/// about 140 bytes kept and twice that during the build (include/hail/terrain.h), plus the heights,
 /// rounded up (measured: 480 bytes a cell, the peak RSS of `hail-bench run --scene` with a
 /// 2049^2 terrain-rain map less that of a 1025^2 one). What a scene file's terrain is checked against the memory limit with, before
 /// anything is allocated for it.

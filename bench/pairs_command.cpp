@@ -20,11 +20,11 @@
 #include <string>
 
 #include "cli_args.h"
-#include "kernel/spatial_order.h"
-#include "kernel/sphere_bvh_pairs.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_pairs.h"
-#include "kernel/sphere_sweep.h"
+#include "kernel/broadphase/spatial_order.h"
+#include "kernel/broadphase/sphere_bvh_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "machine_info.h"
 
 namespace hail::bench {
@@ -147,7 +147,7 @@ int pairs_command(const std::vector<std::string>& args) {
           s.permute(order);
         }
         SphereGrid grid;
-        SphereSweep sweep;
+        SortedAxisPairs sweep;
         SphereBvhPairs bvh;
         std::vector<std::uint32_t> row;
         Timing result[kMethods];

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "kernel/heightmap.h"
-#include "kernel/vec3.h"
-#include "kernel/world.h"
+#include "hail/heightmap.h"
+#include "hail/vec3.h"
+#include "hail/world.h"
 
 namespace hail::bench {
 

@@ -18,7 +18,7 @@ namespace hail::bench {
 namespace {
 
 // Materials. The scenes give *effective* contact values; hail combines restitution by the
-// minimum and friction by the geometric mean (kernel/sphere_pairs.h), Bullet by default by the
+// minimum and friction by the geometric mean (kernel/broadphase/sphere_pairs.h), Bullet by default by the
 // product of both. Per-body values whose product is the effective value (sqrt(e) on each body)
 // only work where every body has the same material, so instead Bullet's global combining
 // callbacks are set to hail's rules while any Bullet engine exists, and every body gets the

@@ -8,14 +8,14 @@
 #include <stdexcept>
 
 #include "cli_args.h"
-#include "kernel/bvh_build.h"
-#include "kernel/flat_bvh.h"
-#include "kernel/flat_node.h"
-#include "kernel/heightmap.h"
-#include "kernel/morton.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/terrain.h"
-#include "kernel/terrain_triangles.h"
+#include "kernel/bvh/bvh_build.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/bvh/flat_node.h"
+#include "hail/heightmap.h"
+#include "kernel/geometry/morton.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "kernel/terrain/terrain_triangles.h"
 #include "machine_info.h"
 
 namespace hail::bench {

@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "kernel/errors.h"
-#include "kernel/heightmap.h"
+#include "hail/errors.h"
+#include "hail/heightmap.h"
 
 namespace hail::bench {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "kernel/world.h"
+#include "hail/world.h"
 
 namespace hail::bench {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "kernel/heightmap.h"
+#include "hail/heightmap.h"
 
 namespace hail::bench {
 

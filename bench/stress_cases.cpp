@@ -401,7 +401,7 @@ StressResult dense_pile() {
 }
 
 /// 500 spheres created at one point on flat ground (issue 28, part 4): each coincident pair
-/// parts along its own direction (kernel/coincident_normal.h). Overlapping at the start, so
+/// parts along its own direction (kernel/geometry/coincident_normal.h). Overlapping at the start, so
 /// the first second is watched for finite state and the ground only; from then on the usual
 /// bounds hold (overlaps within 5% of r, no energy gained), and the heap must end spread out
 /// over the ground, not stacked as a column (the fixed +y normal's column of 500 stood 499 m).

@@ -4,7 +4,7 @@
 # code (kernel/simd/, compiled with that path's -march); the others are the base. A weak symbol
 # (an inline function or template instance that several objects may define, the linker keeping
 # one) in a path's object is only safe when no object built with other flags defines it too:
-#   1. it must name the path's own namespace (hail::simd_<path>, kernel/simd_arch.h) or its own
+#   1. it must name the path's own namespace (hail::simd_<path>, kernel/dispatch/simd_arch.h) or its own
 #      xsimd architecture (xsimd::sse4_2, xsimd::avx2, xsimd::avx512bw), so that code outside
 #      hail cannot define it either, and
 #   2. no object of another path or of the base may define it.
@@ -75,7 +75,7 @@ foreach(key IN LISTS all_keys)
 endforeach()
 if(problems)
   list(JOIN problems "\n  " text)
-  message(FATAL_ERROR "hail: SIMD code that the linker could merge across paths (see kernel/simd_arch.h; "
+  message(FATAL_ERROR "hail: SIMD code that the linker could merge across paths (see kernel/dispatch/simd_arch.h; "
                       "demangle with c++filt):\n  ${text}")
 endif()
 message(STATUS "hail: ${path_objects} per-path SIMD objects; their ${weak_seen} weak symbols all lie in their own path's namespace")

@@ -1,15 +1,14 @@
 # Install rules of the relocatable CMake package `hail` (included when HAIL_INSTALL is ON, the
 # default when hail is the top-level project):
 #
-#   <prefix>/include/hail/hail.h, version.h        the umbrella header and the generated version
-#   <prefix>/include/hail/{soa,kernel,jobs}/*.h    every library header, so that the include lines
-#                                                  "kernel/world.h" etc. work as in this tree
+#   <prefix>/include/hail/*.h                      the public headers (include/hail/ and the
+#                                                  generated version.h and features.h), only those
 #   <prefix>/lib/libhail.a
 #   <prefix>/lib/cmake/hail/hail{Config,ConfigVersion,Targets*}.cmake
 #   <prefix>/share/doc/hail/LICENSE
 #
 # A consumer writes find_package(hail 0.2 CONFIG REQUIRED) and links hail::hail; it gets the
-# include directories <prefix>/include (for <hail/hail.h>) and <prefix>/include/hail, C++20, and
+# include directory <prefix>/include (for <hail/world.h>, ...), C++20, and
 # oneTBB, xsimd and Eigen through find_dependency (hailConfig.cmake.in). It gets none of hail's
 # compile flags: hail_compile_options is linked privately, inside $<BUILD_INTERFACE:>.
 #
@@ -24,20 +23,16 @@ include(CMakePackageConfigHelpers)
 set(hail_install_cmakedir ${CMAKE_INSTALL_LIBDIR}/cmake/hail)
 # The folders whose headers make up the library (docs/design.md's layout). bench/ and tests/ are not
 # installed; check_package.sh verifies that no installed header includes anything else.
-set(hail_install_header_dirs soa kernel jobs)
 
 install(TARGETS hail EXPORT hailTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-foreach(dir IN LISTS hail_install_header_dirs)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail/${dir}
-          FILES_MATCHING PATTERN "*.h")
-endforeach()
-install(FILES ${PROJECT_SOURCE_DIR}/include/hail/hail.h ${PROJECT_BINARY_DIR}/include/hail/version.h
+# Only the public headers (include/hail/) are installed; the kernel's internals are not.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/hail/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail
+        FILES_MATCHING PATTERN "*.h")
+install(FILES ${PROJECT_BINARY_DIR}/include/hail/version.h ${PROJECT_BINARY_DIR}/include/hail/features.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail)
-# The generated feature switches (HAIL_WITH_*): a consumer sees the same World the library was built with.
-install(FILES ${PROJECT_BINARY_DIR}/include/kernel/features.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail/kernel)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 install(EXPORT hailTargets NAMESPACE hail:: DESTINATION ${hail_install_cmakedir})

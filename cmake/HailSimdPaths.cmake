@@ -1,5 +1,5 @@
 # The SIMD paths: every SIMD kernel (kernel/simd/*.cpp) is compiled once per path, with the
-# path's -march level and HAIL_SIMD_PATH_<NAME> defined, and kernel/simd_dispatch.cpp picks one
+# path's -march level and HAIL_SIMD_PATH_<NAME> defined, and kernel/dispatch/simd_dispatch.cpp picks one
 # at start-up (HAIL_SIMD or hail::set_simd_path override). The rest of hail is compiled for
 # HAIL_ARCH (x86-64-v2 by default). No path may use FMA differently from another: the build
 # pins -ffp-contract=off for every file, and the kernels use xsimd::avx2, not fma3<avx2>.
@@ -21,7 +21,7 @@ set(hail_simd_flags_avx512 -march=x86-64-v4 $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-
 # macro and includes the source. The per-source options come after the target's, so the path's
 # -march wins over HAIL_ARCH. Unoptimised builds still compile these files with -O2: at -O0 every
 # inline std, Eigen and hail helper they call would be emitted as a weak copy built for the
-# path's instructions, which the linker may pick for every caller (kernel/simd_arch.h).
+# path's instructions, which the linker may pick for every caller (kernel/dispatch/simd_arch.h).
 function(hail_add_simd_sources target)
   foreach(source IN LISTS ARGN)
     get_filename_component(name ${source} NAME_WE)

@@ -1,4 +1,4 @@
-#include "soa/sphere_soa.h"
+#include "hail/sphere_soa.h"
 
 #include <algorithm>
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernel/world.h"
+#include "hail/world.h"
 
 namespace hail::testing {
 

@@ -1,9 +1,9 @@
 #pragma once
-// Tests that run something on every SIMD path this CPU supports (kernel/simd_dispatch.h).
+// Tests that run something on every SIMD path this CPU supports (kernel/dispatch/simd_dispatch.h).
 
 #include <vector>
 
-#include "kernel/simd_dispatch.h"
+#include "kernel/dispatch/simd_dispatch.h"
 
 namespace hail::testing {
 

@@ -13,8 +13,8 @@
 #include <span>
 #include <vector>
 
-#include "kernel/contact.h"
-#include "kernel/solver_body.h"
+#include "hail/contact.h"
+#include "kernel/solver/solver_body.h"
 
 namespace hail::testing {
 

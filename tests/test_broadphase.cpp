@@ -14,11 +14,11 @@
 #include <tbb/parallel_for.h>
 
 #include "catch.h"
-#include "kernel/sphere_bvh_pairs.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_pairs.h"
-#include "kernel/sphere_sweep.h"
-#include "kernel/simd_kernels.h"
+#include "kernel/broadphase/sphere_bvh_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "simd_paths.h"
 
 namespace {
@@ -114,7 +114,7 @@ std::vector<SpherePair> in_blocks(const SphereSoA& s, std::size_t block, Search&
 // exactly `reference` (find_sphere_pairs_scalar's result).
 void check_all_searches_agree(const SphereSoA& s, float margin, const std::vector<SpherePair>& reference) {
   hail::SphereGrid grid;
-  hail::SphereSweep sweep;
+  hail::SortedAxisPairs sweep;
   hail::SphereBvhPairs bvh;
   grid.build(s, margin);
   sweep.build(s, margin);
@@ -167,7 +167,7 @@ TEST_CASE("Knife-edge clouds have pairs on both sides of the predicate's boundar
 
 TEST_CASE("An accepted pair is never farther apart on an axis than the exact sum of its radii", "[pairs][broadphase]") {
   // The property that lets boxes of half-extent |r| and |r + margin| prune without widening
-  // (kernel/sphere_pair_bounds.h), checked in double on pairs placed within a few ulps of the
+  // (kernel/broadphase/sphere_pair_bounds.h), checked in double on pairs placed within a few ulps of the
   // predicate's boundary in random directions, at fine and coarse coordinates.
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), signed_unit(-1.0f, 1.0f);
@@ -221,7 +221,7 @@ TEST_CASE("Rebuilding a pair search over other clouds forgets the previous one",
   // One object per search rebuilt over clouds that shrink and grow: capacity is reused, so a
   // stale slot or class from the last build would show up as a wrong pair.
   hail::SphereGrid grid;
-  hail::SphereSweep sweep;
+  hail::SortedAxisPairs sweep;
   hail::SphereBvhPairs bvh;
   std::vector<std::uint32_t> row;
   std::uint32_t seed = 1;
@@ -249,7 +249,7 @@ TEST_CASE("Pair searches give the same pairs when row blocks run in parallel", "
   std::vector<SpherePair> reference;
   hail::find_sphere_pairs_scalar(s, 0, s.size(), 0.3f, reference);
   hail::SphereGrid grid;
-  hail::SphereSweep sweep;
+  hail::SortedAxisPairs sweep;
   hail::SphereBvhPairs bvh;
   grid.build(s, 0.3f);
   sweep.build(s, 0.3f);
@@ -273,7 +273,7 @@ TEST_CASE("Pair searches give the same pairs when row blocks run in parallel", "
 }
 
 TEST_CASE("The grid with per-pair margins returns brute force's pairs after the per-pair filter", "[pairs][broadphase]") {
-  // The filter of jobs/step_pipeline.cpp (keep_pairs_within_their_margin), applied here to
+  // The filter of kernel/world/step_pipeline.cpp (keep_pairs_within_their_margin), applied here to
   // brute force's pairs; the grid applies it inside the search, scalar and on every SIMD path.
   const Cloud kind = GENERATE(Cloud::EqualRadii, Cloud::MixedWithGiants, Cloud::KnifeEdge, Cloud::Sprawling);
   const float margin = 0.3f, factor = GENERATE(0.0f, 0.5f, 2.0f);

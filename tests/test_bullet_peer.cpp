@@ -17,7 +17,7 @@
 #include "bench/peer_engine_bullet.h"
 #include "bench/scenes.h"
 #include "catch.h"
-#include "kernel/heightmap.h"
+#include "hail/heightmap.h"
 
 using hail::Heightmap;
 using hail::HeightmapParams;

@@ -16,11 +16,11 @@
 
 #include "catch.h"
 #include "sample_count.h"
-#include "kernel/bvh_packet_walk.h"
-#include "kernel/errors.h"
-#include "kernel/flat_bvh.h"
-#include "kernel/morton.h"
-#include "kernel/ray_triangle.h"
+#include "kernel/bvh/bvh_packet_walk.h"
+#include "hail/errors.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/geometry/morton.h"
+#include "kernel/geometry/ray_triangle.h"
 
 using namespace hail;
 

@@ -1,4 +1,4 @@
-// The contact colouring (kernel/contact_colouring.h), with and without solver tiles: every
+// The contact colouring (kernel/solver/contact_colouring.h), with and without solver tiles: every
 // contact in exactly one colour; no two contacts of a parallel colour share a sphere; a tile's
 // colours hold only contacts within the tile, the shared colours only contacts across tiles;
 // within a colour, the contacts that start idle last;
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/contact_colouring.h"
-#include "kernel/slot_divider.h"
+#include "kernel/solver/contact_colouring.h"
+#include "kernel/solver/slot_divider.h"
 
 using namespace hail;
 

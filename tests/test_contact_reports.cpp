@@ -16,8 +16,9 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "hail/world.h"
+#include "kernel/terrain/terrain_parts.h"
 
 using namespace hail;
 

@@ -1,5 +1,5 @@
 // The staged SIMD collision and resting passes (ContactBatches) give bitwise the state of their
-// scalar reference (the per-contact rules of kernel/contact_impulse.h in a loop), on random runs
+// scalar reference (the per-contact rules of kernel/solver/contact_impulse.h in a loop), on random runs
 // of contacts that share no sphere: sphere-sphere and static contacts, speculative gaps, bodies of zero inverse
 // mass (lanes the rules skip), accumulated impulses carried over, and runs whose last batch is
 // only partly filled (padding lanes); in each FrictionWork mode (no friction, friction without rotation, the full
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/contact_solve_simd.h"
-#include "kernel/features.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "hail/features.h"
 #include "simd_paths.h"
 #include "solver_problems.h"
 

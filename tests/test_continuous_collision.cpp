@@ -1,4 +1,4 @@
-// Continuous collision (kernel/continuous_collision.h, kernel/swept_sphere.h): fast spheres
+// Continuous collision (kernel/ccd/continuous_collision.h, kernel/geometry/swept_sphere.h): fast spheres
 // against terrain, planes and each other, the cases, and the parts checked against
 // brute force.
 
@@ -13,9 +13,12 @@
 #include <Eigen/Geometry>
 
 #include "catch.h"
-#include "kernel/path_box_scan.h"
-#include "kernel/swept_sphere.h"
-#include "kernel/world.h"
+#include "kernel/ccd/path_box_scan.h"
+#include "kernel/geometry/swept_sphere.h"
+#include "hail/world.h"
+#include "kernel/ccd/continuous_collision.h"
+#include "kernel/geometry/sphere_triangle.h"
+#include "kernel/terrain/terrain_parts.h"
 #include "pair_overlap.h"
 
 using namespace hail;
@@ -33,7 +36,7 @@ std::shared_ptr<const Terrain> rain_terrain() {
 }
 
 /// Unit normal of the terrain-rain triangle holding (i + fx, j + fz) with fx + fz < 1 (the
-/// half of cell (i, j) holding vertex (i, j); see kernel/terrain_triangles.h).
+/// half of cell (i, j) holding vertex (i, j); see kernel/terrain/terrain_triangles.h).
 Vec3 rain_normal(int i, int j) {
   const Vec3 v0(float(i), rain_height(float(i), float(j)), float(j));
   const Vec3 v1(float(i), rain_height(float(i), float(j + 1)), float(j + 1));

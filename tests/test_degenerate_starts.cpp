@@ -1,5 +1,5 @@
 // Degenerate starts (issue 28, part 4): spheres created at one point part in every direction
-// (kernel/coincident_normal.h), not along one line into a column.
+// (kernel/geometry/coincident_normal.h), not along one line into a column.
 
 #include <algorithm>
 #include <array>
@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "catch.h"
-#include "kernel/coincident_normal.h"
-#include "kernel/sphere_pairs.h"
-#include "kernel/world.h"
+#include "kernel/geometry/coincident_normal.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "hail/world.h"
 #include "pair_overlap.h"
 #include "simd_paths.h"
 

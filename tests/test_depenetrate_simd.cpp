@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/contact_solve_simd.h"
-#include "kernel/depenetrate.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "kernel/solver/depenetrate.h"
 #include "simd_paths.h"
 
 using namespace hail;

@@ -3,7 +3,7 @@
 #include <random>
 
 #include "catch.h"
-#include "kernel/world.h"
+#include "hail/world.h"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "catch.h"
-#include "kernel/ray_triangle.h"
+#include "kernel/geometry/ray_triangle.h"
 
 using namespace hail;
 
@@ -28,12 +28,12 @@ Terrain hills() {
 
 /// Nearest hit over every triangle: what raycast must return.
 float brute_force_t(const Terrain& terrain, const Vec3& o, const Vec3& d, float max_t) {
-  const TerrainTriangles& t = terrain.triangles();
   const float of[3] = {o.x(), o.y(), o.z()}, df[3] = {d.x(), d.y(), d.z()};
   float best = max_t;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]};
-    const float c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
+  for (std::uint32_t k = 0; k < terrain.triangle_count(); ++k) {
+    const TerrainTriangle t = terrain.triangle(k);
+    const float a[3] = {t.a.x(), t.a.y(), t.a.z()}, b[3] = {t.b.x(), t.b.y(), t.b.z()};
+    const float c[3] = {t.c.x(), t.c.y(), t.c.z()};
     const float hit = ray_triangle(of, df, a, b, c);
     if (hit >= 0.0f && hit < best) best = hit;
   }
@@ -65,11 +65,14 @@ TEST_CASE("Terrain::raycast straight down lands on the heightmap's surface", "[e
     CHECK(hit->point.x() == x);
     CHECK(hit->point.z() == z);
     CHECK(hit->t == Approx(origin.y() - hit->point.y()).margin(1e-5));
-    REQUIRE(hit->triangle < terrain.triangles().size());
+    REQUIRE(hit->triangle < terrain.triangle_count());
     CHECK(hit->normal.y() > 0.0f);
     CHECK(hit->normal.norm() == Approx(1.0f).margin(1e-5));
-    CHECK(hit->normal.x() == terrain.triangles().nx[hit->triangle]);
+    CHECK(hit->normal == terrain.triangle(hit->triangle).normal);
+    const TerrainTriangle t = terrain.triangle(hit->triangle);  // the hit lies on its triangle's plane
+    CHECK(t.normal.dot(hit->point - t.a) == Approx(0.0f).margin(1e-4));
   }
+  CHECK_THROWS_AS(terrain.triangle(static_cast<std::uint32_t>(terrain.triangle_count())), InvalidArgument);
 }
 
 TEST_CASE("Terrain::raycast gives the brute-force nearest hit for rays in any direction", "[embedding][terrain]") {
@@ -141,7 +144,7 @@ TEST_CASE("A World in the host's task_arena: spans alias its state and contacts 
         const SphereId who = world.id_at(c.a);
         CHECK(world.slot_of(who) == static_cast<std::int64_t>(c.a));
         if (c.b == kStaticBody) {
-          CHECK(c.feature < terrain->triangles().size());  // no planes in this world
+          CHECK(c.feature < terrain->triangle_count());  // no planes in this world
           landed += c.gap <= 0.0f;
         } else {
           CHECK(c.b < world.sphere_count());

@@ -20,9 +20,9 @@
 #endif
 
 #include "catch.h"
-#include "kernel/errors.h"
-#include "kernel/heightmap.h"
-#include "kernel/terrain_triangles.h"
+#include "hail/errors.h"
+#include "hail/heightmap.h"
+#include "kernel/terrain/terrain_triangles.h"
 
 using hail::FileError;
 using hail::Heightmap;

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "catch.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "hail/world.h"
 #include "world_refusal.h"
 
 using hail::InvalidArgument;

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "hail/world.h"
 
 using hail::Integrator;
 using hail::PlaneDesc;
@@ -144,7 +144,7 @@ TEST_CASE("D: the cradle's pulse crosses the resting row in the step of the impa
   // Touching spheres at rest close at 0 m/s, so their own speculative margin
   // (WorldSettings::pair_margin_travel) was 0 and the strict pair test left them without a
   // contact: the pulse moved one sphere per step and the far sphere left 4 steps after the
-  // impact. A resting pair within a small slop keeps its contact (jobs/step_pipeline.cpp).
+  // impact. A resting pair within a small slop keeps its contact (kernel/world/step_pipeline.cpp).
   const float striker_start = GENERATE(-1.5f, -1.0f);  // 0.5 m away, or already touching
   Cradle cradle(striker_start);
   World& world = *cradle.world;

@@ -12,7 +12,7 @@
 #include "bench/scene_run.h"
 #include "bench/scenes.h"
 #include "catch.h"
-#include "kernel/terrain.h"
+#include "kernel/terrain/terrain_parts.h"
 
 using namespace hail;
 

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "catch.h"
-#include "kernel/world.h"
+#include "hail/world.h"
 
 using namespace hail;
 

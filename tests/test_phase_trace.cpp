@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "catch.h"
-#include "kernel/world.h"
+#include "hail/world.h"
 
 namespace {
 

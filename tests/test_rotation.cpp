@@ -7,8 +7,8 @@
 #include <memory>
 
 #include "catch.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "hail/world.h"
 
 using namespace hail;
 

@@ -1,4 +1,4 @@
-// World::shift_origin (kernel/world.h): spheres, planes and terrain move together, exactly for
+// World::shift_origin (include/hail/world.h): spheres, planes and terrain move together, exactly for
 // offsets that bring the world back towards the origin by whole metres; the motion goes on as
 // it would have; bad offsets are refused with the world unchanged.
 
@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/world.h"
+#include "hail/world.h"
+#include "kernel/terrain/terrain_parts.h"
 #include "world_refusal.h"
 
 using hail::Heightmap;

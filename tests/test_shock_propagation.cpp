@@ -1,4 +1,4 @@
-// Shock propagation (kernel/shock_propagation.h): levels from the ground up, the order of the
+// Shock propagation (kernel/solver/shock_propagation.h): levels from the ground up, the order of the
 // pass, and what it is for: a stack of very different masses stands.
 
 #include <algorithm>
@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/heightmap.h"
-#include "kernel/shock_propagation.h"
-#include "kernel/terrain.h"
-#include "kernel/world.h"
+#include "hail/heightmap.h"
+#include "kernel/solver/shock_propagation.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "hail/world.h"
 
 using namespace hail;
 

@@ -1,4 +1,4 @@
-// SIMD dispatch (kernel/simd_dispatch.h): every kernel of every SIMD path this CPU supports
+// SIMD dispatch (kernel/dispatch/simd_dispatch.h): every kernel of every SIMD path this CPU supports
 // against its scalar reference, bit for bit, and a small scene's state hash on every path.
 // Paths the CPU lacks are skipped (run the suite under `qemu-x86_64 -cpu Nehalem` or
 // `-cpu Haswell` to exercise the narrower ones alone; docs/simd.md).
@@ -14,16 +14,16 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/contact_solve_simd.h"
-#include "kernel/errors.h"
-#include "kernel/features.h"
-#include "kernel/path_box_scan.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/sphere_pairs.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_sweep.h"
-#include "kernel/terrain.h"
-#include "kernel/world.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "hail/errors.h"
+#include "hail/features.h"
+#include "kernel/ccd/path_box_scan.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "hail/world.h"
 #include "simd_paths.h"
 #include "solver_problems.h"
 
@@ -120,7 +120,7 @@ TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference"
     const float margin = 0.05f;
     std::vector<SpherePair> reference;
     find_sphere_pairs_scalar(s, 0, n, margin, reference);
-    SphereSweep sweep;
+    SortedAxisPairs sweep;
     sweep.build(s, margin);
     SphereGrid grid;
     grid.build(s, margin);
@@ -138,8 +138,8 @@ TEST_CASE("Every SIMD path's pair searches equal brute force's scalar reference"
       k.find_sphere_pairs(s, 0, mid, margin, brute);
       k.find_sphere_pairs(s, mid, n, margin, brute);
       CHECK(brute == reference);
-      k.sweep_find_pairs(sweep.view(), s, 0, mid, margin, swept, row);
-      k.sweep_find_pairs(sweep.view(), s, mid, n, margin, swept, row);
+      k.sorted_axis_find_pairs(sweep.view(), s, 0, mid, margin, swept, row);
+      k.sorted_axis_find_pairs(sweep.view(), s, mid, n, margin, swept, row);
       CHECK(swept == reference);
       CHECK(row.empty());
       std::vector<SpherePair> gridded;

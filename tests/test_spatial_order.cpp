@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/morton.h"
-#include "kernel/spatial_order.h"
-#include "kernel/world.h"
+#include "kernel/geometry/morton.h"
+#include "kernel/broadphase/spatial_order.h"
+#include "hail/world.h"
 
 TEST_CASE("morton_slot_order is a permutation sorted by Morton code, ties by slot", "[soa][order]") {
   hail::SphereSoA s;
@@ -42,7 +42,7 @@ TEST_CASE("morton_slot_order is a permutation sorted by Morton code, ties by slo
 }
 
 TEST_CASE("The re-sort's parts run over blocks in any order give morton_slot_order's order", "[soa][order]") {
-  // The World's re-sort (jobs/step_pipeline.cpp) runs finite_centre_bounds and morton_keys over
+  // The World's re-sort (kernel/world/step_pipeline.cpp) runs finite_centre_bounds and morton_keys over
   // blocks in parallel and sorts the keys with tbb::parallel_sort: the box must be the union of
   // the blocks' boxes (non-finite centres left out), and the keys the serial ones.
   hail::SphereSoA s;

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pairs.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "catch.h"
-#include "soa/sphere_soa.h"
+#include "hail/sphere_soa.h"
 
 namespace {
 hail::SphereRecord record(float x) { return {x, 0, 0, 0, 0, 0, 0, 0, 0, 0.5f, 1, 1, 0.5f, 0.5f, 0}; }
@@ -60,7 +60,7 @@ TEST_CASE("Permuting slots keeps every handle on its sphere", "[soa]") {
 }
 
 TEST_CASE("Permuting over ranges run in any order gives permute's state", "[soa]") {
-  // The World's re-sort runs permute's loops over blocks in parallel (jobs/step_pipeline.cpp).
+  // The World's re-sort runs permute's loops over blocks in parallel (kernel/world/step_pipeline.cpp).
   hail::SphereSoA serial, blocked;
   std::vector<hail::SphereId> ids;
   for (int k = 0; k < 100; ++k) {

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "catch.h"
-#include "kernel/sphere_triangle.h"
+#include "kernel/geometry/sphere_triangle.h"
 
 using hail::TriangleRegion;
 

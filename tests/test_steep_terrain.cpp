@@ -2,7 +2,7 @@
 // heightmaps with cliffs, spikes, zig-zag folds and slopes past 80 degrees. A sphere whose
 // centre is above the surface must never get a contact deeper than its true distance to the
 // surface, and no step may move a sphere farther than its speed and the overlap it really had
-// allow. Before the heightfield rule (kernel/sphere_triangle.h, contact_from_closest_point)
+// allow. Before the heightfield rule (kernel/geometry/sphere_triangle.h, contact_from_closest_point)
 // a centre behind a steep triangle's plane took that plane's depth, metres too deep.
 
 #include <algorithm>
@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "catch.h"
+#include "kernel/terrain/terrain_parts.h"
 #include "simd_paths.h"
 #include "../bench/steep_heightmaps.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/sphere_triangle.h"
-#include "kernel/world.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/sphere_triangle.h"
+#include "hail/world.h"
 
 using namespace hail;
 using hail::bench::SteepKind;

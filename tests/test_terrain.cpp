@@ -10,8 +10,9 @@
 
 #include "catch.h"
 #include "sample_count.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "hail/world.h"
 
 using namespace hail;
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "catch.h"
-#include "kernel/contact_cache.h"
-#include "kernel/world.h"
+#include "kernel/solver/contact_cache.h"
+#include "hail/world.h"
 
 using namespace hail;
 

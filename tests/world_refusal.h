@@ -8,7 +8,7 @@
 #include <string>
 
 #include "catch.h"
-#include "kernel/world.h"
+#include "hail/world.h"
 
 namespace hail::testing {
 

@@ -1,7 +1,7 @@
 // hail-feature-cost SCENE [--spheres N] [--steps S] [--threads T] [--rotation on|off]
 //
 // Steps implosion or terrain-rain in whatever this build of hail has compiled in
-// (kernel/features.h) and prints one line: the build's features, the median ms per step over
+// (hail/features.h) and prints one line: the build's features, the median ms per step over
 // the scene's timed steps, the state hash, and the optional parts of the step that ran.
 // scripts/feature_cost.sh runs it from builds with and without features, alternating, and
 // compares the medians: a feature a scene does not use should cost it nothing.
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "kernel/features.h"
+#include "hail/features.h"
 #include "scenes.h"
 
 namespace {

@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/sphere_bvh_pairs.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_pairs.h"
-#include "kernel/sphere_sweep.h"
+#include "kernel/broadphase/sphere_bvh_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "micro_data.h"
 
 namespace hail::micro {
@@ -23,7 +23,7 @@ template <Search S>
 void broadphase(benchmark::State& state, Cloud cloud, std::size_t n) {
   const SphereSoA spheres = make_cloud(cloud, n, cloud == Cloud::Rain ? 51 : 52);
   SphereGrid grid;
-  SphereSweep sweep;
+  SortedAxisPairs sweep;
   SphereBvhPairs bvh;
   std::vector<SpherePair> out;
   std::vector<std::uint32_t> row;

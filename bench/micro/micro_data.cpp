@@ -12,9 +12,9 @@
 
 #include "bench/machine_info.h"
 #include "bench/scenes.h"
-#include "kernel/heightmap.h"
-#include "kernel/morton.h"
-#include "kernel/simd_kernels.h"
+#include "hail/heightmap.h"
+#include "kernel/geometry/morton.h"
+#include "kernel/dispatch/kernel_table.h"
 
 namespace hail::micro {
 namespace {

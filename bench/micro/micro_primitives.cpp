@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/aabb.h"
-#include "kernel/sphere_triangle.h"
+#include "kernel/geometry/aabb.h"
+#include "kernel/geometry/sphere_triangle.h"
 #include "micro_data.h"
 
 namespace hail::micro {

@@ -10,7 +10,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/contact_solve_simd.h"
+#include "kernel/solver/contact_solve_simd.h"
 
 namespace hail::micro {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/sphere_pairs.h"
+#include "kernel/broadphase/sphere_pairs.h"
 #include "micro_data.h"
 
 namespace hail::micro {

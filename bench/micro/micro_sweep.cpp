@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/flat_bvh.h"
-#include "kernel/path_box_scan.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/swept_sphere.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/ccd/path_box_scan.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/swept_sphere.h"
 #include "micro_data.h"
 
 namespace hail::micro {

@@ -6,11 +6,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/flat_bvh.h"
-#include "kernel/ray_triangle.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/spatial_order.h"
-#include "kernel/swept_sphere.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/geometry/ray_triangle.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/broadphase/spatial_order.h"
+#include "kernel/geometry/swept_sphere.h"
 #include "micro_data.h"
 
 namespace hail::micro {

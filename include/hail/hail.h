@@ -1,29 +1,40 @@
 #pragma once
 // The public API of hail in one include: `#include <hail/hail.h>`, with hail::hail linked
-// (installed package, add_subdirectory or FetchContent; docs/embedding.md).
+// (installed package, add_subdirectory or FetchContent; docs/embedding.md). Each header below
+// may also be included on its own.
 //
-// What an embedder uses, and where it is documented:
-//   hail::World          kernel/world.h      spheres, planes, terrain; step(); spans over the
-//                                            sphere state; the contacts of the last step
-//   hail::WorldSettings  kernel/world.h      every knob, with units and what too little/much does
-//   hail::Terrain        kernel/terrain.h    a heightmap's triangles and BVH; raycast()
-//   hail::Heightmap      kernel/heightmap.h  from a function h(x, z), samples, PGM, PNG, raw files
-//   hail::Contact        kernel/contact.h    what World::last_contacts() holds
-//   InvalidArgument, FileError  kernel/errors.h  what the API throws (never exit/abort)
-//   HAIL_VERSION_*       hail/version.h
+//   <hail/world.h>           hail::World: spheres, planes, terrain; step(); spans over the sphere
+//                            state; the contacts and impacts of the last step; SphereDesc, PlaneDesc
+//   <hail/world_settings.h>  hail::WorldSettings: every knob, with units and what too little/much does
+//   <hail/step_stats.h>      StepStats, StepParts, PhaseTimes: what the last step did
+//   <hail/terrain.h>         hail::Terrain: a heightmap's triangles and BVH; raycast()
+//   <hail/heightmap.h>       hail::Heightmap: from a function h(x, z), samples, PGM, PNG, raw files
+//   <hail/contact.h>         hail::Contact, hail::Impact: what last_contacts()/last_impacts() hold
+//   <hail/sphere_soa.h>      hail::SphereSoA, SphereId: the sphere arrays World::soa() shows
+//   <hail/plane.h>           hail::Plane: a static plane as World::planes() shows it
+//   <hail/phase_trace.h>     hail::PhaseTrace: the per-thread phase trace (World::enable_trace)
+//   <hail/errors.h>          InvalidArgument, FileError: what the API throws (never exit/abort)
+//   <hail/vec3.h>            hail::Vec3 (Eigen::Vector3f)
+//   <hail/features.h>        HAIL_WITH_*: the features this build of the library has
+//   <hail/version.h>         HAIL_VERSION_*
 //
-// The other headers installed beside these (BVH walks, pair searches, solver batches, SIMD
-// dispatch, ...) are the kernel's internals, installed because the public headers need them.
-// They may change in any minor version, and their SIMD code is meant to be compiled inside the
-// library with hail's flags, not in your files. The API above needs no -march or other flag.
+// These are the only headers installed: the kernel's internals (BVH, pair searches, solver,
+// SIMD kernels) stay inside the library, compiled with hail's flags. The API needs no -march or
+// other flag of yours.
 //
 // Units are SI (m, s, kg, rad), y is up. Threads: hail runs World::step() inside a
 // tbb::task_arena (yours, or one it makes) and never starts threads of its own.
 
+#include "hail/contact.h"
+#include "hail/errors.h"
+#include "hail/features.h"
+#include "hail/heightmap.h"
+#include "hail/phase_trace.h"
+#include "hail/plane.h"
+#include "hail/sphere_soa.h"
+#include "hail/step_stats.h"
+#include "hail/terrain.h"
+#include "hail/vec3.h"
 #include "hail/version.h"
-#include "kernel/contact.h"
-#include "kernel/errors.h"
-#include "kernel/heightmap.h"
-#include "kernel/terrain.h"
-#include "kernel/vec3.h"
-#include "kernel/world.h"
+#include "hail/world.h"
+#include "hail/world_settings.h"

@@ -15,8 +15,8 @@
 
 #include <cstdint>
 
-#include "kernel/simd_arch.h"
-#include "kernel/solver_body.h"
+#include "kernel/dispatch/simd_arch.h"
+#include "kernel/solver/solver_body.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

@@ -1,8 +1,8 @@
 // closest_points_on_triangles (kernel/simd/sphere_triangle_lanes.h) over arrays, for the tests
 // that hold every path to closest_point_on_triangle (tests/test_simd_dispatch.cpp). Compiled
-// once per SIMD path (kernel/simd_arch.h).
+// once per SIMD path (kernel/dispatch/simd_arch.h).
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
 #include <algorithm>
 

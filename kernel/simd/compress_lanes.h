@@ -10,7 +10,7 @@
 #include <array>
 #include <cstdint>
 
-#include "kernel/simd_arch.h"
+#include "kernel/dispatch/simd_arch.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

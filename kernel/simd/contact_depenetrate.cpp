@@ -1,6 +1,6 @@
-// The depenetration pass (push_apart, kernel/depenetrate.h) over the staged contact batches
-// (kernel/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
-// path (kernel/simd_arch.h). Each lane performs push_apart's float operations in its order, so
+// The depenetration pass (push_apart, kernel/solver/depenetrate.h) over the staged contact batches
+// (kernel/solver/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
+// path (kernel/dispatch/simd_arch.h). Each lane performs push_apart's float operations in its order, so
 // every path moves the spheres exactly as the scalar loop over the same contacts does; the
 // contacts of a batch belong to one colour and share no sphere, so their order does not matter.
 //
@@ -9,10 +9,10 @@
 // 64k step). Here a batch reads its slots, normals and offsets from the staged arrays, gathers
 // positions only when the skip rule keeps one of its lanes, and stores only for lanes that push.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/contact_solve_simd.h"
-#include "kernel/depenetrate.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "kernel/solver/depenetrate.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
 

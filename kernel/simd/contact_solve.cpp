@@ -1,16 +1,16 @@
 // The SIMD collision, warm-start and resting passes over staged contact batches
-// (kernel/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
-// path (kernel/simd_arch.h). Each lane performs the float operations of the scalar rules of
-// kernel/contact_impulse.h in their order, so every path gives their bits.
+// (kernel/solver/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
+// path (kernel/dispatch/simd_arch.h). Each lane performs the float operations of the scalar rules of
+// kernel/solver/contact_impulse.h in their order, so every path gives their bits.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
 #include <cstddef>
 
-#include "kernel/contact_solve_simd.h"
+#include "kernel/solver/contact_solve_simd.h"
 #include "kernel/simd/body_rows.h"
 #include "kernel/simd/kernels.h"
-#include "kernel/solver_body.h"
+#include "kernel/solver/solver_body.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -98,7 +98,7 @@ struct Lanes {
 
   // The functions below are relative_contact_velocity, normal_relative_velocity,
   // apply_linear_impulse, apply_angular_impulse, apply_contact_impulse, tangential_slip and
-  // friction_impulse of kernel/contact_impulse.h, operation for operation; `active` lanes
+  // friction_impulse of kernel/solver/contact_impulse.h, operation for operation; `active` lanes
   // change, others keep.
 
   [[gnu::always_inline]] void relative_velocity(batch out[3]) const {
@@ -242,7 +242,7 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
     const lane_mask idle = (impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
                            (accumulated[2] == zero) & (vn + allowed_closing >= zero);  // resting_idle
     const lane_mask active = !(kn <= zero) & !idle;
-    // A batch of idle contacts (the staging groups the speculative ones, kernel/contact_colouring.h)
+    // A batch of idle contacts (the staging groups the speculative ones, kernel/solver/contact_colouring.h)
     // changes nothing: no angular loads, no friction, no stores.
     if (lane_bits(active) == 0) continue;
     L.load_angular();

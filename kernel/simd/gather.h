@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "kernel/simd_arch.h"
+#include "kernel/dispatch/simd_arch.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

@@ -1,6 +1,6 @@
-// This SIMD path's SimdKernels table (kernel/simd_kernels.h). Compiled once per path.
+// This SIMD path's SimdKernels table (kernel/dispatch/kernel_table.h). Compiled once per path.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 #include "kernel/simd/kernels.h"
 
 namespace hail {
@@ -20,7 +20,7 @@ constexpr SimdKernels kTable{
     .path = kPath,
     .width = xsimd::batch<float, simd_arch>::size,
     .find_sphere_pairs = &HAIL_SIMD_NS::find_sphere_pairs,
-    .sweep_find_pairs = &HAIL_SIMD_NS::sweep_find_pairs,
+    .sorted_axis_find_pairs = &HAIL_SIMD_NS::sorted_axis_find_pairs,
     .grid_find_pairs = &HAIL_SIMD_NS::grid_find_pairs,
     .contact_collision = &HAIL_SIMD_NS::contact_collision,
     .contact_warm_start = &HAIL_SIMD_NS::contact_warm_start,

@@ -1,5 +1,5 @@
 #pragma once
-// The kernels of one SIMD path, declared in that path's namespace (kernel/simd_arch.h), which
+// The kernels of one SIMD path, declared in that path's namespace (kernel/dispatch/simd_arch.h), which
 // kernel/simd/kernel_table.cpp collects into its SimdKernels table. Only the translation units
 // of kernel/simd/, compiled once per path by kernel/CMakeLists.txt (HAIL_SIMD_PATH_* defined),
 // include this; elsewhere it declares functions of namespace simd_base that nothing defines.
@@ -8,15 +8,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/simd_arch.h"
-#include "kernel/simd_kernels.h"
+#include "kernel/dispatch/simd_arch.h"
+#include "kernel/dispatch/kernel_table.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
 
 void find_sphere_pairs(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                        std::vector<SpherePair>& out);
-void sweep_find_pairs(const SphereSweepView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
+void sorted_axis_find_pairs(const SortedAxisPairsView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
                       float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 void grid_find_pairs(const SphereGridView& grid, const SphereSoA& spheres, std::size_t first, std::size_t last,
                      float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);

@@ -1,9 +1,9 @@
-// The SIMD path-box scan of continuous collision (scan_path_boxes_simd, kernel/path_box_scan.h),
-// compiled once per SIMD path (kernel/simd_arch.h). The slots go to the caller a buffer at a time.
+// The SIMD path-box scan of continuous collision (scan_path_boxes_simd, kernel/ccd/path_box_scan.h),
+// compiled once per SIMD path (kernel/dispatch/simd_arch.h). The slots go to the caller a buffer at a time.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/path_box_scan.h"
+#include "kernel/ccd/path_box_scan.h"
 #include "kernel/simd/kernels.h"
 
 namespace hail {

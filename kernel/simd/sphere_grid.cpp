@@ -1,23 +1,23 @@
-// SphereGrid::find_pairs (kernel/sphere_grid.h): per sphere, the contiguous runs of sorted
+// SphereGrid::find_pairs (kernel/broadphase/sphere_grid.h): per sphere, the contiguous runs of sorted
 // spheres in the cells its reach window overlaps (one run per row of cells along x), tested a
 // batch at a time with the brute-force predicate in its float operations (or, with pair
-// margins, keep_pairs_within_their_margin's). Compiled once per SIMD path (kernel/simd_arch.h);
+// margins, keep_pairs_within_their_margin's). Compiled once per SIMD path (kernel/dispatch/simd_arch.h);
 // the scalar reference is SphereGrid::find_pairs_scalar.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
 #include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/kernels.h"
-#include "kernel/sphere_grid.h"
-#include "kernel/sphere_pair_bounds.h"
-#include "kernel/sphere_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pair_bounds.h"
+#include "kernel/broadphase/sphere_pairs.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
 namespace {
 
 // Partners of one row, collected before they are sorted; a row that could overflow it is
-// searched again by long_row, into the caller's `row` vector (base code, kernel/simd_kernels.h).
+// searched again by long_row, into the caller's `row` vector (base code, kernel/dispatch/kernel_table.h).
 constexpr std::size_t kBuffer = 128;
 
 using batch = xsimd::batch<float, simd_arch>;

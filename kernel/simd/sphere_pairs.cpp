@@ -1,11 +1,11 @@
-// The brute-force pair search of kernel/sphere_pairs.h, one sphere i against a batch of j per
-// instruction. Compiled once per SIMD path (kernel/simd_arch.h); the scalar reference is
-// find_sphere_pairs_scalar in kernel/sphere_pairs.cpp, which evaluates the same float operations.
+// The brute-force pair search of kernel/broadphase/sphere_pairs.h, one sphere i against a batch of j per
+// instruction. Compiled once per SIMD path (kernel/dispatch/simd_arch.h); the scalar reference is
+// find_sphere_pairs_scalar in kernel/broadphase/sphere_pairs.cpp, which evaluates the same float operations.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 #include "kernel/simd/kernels.h"
-#include "kernel/simd_kernels.h"
-#include "kernel/sphere_pairs.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/broadphase/sphere_pairs.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -21,7 +21,7 @@ void find_sphere_pairs(const SphereSoA& s, std::size_t first, std::size_t last, 
   const float* pz = s.pz.data();
   const float* radius = s.radius.data();
   // Pairs collect here and go to `out` a buffer at a time (append_pairs: the vector grows in
-  // base code, see kernel/simd_kernels.h).
+  // base code, see kernel/dispatch/kernel_table.h).
   constexpr std::size_t kBuffer = 256;
   SpherePair found[kBuffer];
   std::size_t count = 0;

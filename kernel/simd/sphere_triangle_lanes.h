@@ -1,5 +1,5 @@
 #pragma once
-// The first half of sphere_triangle_contact (kernel/sphere_triangle.h) for a batch of
+// The first half of sphere_triangle_contact (kernel/geometry/sphere_triangle.h) for a batch of
 // (sphere, triangle) candidates at once, one per lane: the plane test, the closest point on the
 // triangle and its region, and the distance test. closest_point_on_triangle returns at the first
 // region that holds; here every region's point is computed and the first that holds is
@@ -9,14 +9,14 @@
 // Why: the terrain's candidates are about half of its contact search (the other half is the
 // walk), and the scalar closest point branches on the region of every candidate.
 //
-// Inline code for the including translation unit's SIMD path (kernel/simd_arch.h); the
+// Inline code for the including translation unit's SIMD path (kernel/dispatch/simd_arch.h); the
 // references are closest_point_on_triangle and sphere_triangle_contact, and
 // tests/test_simd_dispatch.cpp compares every path with them.
 
 #include <cstdint>
 
-#include "kernel/simd_arch.h"
-#include "kernel/sphere_triangle.h"
+#include "kernel/dispatch/simd_arch.h"
+#include "kernel/geometry/sphere_triangle.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

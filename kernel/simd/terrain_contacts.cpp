@@ -1,20 +1,20 @@
-// Terrain::find_contacts (kernel/terrain.h) by the packet walk (kernel/bvh_packet_walk.h): a
+// Terrain::find_contacts (include/hail/terrain.h) by the packet walk (kernel/bvh/bvh_packet_walk.h): a
 // batch of spheres goes down the stackless walk together, each leaf's triangle boxes and then
 // planes tested for all lanes at once; the (sphere, triangle) candidates that pass are then
-// tested a batch at a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/simd_arch.h);
-// the scalar reference is Terrain::find_contacts_scalar, and both share kernel/terrain_contacts.h.
+// tested a batch at a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/dispatch/simd_arch.h);
+// the scalar reference is Terrain::find_contacts_scalar, and both share kernel/terrain/terrain_contacts.h.
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
 #include <algorithm>
 
-#include "kernel/bvh_packet_walk.h"
+#include "kernel/bvh/bvh_packet_walk.h"
 #include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
 #include "kernel/simd/sphere_triangle_lanes.h"
-#include "kernel/terrain.h"
-#include "kernel/terrain_contacts.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "kernel/terrain/terrain_contacts.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

@@ -1,23 +1,23 @@
-// Terrain::push_out_spheres (kernel/terrain.h): the terrain guard's spheres pushed out of the
+// Terrain::push_out_spheres (include/hail/terrain.h): the terrain guard's spheres pushed out of the
 // ground a packet at a time. The first round of Terrain::push_out (the scalar reference) is a
-// BVH walk per sphere; here the packet walk (kernel/bvh_packet_walk.h) serves a packet of them,
+// BVH walk per sphere; here the packet walk (kernel/bvh/bvh_packet_walk.h) serves a packet of them,
 // each lane seeing the same triangles in the same order as its own walk would, so each finds
 // the same deepest triangle. The few spheres that move then finish their later rounds with the
 // scalar push_out, exactly as its loop would have continued. Compiled once per SIMD path
-// (kernel/simd_arch.h).
+// (kernel/dispatch/simd_arch.h).
 //
 // Why packets: the guard's spheres (those that moved further than their contacts reached, 1-2%
 // of terrain-rain's at 64k) walked the tree one by one, and that walk, its node loads missing
 // the cache, was 2.6% of a 64k run (perf, 1 thread).
 
-#include "kernel/simd_arch.h"  // first: the path's namespace
+#include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/bvh_packet_walk.h"
-#include "kernel/features.h"
+#include "kernel/bvh/bvh_packet_walk.h"
+#include "hail/features.h"
 #include "kernel/simd/kernels.h"
-#include "kernel/sphere_triangle.h"
-#include "kernel/terrain.h"
-#include "soa/sphere_soa.h"
+#include "kernel/geometry/sphere_triangle.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "hail/sphere_soa.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {

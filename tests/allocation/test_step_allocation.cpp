@@ -1,4 +1,4 @@
-// What World::step allocates (kernel/world.h, "Allocation"): nothing in a steady state, and
+// What World::step allocates (include/hail/world.h, "Allocation"): nothing in a steady state, and
 // O(log n) times while its counts rise. Every heap allocation of the process goes through the
 // replaced global operator new below, and those made while a step runs (on any thread) are
 // counted. It lives in an executable of its own (hail-alloc-tests) so that the replacement
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/features.h"
-#include "kernel/world.h"
+#include "hail/features.h"
+#include "hail/world.h"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "kernel/errors.h"
-#include "kernel/heightmap.h"
+#include "hail/errors.h"
+#include "hail/heightmap.h"
 
 namespace {
 

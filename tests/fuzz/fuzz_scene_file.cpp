@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/scene_file.h"
-#include "kernel/errors.h"
+#include "hail/errors.h"
 
 namespace {
 
@@ -36,7 +36,7 @@ constexpr int kSteps = 3;
 constexpr double kMaxStepSeconds = 0.5;
 /// Stepped only when every number in the document is at most this in magnitude. The World
 /// refuses what it cannot step (a radius or plane offset past float range, a terrain or sphere
-/// too far out to resolve: kernel/world.h), so worlds with values far beyond any scene's are
+/// too far out to resolve: include/hail/world.h), so worlds with values far beyond any scene's are
 /// stepped too; past 1e30 a value only repeats those refusals. Parsing sees all numbers.
 constexpr double kMaxStepMagnitude = 1e30;
 

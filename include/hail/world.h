@@ -1,0 +1,277 @@
+#pragma once
+// kernel/ is hail's geometry and physics: primitives, contacts, the solver rules, the
+// integrator and World, the object users create. How a step's work is spread over threads lives
+// in jobs/; kernel/ only provides the range-based functions the phases call.
+//
+// World owns sphere state (SoA), static planes, settings and the per-step scratch buffers. It
+// shares the terrain (a shared_ptr<const Terrain>, immutable) and uses, without owning, the
+// caller's tbb::task_arena when given one.
+//
+// Threads: a World is not thread-safe: call its methods from one thread at a time (const
+// methods may run at the same time as each other, never with a non-const one). step() itself
+// runs in parallel inside a tbb::task_arena (the caller's, or one the World makes of `threads`
+// slots); the calling thread joins in and returns when the step is done. hail never starts
+// threads of its own. Separate Worlds share nothing mutable and may step at the same time.
+//
+// Allocation: add_sphere allocates only when the sphere arrays outgrow their capacity (reserve()
+// prevents it). step() reuses its scratch buffers, so a steady-state step allocates nothing:
+// they grow only when a step needs more contacts or pairs than every step before it, and then
+// to at least twice their capacity (soa/grow.h), so a scene whose counts keep rising
+// reallocates each buffer O(log n) times (tests/allocation/, hail-alloc-tests). The
+// accessors return views or values and never allocate. The constructors, add_plane,
+// set_terrain and enable_trace allocate, and while a trace records it grows every step.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+#include <oneapi/tbb/task_arena.h>
+
+#include "hail/contact.h"
+#include "hail/errors.h"
+#include "hail/features.h"
+#include "hail/phase_trace.h"
+#include "hail/plane.h"
+#include "hail/sphere_soa.h"
+#include "hail/step_stats.h"
+#include "hail/terrain.h"
+#include "hail/vec3.h"
+#include "hail/world_settings.h"
+
+namespace hail {
+
+struct StepState;  // kernel/world/step_state.h
+
+/// How many substeps World::step(dt) splits a step into under `settings`:
+/// ceil(time_scale * dt / max_substep), at least 1; 0 when time_scale is 0 (nothing moves).
+/// Computed in double, so it never overflows: a count beyond INT64_MAX is returned as
+/// INT64_MAX. Throws InvalidArgument unless dt is finite and > 0. Needs no World: a scene
+/// reader or a command line can call it to refuse a dt (with check_step) before it builds one.
+[[nodiscard]] std::int64_t substeps_needed(const WorldSettings& settings, float dt);
+
+/// Throws InvalidArgument exactly when World::step(dt) under `settings` would: dt not finite
+/// or not > 0, or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
+/// time_scale, max_substep, the count needed and the ways out). Returns that count otherwise
+/// (0 at time_scale 0). `settings` itself is assumed valid (the World constructor checks it).
+std::int64_t check_step(const WorldSettings& settings, float dt);
+
+/// What add_sphere accepts (InvalidArgument past them, naming the limit). They keep every
+/// quantity a step derives from a sphere a normal float with room to spare: the inertia
+/// 0.4 m r^2 lies in [4e-25, 4e23] kg m^2, so it and its inverse are normal floats (radius
+/// 1e20 or mass 3e38 made it infinite and kinetic_energy() NaN), impulses m v stay below 1e18 N s
+/// and their squares (friction cones) below 1e36, and squared speeds (the speculative margins)
+/// below 1e12. The range covers dust to small moons: tests, scenes and the stress battery
+/// use 0.01..10 m and 1e-3..1e4 kg.
+inline constexpr float kMinSphereRadius = 1e-6f;  ///< m
+inline constexpr float kMaxSphereRadius = 1e6f;   ///< m
+inline constexpr float kMinSphereMass = 1e-12f;   ///< kg (movable spheres; a static one has none)
+inline constexpr float kMaxSphereMass = 1e12f;    ///< kg
+inline constexpr float kMaxSphereSpeed = 1e6f;    ///< m/s, |velocity|
+inline constexpr float kMaxSphereSpin = 1e6f;     ///< rad/s, |angular_velocity|
+
+/// Resolution: a float cannot place a point more finely than the spacing of floats at its
+/// coordinates (2^-23 of their magnitude), so far from the origin small things blur. add_sphere
+/// requires the spacing at the sphere's largest |coordinate| to be at most radius /
+/// kSphereRadiusResolution: contacts, the depenetration slop and the stress battery's bounds
+/// are a few percent of a radius, and the overlaps grow with the spacing (hail-bench stress,
+/// terrain-rain's terrain moved out: deepest sphere overlap 0.8% of r at 1e4 m, 3.2% at 1e5 m
+/// where the spacing is r / 64, 6.3% past the 5% bound at 2.5e5 m, r / 32). A sphere of radius
+/// 0.5 may so be placed up to 2^17 = 131,072 m out, one of radius 1e-6 within 0.25 m. The
+/// check is made when a sphere is added; a step does not stop a sphere flying further.
+inline constexpr float kSphereRadiusResolution = 64.0f;
+/// set_terrain requires the spacing of floats at the terrain's largest |coordinate| (its
+/// corners' x and z, its highest and lowest heights) to be at most the smaller cell size /
+/// kTerrainCellResolution: a point's cell and place in it, (x - origin) / cell, then err by at
+/// most 1/64 of a cell. At 3e7 m with 1 m cells (spacing 2 m) cells collapsed to zero width and
+/// every value turned NaN once a sphere landed. 1 m cells may lie up to 2^18 = 262,144 m out.
+inline constexpr float kTerrainCellResolution = 64.0f;
+
+/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves). Radius, mass,
+/// speed and spin within the limits above.
+struct SphereDesc {
+  Vec3 position{0.0f, 0.0f, 0.0f};          ///< m; resolvable for the radius (kSphereRadiusResolution)
+  Vec3 velocity{0.0f, 0.0f, 0.0f};          ///< m/s
+  Vec3 angular_velocity{0.0f, 0.0f, 0.0f};  ///< rad/s; must be zero when WorldSettings::rotation is off
+  float radius = 0.5f;                      ///< m, in [kMinSphereRadius, kMaxSphereRadius]
+  float mass = 1.0f;                        ///< kg, in [kMinSphereMass, kMaxSphereMass] (ignored when is_static)
+  float restitution = 0.5f;                 ///< [0, 1]
+  float friction = 0.5f;                    ///< Coulomb coefficient, >= 0
+  bool is_static = false;                   ///< infinite mass: collides but never moves
+};
+
+/// A static plane: the solid half-space {x : normal . x < offset}. The normal is normalised.
+struct PlaneDesc {
+  Vec3 normal{0.0f, 1.0f, 0.0f};
+  float offset = 0.0f;  ///< m
+  float restitution = 0.5f;
+  float friction = 0.5f;
+};
+
+/// Read-only views of the dense sphere state, in slot order (World::slot_of maps a handle to
+/// its slot, World::id_at a slot to its handle). No copy: the spans point into the World's SoA
+/// arrays, so reading them costs nothing and they see every later step. They stay valid until
+/// a call adds or removes spheres (or reserve() grows the arrays); a step keeps them valid but
+/// may move spheres to other slots (the Morton re-sort, every reorder_interval steps), so look
+/// a handle's slot up again after each step. Units: m, m/s, rad/s, m, 1/kg (0: static).
+struct SphereState {
+  std::span<const float> px, py, pz, vx, vy, vz, wx, wy, wz, radius, inv_mass;
+};
+
+class World {
+ public:
+  /// Creates its own task_arena of settings.threads slots. Throws InvalidArgument for a bad
+  /// setting (the message names it).
+  explicit World(const WorldSettings& settings = {});
+  /// Runs every step inside the caller's arena (host_arena.execute): the host owns the threads
+  /// and decides how many step() may use (its max_concurrency; settings.threads is ignored).
+  /// The result is bitwise the same for any arena size. The arena must outlive the World; several
+  /// Worlds may share one. Throws InvalidArgument for a bad setting.
+  World(const WorldSettings& settings, tbb::task_arena& host_arena);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Adds a sphere; throws InvalidArgument (world unchanged) on a bad value.
+  SphereId add_sphere(const SphereDesc& desc);
+  /// Removes a sphere; false if the handle is stale. Other handles stay valid.
+  bool remove_sphere(SphereId id);
+  /// Adds a static plane; returns its index. Throws InvalidArgument on a bad value.
+  std::size_t add_plane(const PlaneDesc& desc);
+  /// Sets (or with nullptr removes) the static terrain and its material. The terrain is
+  /// immutable and may be shared by several worlds. Throws InvalidArgument (world unchanged) on
+  /// a bad material, or a terrain too far out for its cell size (kTerrainCellResolution).
+  /// A movable sphere whose centre lies below the terrain surface (inside a hill: its contacts
+  /// see no triangle, and it fell through forever) is lifted out at the start of the next step,
+  /// as a plane pushes it out: its centre put a radius above the surface at its x, z, then
+  /// moved out along the deepest overlap (Terrain::push_out). This is checked once for each
+  /// sphere added since the last step, and for every sphere after set_terrain;
+  /// StepStats::lifted_out counts them.
+#if HAIL_WITH_TERRAIN
+  void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
+#endif
+  /// Moves the world's origin to `offset`: every sphere's position (static ones too) becomes
+  /// position - offset, every plane and the terrain move with them, and velocities, spins,
+  /// handles and warm-start impulses are kept, so the motion goes on as before, only where
+  /// floats are finer. PhysX's PxScene::shiftOrigin: a game whose action wanders far (floats at
+  /// 1e5 m are 7.8 mm apart) moves it back near the origin now and then, e.g. when the player
+  /// is past 1-2 km out (docs/embedding.md, "Keeping the action near the origin").
+  /// Cost: O(spheres + planes), plus a new Terrain built from terrain()->moved(-offset) (its
+  /// BVH rebuilt: 0.04 s for 256 x 256 vertices), which this World then holds instead of the
+  /// shared one. Warm-start impulses are kept unless the moved terrain's BVH orders its
+  /// triangles differently (then they are dropped, as after set_terrain). last_contacts() is
+  /// unchanged (it holds no positions); last_impacts() points move too.
+  /// Exactness: a coordinate p becomes p - o exactly when o is a multiple of p's float spacing
+  /// (any whole number of metres for |p| < 2^24 m) and |p - o| is below the power of two above
+  /// |p|. So bringing the action back towards the origin by whole metres is exact; moving it
+  /// out rounds each coordinate once, to half the spacing where it lands.
+  /// Throws InvalidArgument (world unchanged) for a non-finite offset, a position or plane
+  /// offset that would leave float range, or a terrain that set_terrain would refuse where it
+  /// lands (kTerrainCellResolution).
+  void shift_origin(const Vec3& offset);
+  [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
+  [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
+  [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
+  /// Reserves room for n spheres so that adding them does not reallocate.
+  void reserve(std::size_t spheres);
+
+  /// Advances the world by dt * time_scale seconds (split into substeps no longer than
+  /// max_substep). dt must be finite and > 0, and the step must need no more than
+  /// WorldSettings::max_substeps substeps (check_step; InvalidArgument, world unchanged).
+  /// Blocks until done; runs in parallel inside the World's arena; allocates nothing in a
+  /// steady state.
+  void step(float dt);
+
+  [[nodiscard]] std::size_t sphere_count() const { return spheres_.size(); }
+  /// Spans over positions, velocities, radii and inverse masses; no copy (see SphereState).
+  [[nodiscard]] SphereState spheres() const;
+  /// All per-sphere arrays, including restitution, friction and flags, read-only.
+  [[nodiscard]] const SphereSoA& soa() const { return spheres_; }
+  /// Dense slot of a handle (index into spheres()), or -1 for a stale handle.
+  [[nodiscard]] std::int64_t slot_of(SphereId id) const { return spheres_.slot_of(id); }
+  /// Handle of the sphere in dense slot `slot` < sphere_count(), e.g. a Contact's a or b.
+  [[nodiscard]] SphereId id_at(std::size_t slot) const { return spheres_.id_at(slot); }
+  /// Throws InvalidArgument for a stale handle.
+  [[nodiscard]] Vec3 position(SphereId id) const;
+  [[nodiscard]] Vec3 velocity(SphereId id) const;
+  [[nodiscard]] Vec3 angular_velocity(SphereId id) const;
+  [[nodiscard]] std::span<const Plane> planes() const { return planes_; }
+  [[nodiscard]] const WorldSettings& settings() const { return settings_; }
+  [[nodiscard]] int thread_count() const;
+
+  /// Translational + rotational kinetic energy of all movable spheres, J.
+  [[nodiscard]] double kinetic_energy() const;
+  /// Total linear momentum of all movable spheres, kg m/s.
+  [[nodiscard]] Eigen::Vector3d linear_momentum() const;
+  /// Number of non-finite position or velocity components.
+  [[nodiscard]] std::size_t nan_count() const;
+  /// FNV-1a over the bits of positions and velocities in slot order: equal hashes mean
+  /// bitwise equal state.
+  [[nodiscard]] std::uint64_t state_hash() const;
+
+  [[nodiscard]] const PhaseTimes& last_phase_times() const { return times_; }
+  /// Starts (or stops) recording a per-thread phase trace of every step from now on; clears
+  /// what was recorded. Costs two clock reads per block of work while on.
+  void enable_trace(bool on) { trace_.enable(on, thread_count()); }
+  /// The trace recorded since enable_trace(true): one slice per phase per step per thread.
+  [[nodiscard]] const PhaseTrace& trace() const { return trace_; }
+  [[nodiscard]] const StepStats& last_step_stats() const { return stats_; }
+  /// Contacts of the last step (of its last substep), grouped by solver colour: one array to
+  /// scan after step() for sounds or gameplay, no per-contact callback. a and b are dense slots
+  /// (id_at gives the handle) until the next step or add/remove; b is kStaticBody for terrain
+  /// (feature: the triangle in Terrain::triangles()) or a plane (feature: kPlaneFeature | index).
+  /// Contacts are speculative: gap (m) is measured before the step moves anything, and > 0
+  /// means the sphere could reach the surface within the step, not that it did (one that
+  /// bounced off it moves away along the normal afterwards: see examples/drop_spheres.cpp).
+  /// After solving, a contact holds its impulses (N s): bounce_impulse, the sum of what the
+  /// collision passes gave it (the bounce: about (1 + e) m v_closing on static ground, 0 for a
+  /// contact that only rested), and normal_impulse, the resting impulse (about m g dt under a
+  /// sphere lying still); tx, ty, tz the resting friction. A sound wants bounce_impulse. Impacts
+  /// taken at their exact time outside the solve (planes met during the step, continuous
+  /// collision) are not contacts: last_impacts() lists them. No copy, no allocation; valid
+  /// until the next step.
+  [[nodiscard]] std::span<const Contact> last_contacts() const;
+  /// Impacts of the last step (of its last substep) resolved at their exact time outside the
+  /// contact solve, each with its normal impulse: first those of continuous collision (fast
+  /// spheres against terrain, planes and spheres; StepStats::sweep), in the order they were
+  /// taken (by time), then spheres that reached a plane during the step (the integrator splits
+  /// the motion there), in slot order. A sphere falling onto a plane bounces here, not in a
+  /// contact: planes make contacts only for spheres already touching them. a and b are dense
+  /// slots as in last_contacts(). No copy; valid until the next step. The lists grow only
+  /// when a step has more impacts than every step before it.
+  [[nodiscard]] std::span<const Impact> last_impacts() const;
+
+ private:
+  friend struct StepPipeline;
+  static void validate(const WorldSettings& settings);
+  /// One pass of the step pipeline over `scaled` (time-scaled) seconds.
+  void substep(float scaled);
+  std::size_t require_slot(SphereId id) const;
+  /// Lifts the movable spheres of slots [unchecked_from_, n) whose centre is below the terrain
+  /// surface out of it (see set_terrain); returns how many moved.
+  std::size_t lift_out_of_terrain();
+
+  WorldSettings settings_;
+  std::unique_ptr<tbb::task_arena> own_arena_;
+  tbb::task_arena* arena_ = nullptr;
+  SphereSoA spheres_;
+  std::vector<Plane> planes_;
+  std::shared_ptr<const Terrain> terrain_;
+  float terrain_restitution_ = 0.5f, terrain_friction_ = 0.5f;
+  /// Slots from here on have not been checked against the terrain since they were added (or
+  /// the terrain set): lift_out_of_terrain checks them at the start of the next step.
+  std::size_t unchecked_from_ = 0;
+
+  /// Per-step scratch (pair blocks, contact lists, colourings, solver bodies and batches, the
+  /// sweep, reorder keys, the solver's threads: kernel/world/step_state.h), reused so that a
+  /// steady-state step does not allocate. Behind a pointer so that this header needs none of the
+  /// kernel's internal headers.
+  std::unique_ptr<StepState> step_;
+  std::uint64_t steps_taken_ = 0;
+  PhaseTimes times_;
+  PhaseTrace trace_;
+  StepStats stats_;
+};
+
+}  // namespace hail

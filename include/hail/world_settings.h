@@ -1,0 +1,191 @@
+#pragma once
+// WorldSettings: how a World steps, every knob with its unit and what too little or too much
+// does; and the choices it names (pair search, integrator, depenetration). Checked by the World
+// constructor (InvalidArgument naming the setting).
+
+#include <algorithm>
+#include <cstddef>
+
+#include "hail/features.h"
+#include "hail/vec3.h"
+
+namespace hail {
+
+/// How positions follow velocities (WorldSettings::integrator).
+enum class Integrator {
+  /// v += a dt, then x += v dt with the solved velocity (symplectic; the default).
+  SemiImplicitEuler,
+  /// x += v dt + a dt^2 / 2: exact for uniformly accelerated motion (the original design).
+  UniformAcceleration,
+};
+
+/// Position correction after the solve (WorldSettings::depenetration).
+struct DepenetrationParams {
+  float fraction = 0.8f;       ///< share of the excess overlap removed per pass
+  float slop_fraction = 0.01f; ///< overlap tolerated, as a fraction of the smaller radius
+};
+
+/// How sphere-sphere pairs are found. All give exactly the same pairs in the same order, so the
+/// choice changes speed only, never the simulation (tests/test_broadphase.cpp).
+enum class PairSearch {
+  Automatic,      ///< by sphere count and radius spread, from measured crossovers (docs/benchmarks.md)
+  BruteForce,     ///< SIMD all-pairs: O(n^2), fastest for small n
+  Grid,           ///< hashed uniform grid sized by the largest reach (diameter + margin): O(n) for similar radii
+  SweepAndPrune,  ///< sort along the axis of greatest spread, per radius class
+  Bvh,            ///< per-step BVH over the spheres (the terrain's builder and flat walk)
+};
+
+/// PairSearch::Automatic: below this many spheres of similar radii brute force wins (measured
+/// crossover with the grid, `hail-bench pairs`: brute force ahead at 256, the grid from 1,000,
+/// in random and in Morton order).
+inline constexpr std::size_t kPairSearchMinSpheres = 1000;
+/// Radii are "mixed" when largest / smallest is above kMixedRadiusSpread: the grid's cells must
+/// fit the largest, so it needs more spheres to pay (measured on piles of 0.25..2.5 with 1% at
+/// 5: brute force ahead at 1,000, the grid from 4,000 and ahead of the sphere BVH in either
+/// slot order).
+inline constexpr std::size_t kMixedPairSearchMinSpheres = 4000;
+inline constexpr float kMixedRadiusSpread = 4.0f;
+/// Beyond this spread (not measured: the bench's piles stop at 20) a few giants would make
+/// every grid cell giant; the sphere BVH, whose boxes fit each sphere, takes over from
+/// kGiantPairSearchMinSpheres (its crossover with brute force on the mixed piles).
+inline constexpr float kGiantRadiusSpread = 20.0f;
+inline constexpr std::size_t kGiantPairSearchMinSpheres = 16000;
+
+/// Smallest WorldSettings::solver_tile_spheres other than 0: below it tiles hold too few
+/// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
+inline constexpr std::size_t kMinSolverTileSpheres = 64;
+
+/// Spheres per solver tile for `spheres` spheres: WorldSettings::solver_tile_spheres, or half the
+/// spheres (rounded up, at least kMinSolverTileSpheres) when that is smaller; 0 without tiles.
+/// It depends on the sphere count alone, never on the thread count.
+[[nodiscard]] constexpr std::size_t solver_tile_size(std::size_t setting, std::size_t spheres) {
+  if (setting == 0) return 0;
+  const std::size_t half = std::max<std::size_t>((spheres + 1) / 2, kMinSolverTileSpheres);
+  return std::min(setting, half);
+}
+
+/// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
+/// The slot order (Morton or not) does not change the choice since the grid's rewrite.
+[[nodiscard]] constexpr PairSearch automatic_pair_search(std::size_t n, float min_radius, float max_radius) {
+  if (max_radius > kGiantRadiusSpread * min_radius)
+    return n < kGiantPairSearchMinSpheres ? PairSearch::BruteForce : PairSearch::Bvh;
+  const bool mixed = max_radius > kMixedRadiusSpread * min_radius;
+  return n < (mixed ? kMixedPairSearchMinSpheres : kPairSearchMinSpheres) ? PairSearch::BruteForce : PairSearch::Grid;
+}
+
+/// How a World steps. Every field is checked by the World constructor (InvalidArgument).
+struct WorldSettings {
+  Vec3 gravity{0.0f, -9.81f, 0.0f};  ///< m/s^2
+  /// Slow motion factor: each step advances time_scale * dt of simulated time. 0 freezes.
+  float time_scale = 1.0f;
+  /// Steps longer than this (s, after time_scale) are split into equal substeps no longer than
+  /// it. A step of 1.7 s (time scale 100 at 1/60) sweeps every sphere resting on the ground
+  /// thousands of times and gained energy 20-fold in the stress battery; 1/20 s keeps every step
+  /// of the shipped scenes whole.
+  float max_substep = 0.05f;
+  /// Most substeps one step(dt) may be split into, >= 1. A step that needs more
+  /// (substeps_needed below) is refused with InvalidArgument and the world is left unchanged:
+  /// without the cap step(1e5) of one sphere ran two million substeps (seconds), and a count
+  /// past INT_MAX wrapped to one substep of the whole dt. 256 is 12.8 s of simulated time per
+  /// call at the default max_substep, far beyond any frame (time scale 100 at 1/60 s needs 34).
+  int max_substeps = 256;
+  Integrator integrator = Integrator::SemiImplicitEuler;
+  /// Worker threads for step(); 0 = all hardware threads; 1 = strictly the calling thread.
+  /// Ignored when the World is given the caller's task_arena.
+  int threads = 0;
+  /// Passes that bounce closing contacts with restitution, propagating impulses through
+  /// chains (a Newton's cradle of n spheres needs n). Stops early once nothing is closing.
+  int collision_iterations = 16;
+  /// Sequential-impulse passes for resting contacts (piles, rolling). Too few: piles sag.
+  int resting_iterations = 8;
+  /// Position-correction passes after integration.
+  int depenetration_iterations = 4;
+  /// The solver's tiles (kernel/solver/contact_colouring.h): runs of at most this many slots (in
+  /// Morton order, so compact regions) whose contacts among themselves are solved together,
+  /// one tile per thread at a time, before the contacts between tiles. A tile's bodies stay in
+  /// its core's cache through all its colours, and a pass has one parallel stage for all tiles
+  /// instead of one per colour. A world of fewer than twice this many spheres is cut into two
+  /// tiles of half its spheres (solver_tile_size), so that two threads still share the tiles.
+  /// 0: no tiles (every colour spans all spheres). The order in which contacts are solved
+  /// depends on the tile size, so states differ bitwise between tile sizes (never between
+  /// thread counts). The default and its measurements: docs/benchmarks.md, "Solver tiles".
+  std::size_t solver_tile_spheres = 2048;
+  DepenetrationParams depenetration{};
+  /// Closing speeds (m/s) at or below max(this, 2 |g| dt) are treated as resting, not bounced:
+  /// a sphere lying on the ground closes at |g| dt every step and must not hop.
+  float restitution_threshold = 0.2f;
+  /// Sphere-sphere collisions on/off (off: spheres only meet static geometry).
+  bool sphere_collisions = true;
+  PairSearch pair_search = PairSearch::Automatic;
+  /// Sphere-sphere contacts are made speculatively for spheres whose gap is less than the
+  /// distance they could close this step (2 * max speed * dt), capped at this many radii of the
+  /// larger sphere. Larger: fewer missed fast contacts, more contact pairs.
+  float speculative_radii = 1.0f;
+  /// Sphere-sphere contacts a step may make, per sphere (>= 1): at most this many times the
+  /// sphere count in all, shared out over runs of 64 slots (neighbours, in the Morton order).
+  /// Pairs past a run's share are dropped, the first in slot order kept (the same for any
+  /// thread count), and StepStats::sphere_contacts_capped says so. A guard, not a working
+  /// limit: 10,000 spheres at one point made 50 million contacts and the step ran out of
+  /// memory; spheres in a pile have about 6 each (terrain-rain: under 2), and a large sphere
+  /// may have many small ones on it while its neighbours have few. A capped step frees the
+  /// excess it found, so it allocates again (an overflow, not a steady state).
+  std::size_t max_sphere_contacts_per_sphere = 64;
+  /// Each pair's own speculative margin: this many times the distance the two spheres can close
+  /// this step by their own speeds, (|va| + |vb|) dt, and never more than the step's margin
+  /// above (which one fast sphere widens for everyone). Resting neighbours then get contacts
+  /// only where they touch, not with the next shell of a pile: terrain-rain 4k, 12.5k -> 7.0k
+  /// sphere contacts per step with the same worst penetration (docs/benchmarks.md). 2 leaves room for
+  /// speed gained from impacts during the step (1 let spheres sink 0.0085 m instead of 0.005);
+  /// 0 gives every pair the step's margin.
+  float pair_margin_travel = 2.0f;
+  /// Every this many steps the spheres' dense slots are re-sorted by the Morton code of their
+  /// centres (handles stay valid; slot order, and so World::spheres() order, changes), so
+  /// neighbours sit together in memory and terrain queries run in coherent packets. 0 never
+  /// re-sorts. The sort costs about one step's integrate phase; see docs/benchmarks.md for what it buys.
+  int reorder_interval = 16;
+  /// Start each contact with the impulses it ended the last step with (kernel/solver/contact_cache.h),
+  /// so that piles hold their weight from the first resting pass. Off: every step starts from
+  /// zero and deep piles sink into the ground.
+  bool warm_start = true;
+  /// Fraction of last step's impulses a contact starts with, in [0, 1]. Below 1 piles sag
+  /// more into the ground (measured in docs/accuracy.md, the warm-start table).
+  float warm_start_factor = 1.0f;
+  /// Continuous collision (kernel/ccd/continuous_collision.h): spheres that travel more than
+  /// fast_travel_fraction of their radius in a step are moved along their path impact by impact,
+  /// so they neither tunnel nor bounce early. Off: they are left to the discrete step, whose
+  /// terrain contacts then reach at most fast_travel_fraction radii (fast spheres tunnel; the
+  /// benchmark shows what the sweep prevents). Spheres that are not fast step the same either way.
+  /// Default: on when compiled in (HAIL_WITH_CONTINUOUS_COLLISION); true is refused otherwise.
+  bool continuous_collision = HAIL_WITH_CONTINUOUS_COLLISION != 0;
+  /// In (0, 1]. At 1 (one radius per step) the discrete step is still safe: a sphere's
+  /// terrain contacts reach as far as it travels, and two spheres that are not fast close by at
+  /// most ra + rb in a step, so they may overlap (the pair margin is capped at speculative_radii
+  /// of the larger radius) but never pass through each other. terrain-rain's fastest fall,
+  /// 21.5 m/s at dt = 1/60, is 0.72 radii: it stays discrete and pays nothing for the sweep.
+  /// Smaller values sweep more spheres: fewer overlaps, exact impact times, more cost.
+  float fast_travel_fraction = 1.0f;
+  /// Impacts one swept sphere may have in one step; a sphere that reaches it stops where the
+  /// last one left it for the rest of the step (StepStats::sweep.capped counts it). A guard
+  /// against endless zero-time impacts, not a working limit: a 1e4 m/s sphere into a pile of 48
+  /// took 750 impacts with no sphere above 64; at a cap of 16, 23 spheres stopped early and
+  /// the pile ended 9% of a radius inside itself (hail-bench stress).
+  int max_sweep_events = 256;
+  /// Shock propagation (kernel/solver/shock_propagation.h): one more resting pass from the ground up
+  /// with the lower body of each contact held still, run in steps where the heaviest movable
+  /// sphere weighs more than this many times the lightest. Without it a 1 : 100 : 1e4 kg stack
+  /// presses its 1 kg sphere through the ground. >= 1; infinity: never. The default leaves
+  /// scenes of equal (or nearly equal) masses exactly as they were, and costs them nothing.
+  float shock_mass_ratio = 10.0f;
+  /// Spheres spin and roll: friction applies angular impulses (r x p through the inverse inertia
+  /// 5 / (2 m r^2)), so a sliding sphere starts to roll and a rolling one keeps its spin. Off,
+  /// spheres never spin: friction acts on the linear velocities alone (effective mass
+  /// 1 / (1/m_a + 1/m_b), as along the normal), so a sliding sphere slows to a stop instead of
+  /// rolling, and no angular velocity is read, changed or integrated: every angular velocity
+  /// stays 0 (add_sphere refuses a non-zero one) and the step does no angular work
+  /// (StepParts::rotation). A scene without friction runs the same passes either way and
+  /// steps bitwise the same. Default: on when compiled in
+  /// (HAIL_WITH_ROTATION); true is refused otherwise.
+  bool rotation = HAIL_WITH_ROTATION != 0;
+};
+
+}  // namespace hail

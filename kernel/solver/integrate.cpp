@@ -1,0 +1,144 @@
+#include "kernel/solver/integrate.h"
+
+#include <cmath>
+
+#include "kernel/solver/contact_impulse.h"
+#include "kernel/geometry/fast_motion.h"
+#include "kernel/broadphase/sphere_pairs.h"
+
+namespace hail {
+
+float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
+                         float fast_fraction, std::vector<std::uint32_t>* fast) {
+  const float gx = p.gravity[0] * p.dt, gy = p.gravity[1] * p.dt, gz = p.gravity[2] * p.dt;
+  const float dt2 = p.dt * p.dt;
+  float max_speed2 = 0.0f, fastest = -1.0f;  // fastest > 0: some sphere may be fast
+  // Branch-free (selects), so that the compiler vectorises it: this runs for every sphere.
+  for (std::size_t i = first; i < last; ++i) {
+    const bool movable = s.inv_mass[i] > 0.0f;
+    const float vx = movable ? s.vx[i] + gx : s.vx[i];
+    const float vy = movable ? s.vy[i] + gy : s.vy[i];
+    const float vz = movable ? s.vz[i] + gz : s.vz[i];
+    s.vx[i] = vx, s.vy[i] = vy, s.vz[i] = vz;
+    const float v2 = vx * vx + vy * vy + vz * vz;
+    const float reach = fast_fraction * s.radius[i];
+    const float excess = v2 * dt2 - reach * reach;
+    max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
+    fastest = movable && excess > fastest ? excess : fastest;
+  }
+  if (!fast || !(fastest > 0.0f)) return std::sqrt(max_speed2);
+  // Some sphere is fast: list the fast ones and take the largest speed of the others.
+  max_speed2 = 0.0f;
+  for (std::size_t i = first; i < last; ++i) {
+    // The same expression as the terrain's per-sphere margin, so both agree on who is fast.
+    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+    if (s.inv_mass[i] > 0.0f && is_fast(v2, p.dt, s.radius[i], fast_fraction))
+      fast->push_back(static_cast<std::uint32_t>(i));
+    else
+      max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
+  }
+  return std::sqrt(max_speed2);
+}
+
+namespace {
+
+/// Earliest t in (0, limit] where d0 + vn t + an t^2 / 2 = 0, or a negative value if none.
+/// Computed in double: it runs once per sphere per plane and must not lose the root to rounding.
+double earliest_root(double d0, double vn, double an, double limit) {
+  double best = -1.0;
+  auto consider = [&](double t) {
+    if (t > 0.0 && t <= limit && (best < 0.0 || t < best)) best = t;
+  };
+  if (std::fabs(an) < 1e-12) {
+    if (vn < 0.0) consider(-d0 / vn);
+    return best;
+  }
+  const double a = 0.5 * an, disc = vn * vn - 4.0 * a * d0;
+  if (disc < 0.0) return best;
+  const double q = -0.5 * (vn + std::copysign(std::sqrt(disc), vn));
+  if (q != 0.0) {
+    consider(q / a);
+    consider(d0 / q);
+  }
+  return best;
+}
+
+/// The part of a sphere's step in which it meets planes: up to four impacts, each at its exact
+/// time, the motion x, u advanced to it and `remaining` shortened. Out of the loop that runs for
+/// every sphere, so that a scene without planes does not carry it there: inlined, it cost
+/// terrain-rain 4k 16 instructions per sphere and step (callgrind, 120 steps, one thread).
+[[gnu::noinline]] void bounce_off_planes(SphereSoA& s, std::size_t i, std::span<const Plane> planes,
+                                         const IntegrationParams& p, const float a[3], float x[3], float u[3],
+                                         float& remaining, std::vector<Impact>* impacts) {
+  for (int impact = 0; impact < 4; ++impact) {
+    double hit_t = -1.0;
+    std::size_t hit_plane = 0;
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      const Plane& pl = planes[k];
+      const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
+      if (d0 <= 0.0f) continue;  // touching: the solver already owns this contact
+      const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
+      const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
+      const double t = earliest_root(d0, vn, an, remaining);
+      if (t > 0.0 && (hit_t < 0.0 || t < hit_t)) {
+        hit_t = t;
+        hit_plane = k;
+      }
+    }
+    if (hit_t < 0.0) break;
+    const float t = static_cast<float>(hit_t);
+    for (int d = 0; d < 3; ++d) {
+      x[d] += u[d] * t + 0.5f * a[d] * t * t;
+      u[d] += a[d] * t;
+    }
+    remaining -= t;
+    const Plane& pl = planes[hit_plane];
+    Contact contact;
+    contact.a = static_cast<std::uint32_t>(i);
+    contact.nx = -pl.nx;
+    contact.ny = -pl.ny;
+    contact.nz = -pl.nz;
+    contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
+    contact.friction = combine_friction(s.friction[i], pl.friction);
+    // Without rotation the impulse acts on the linear velocity alone and w is not touched.
+    const bool spin = HAIL_WITH_ROTATION && p.rotation;
+    ContactBodies bodies = spin ? gather_bodies<kRotationWork>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
+    for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
+    const float j = spin ? solve_impact<kRotationWork>(contact, bodies, p.restitution_threshold)
+                         : solve_impact<kLinearFriction>(contact, bodies, p.restitution_threshold);
+    if (impacts && j > 0.0f) {
+      const float r = s.radius[i];
+      impacts->push_back({.a = contact.a, .b = kStaticBody, .feature = kPlaneFeature | static_cast<std::uint32_t>(hit_plane),
+                          .time = p.dt - remaining, .px = x[0] + contact.nx * r, .py = x[1] + contact.ny * r,
+                          .pz = x[2] + contact.nz * r, .nx = contact.nx, .ny = contact.ny, .nz = contact.nz, .impulse = j});
+    }
+    for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
+    if (spin) s.wx[i] = bodies.wa[0], s.wy[i] = bodies.wa[1], s.wz[i] = bodies.wa[2];
+  }
+}
+
+}  // namespace
+
+void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
+                         const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
+  const bool uniform = p.integrator == Integrator::UniformAcceleration;
+  const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
+  for (std::size_t i = first; i < last; ++i) {
+    if (!skip.empty() && skip[i]) continue;
+    const float movable = s.inv_mass[i] > 0.0f ? 1.0f : 0.0f;
+    const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
+    float x[3] = {s.px[i], s.py[i], s.pz[i]};
+    // Velocity at the start of the (sub)step: the solved end velocity minus the gravity the
+    // uniform-acceleration integrator adds back along the parabola.
+    float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
+    float remaining = p.dt;
+    if (!planes.empty()) bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
+    for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
+    s.px[i] = x[0]; s.py[i] = x[1]; s.pz[i] = x[2];
+    s.vx[i] = u[0] + a[0] * remaining;
+    s.vy[i] = u[1] + a[1] * remaining;
+    s.vz[i] = u[2] + a[2] * remaining;
+  }
+}
+
+}  // namespace hail

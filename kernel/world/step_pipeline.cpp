@@ -1,0 +1,862 @@
+// World::step: the phases of one step, in order, each a parallel loop over fixed blocks.
+//
+//   predict      v += g dt; largest speed of the spheres that are not fast (sizes the
+//                speculative contact margin); the fast ones listed for the sweep
+//   detect       sphere-plane contacts and sphere-sphere pairs (SIMD brute force), at the same
+//                time; per-block buffers merged in block order
+//   solve        contacts coloured so that a colour has no shared sphere, per solver tile
+//                (kernel/solver/contact_colouring.h) and then across tiles; each pass runs the tiles
+//                in parallel, each its colours in order, then the shared colours one after
+//                another, each in parallel; a SIMD batch of contacts (4, 8 or 16 by path) per
+//                instruction: collision passes, then resting passes
+//   sweep        fast spheres moved along their paths impact by impact (continuous collision)
+//   integrate    positions of the others, with exact time-of-impact bounces on planes
+//   depenetrate  push overlapping spheres apart, colour by colour (tiles in parallel)
+//
+// Nothing here depends on the thread count except which thread runs a block, so the state
+// after a step is bitwise the same for any number of threads.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <new>
+
+#include <oneapi/tbb/parallel_invoke.h>
+#include <oneapi/tbb/parallel_sort.h>
+
+#include "jobs/parallel_blocks.h"
+#include "jobs/phase_timer.h"
+#include "hail/phase_trace.h"
+#include "jobs/stage_crew.h"
+#include "kernel/solver/contact_impulse.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "kernel/solver/solver_body.h"
+#include "kernel/broadphase/spatial_order.h"
+#include "hail/world.h"
+#include "kernel/solver/depenetrate.h"
+#include "kernel/solver/integrate.h"
+#include "kernel/terrain/plane_contacts.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "kernel/world/step_state.h"
+#include "soa/grow.h"
+
+namespace hail {
+
+namespace {
+constexpr std::size_t kReorderBlock = 16384;  // spheres per block of the re-sort: few parallel loops at 4k
+constexpr std::size_t kSphereBlock = 256;    // spheres per block in per-sphere phases
+constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
+constexpr std::size_t kPairRowChunk = 16;    // rows per search call once a block may pass its contact cap
+constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
+constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task within one colour
+// Terrain guard in steps of mixed masses: a sphere whose centre is lower than (1 - this) of its
+// radius above the surface under it overlaps flat ground by more than this share of its radius
+// (the depenetration slop is 1%, the stress battery's bound 5%), and is pushed out.
+constexpr float kGuardSinkFraction = 0.02f;
+/// Gap, as a fraction of the mean radius, within which two spheres at rest count as touching
+/// and keep their contact (remember_travel): 0.5 mm at r = 0.5, far above the rounding of
+/// positions placed touching (ulps), and small enough that scenes under gravity step bitwise as
+/// before (terrain-rain 4k keeps its hash). At the depenetration's slop, 1%, terrain-rain's
+/// hash moved (spheres near the top of a hop travel less than the floor: docs/accuracy.md).
+constexpr float kRestingContactSlop = 1e-3f;
+}  // namespace
+
+struct StepPipeline {
+  World& w;
+  StepState& st;  // w's scratch (kernel/world/step_state.h)
+  IntegrationParams params;
+  float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
+  float fast_fraction = 1.0f;  // is_fast's threshold (WorldSettings::fast_travel_fraction)
+  bool sweeping = true;        // continuous collision on: fast spheres are swept
+  bool shock = false;          // masses differ more than shock_mass_ratio: shock propagation
+  bool guarding = false;       // terrain guard on (there is a terrain)
+  bool friction_needed_ = true;  // some contact of this step has friction > 0 (merge_contacts)
+  bool pair_margins = false;     // pairs filtered by their own margin (pair_margin_travel > 0)
+  bool rotation = true;          // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
+
+  void predict(float& margin) {
+    SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kSphereBlock);
+    assign_geometric(st.block_max_speed, blocks, 0.0f);
+    if (st.block_extremes.size() < blocks) resize_geometric(st.block_extremes, blocks);
+    grow_block_lists(st.fast_blocks, blocks);
+    for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Predict);
+      st.fast_blocks[b].clear();
+      st.block_max_speed[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
+      st.block_extremes[b] = block_extremes(first, last);
+      if (guarding) remember_reach(first, last);
+      if (pair_margins) remember_travel(first, last);
+    });
+    float max_speed = 0.0f;
+    for (float v : st.block_max_speed) max_speed = std::max(max_speed, v);
+    st.fast.clear();
+    std::size_t fast_count = 0;
+    for (std::size_t b = 0; b < blocks; ++b) fast_count += st.fast_blocks[b].size();
+    reserve_geometric(st.fast, fast_count);
+    for (std::size_t b = 0; b < blocks; ++b) st.fast.insert(st.fast.end(), st.fast_blocks[b].begin(), st.fast_blocks[b].end());
+    // Minima and maxima do not depend on the order they are combined in.
+    SphereExtremes all = block_extremes(0, 0);
+    for (const SphereExtremes& e : st.block_extremes) all.combine(e);
+    max_radius = n > 0 ? all.max_radius : 0.0f;
+    min_radius = n > 0 ? all.min_radius : 0.0f;
+    const float min_inv_mass = all.min_inv_mass, max_inv_mass = all.max_inv_mass;
+    // Heaviest over lightest = largest inverse mass over smallest.
+    shock = max_inv_mass > w.settings_.shock_mass_ratio * min_inv_mass;
+    margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
+  }
+
+  /// Radii and inverse masses (of movable spheres) of spheres [first, last), branch-free.
+  SphereExtremes block_extremes(std::size_t first, std::size_t last) const {
+    const SphereSoA& s = w.spheres_;
+    SphereExtremes e;
+    for (std::size_t i = first; i < last; ++i) {
+      const float r = s.radius[i], im = s.inv_mass[i];
+      e.max_radius = r > e.max_radius ? r : e.max_radius;
+      e.min_radius = r < e.min_radius ? r : e.min_radius;
+      e.min_inv_mass = im > 0.0f && im < e.min_inv_mass ? im : e.min_inv_mass;
+      e.max_inv_mass = im > e.max_inv_mass ? im : e.max_inv_mass;
+    }
+    return e;
+  }
+
+  /// Terrain guard, part 1: where each sphere starts and how far its terrain contacts reach
+  /// (the reach of Terrain::find_contacts; swept spheres need no guard), plus the overlap the
+  /// depenetration tolerates anyway (slop): a sphere that moved no further than that cannot
+  /// have entered ground outside its contacts by more than the slop. Without that allowance
+  /// rounding flags every falling sphere (its move is exactly its reach): terrain-rain 4k
+  /// spent 11% more instructions on queries that moved nothing (callgrind).
+  void remember_reach(std::size_t first, std::size_t last) {
+    const SphereSoA& s = w.spheres_;
+    const float slop = w.settings_.depenetration.slop_fraction;
+    const float swept_reach = sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
+    // Selects, no branches, and unaliased pointers, so that it vectorises: it runs for every sphere.
+    float* __restrict x0 = st.start_x.data();
+    float* __restrict y0 = st.start_y.data();
+    float* __restrict z0 = st.start_z.data();
+    float* __restrict reach2_out = st.reach2.data();
+    const float* __restrict px = s.px.data();
+    const float* __restrict py = s.py.data();
+    const float* __restrict pz = s.pz.data();
+    const float* __restrict vx = s.vx.data();
+    const float* __restrict vy = s.vy.data();
+    const float* __restrict vz = s.vz.data();
+    const float* __restrict radius = s.radius.data();
+    for (std::size_t i = first; i < last; ++i) {
+      x0[i] = px[i], y0[i] = py[i], z0[i] = pz[i];
+      const float v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
+      const bool fast = is_fast(v2, params.dt, radius[i], fast_fraction);
+      const float reach = (fast ? fast_fraction * radius[i] : std::sqrt(v2) * params.dt) + slop * radius[i];
+      const float reach2 = reach * reach;
+      reach2_out[i] = fast ? std::max(reach2, swept_reach) : reach2;
+    }
+  }
+
+  /// Terrain guard, part 2: a sphere that ended the step further from where it started than
+  /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
+  /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
+  void guard_terrain() {
+#if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
+    SphereSoA& s = w.spheres_;
+    std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t block, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      // Flags first, branch-free so that it vectorises; then the few flagged spheres, a packet
+      // at a time (Terrain::push_out_spheres).
+      std::uint8_t beyond[kSphereBlock];
+      for (std::size_t i = first; i < last; ++i) {
+        const float dx = s.px[i] - st.start_x[i], dy = s.py[i] - st.start_y[i], dz = s.pz[i] - st.start_z[i];
+        beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > st.reach2[i]) &
+                            static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
+      }
+      // Where masses differ (shock propagation runs), a light sphere between a heavy one and
+      // the ground takes nearly all of their pair's depenetration, and is pressed into the
+      // ground a little more each step; one struck while it had no ground contact is driven
+      // further than its own speed reached. So in such steps a sphere is pushed out too when
+      // one of its ground contacts (this block's, from detection) now overlaps by more than
+      // kGuardSinkFraction of its radius, or when its centre ended lower than that short of
+      // resting on the surface under it. Only then: with equal masses no sphere is driven
+      // through its ground contact, and scenes that never mix masses pay nothing (issue 28).
+      if (shock) {
+        for (const Contact& c : st.contact_blocks[block])
+          if (c.b == kStaticBody && current_gap(s, c) < -kGuardSinkFraction * s.radius[c.a])
+            beyond[c.a - first] = static_cast<std::uint8_t>(s.inv_mass[c.a] > 0.0f);
+        const Heightmap& ground = w.terrain_->heightmap();
+        for (std::size_t i = first; i < last; ++i)
+          if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
+              s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i])
+            beyond[i - first] = 1;
+      }
+      std::uint32_t flagged[kSphereBlock];
+      std::size_t flagged_count = 0;
+      for (std::size_t i = first; i < last; ++i)
+        if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
+      // One moved right through the ground (pushed by a crowd) ends too deep for push_out's
+      // query to find a triangle: it is lifted above the surface first. Not one that is fast
+      // by its own speed: with continuous collision off, tunnelling is what the discrete step
+      // does with those (WorldSettings::continuous_collision), and with it on none is flagged.
+      for (std::size_t k = 0; k < flagged_count; ++k) {
+        const std::uint32_t i = flagged[k];
+        const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+        if (!is_fast(v2, params.dt, s.radius[i], fast_fraction))
+          w.terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      }
+      const std::size_t count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
+      if (count) pushed += count;
+    });
+    w.stats_.pushed_out = pushed.load();
+#endif
+  }
+
+  void detect_static() {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kSphereBlock);
+    grow_block_lists(st.contact_blocks, blocks);
+    for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
+      st.contact_blocks[b].clear();
+      find_plane_contacts(s, w.planes_, first, last, st.contact_blocks[b]);
+#if HAIL_WITH_TERRAIN
+      if (w.terrain_)
+        w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
+                                  st.contact_blocks[b], fast_fraction, sweeping);
+#endif
+    });
+  }
+
+  void detect_pairs(float margin) {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kPairRowBlock);
+    grow_block_lists(st.pair_blocks, blocks);
+    grow_block_lists(st.pair_row_scratch, blocks);
+    for (std::size_t b = 0; b < blocks; ++b) st.pair_blocks[b].clear();
+    w.stats_.sphere_contacts_capped = false;
+    if (!w.settings_.sphere_collisions) return;
+    PairSearch search = w.settings_.pair_search;
+    if (search == PairSearch::Automatic)
+      search = automatic_pair_search(n, min_radius, max_radius);
+    w.stats_.pair_search = search;
+    // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
+    const PairMargins own_margins = pair_margins ? PairMargins{st.travel.data(), w.settings_.pair_margin_travel} : PairMargins{};
+    if (search == PairSearch::Grid) st.grid.build(s, margin, own_margins);
+    if (search == PairSearch::SweepAndPrune) st.sorted_axis.build(s, margin);
+    if (search == PairSearch::Bvh) st.sphere_bvh.build(s, margin);
+    const std::size_t per_sphere = w.settings_.max_sphere_contacts_per_sphere;
+    std::atomic<bool> capped{false};  // an OR: the order of stores cannot change it
+    for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::DetectPairs);
+      std::vector<SpherePair>& out = st.pair_blocks[b];
+      std::vector<std::uint32_t>& row = st.pair_row_scratch[b];
+      auto find = [&](std::size_t from, std::size_t to) {
+        switch (search) {
+          case PairSearch::Grid: st.grid.find_pairs(s, from, to, margin, out, row); break;
+          case PairSearch::SweepAndPrune: st.sorted_axis.find_pairs(s, from, to, margin, out, row); break;
+          case PairSearch::Bvh: st.sphere_bvh.find_pairs(s, from, to, margin, out, row); break;
+          default: find_sphere_pairs_simd(s, from, to, margin, out); break;
+        }
+      };
+      // The block's share of WorldSettings::max_sphere_contacts_per_sphere. A row has fewer
+      // than n pairs, so a small world cannot reach it: one search. Otherwise the rows are
+      // searched a chunk at a time and the search stops at the share, so that coincident
+      // spheres (every pair a contact) hold at most the share plus a chunk's rows of pairs
+      // here, not n^2 / 2. The pairs kept are the first in row order: the same for any
+      // thread count and any search.
+      const std::size_t share = per_sphere * (last - first);
+      if ((last - first) * n <= share) {
+        find(first, last);
+      } else {
+        for (std::size_t from = first; from < last; from += kPairRowChunk) {
+          find(from, std::min(last, from + kPairRowChunk));
+          if (out.size() <= share) continue;
+          out.resize(share);
+          out.shrink_to_fit();  // overflow only: drop what a chunk of coincident spheres made
+          capped.store(true, std::memory_order_relaxed);
+          break;
+        }
+      }
+      if (!st.fast.empty()) drop_fast_speculative_pairs(out);
+      if (pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
+    });
+    w.stats_.sphere_contacts_capped = capped.load();
+  }
+
+  /// Drops the pairs whose gap is beyond their own margin (WorldSettings::pair_margin_travel):
+  /// the search used the step's margin, which the fastest sphere sets for every pair. The
+  /// predicate is spheres_within's, with the pair's margin in place of the step's.
+  void keep_pairs_within_their_margin(std::vector<SpherePair>& pairs, float margin) const {
+    const SphereSoA& s = w.spheres_;
+    const float k = w.settings_.pair_margin_travel;
+    const float* travel = st.travel.data();
+    std::erase_if(pairs, [&](const SpherePair& p) {
+      const float pair_margin = std::min(margin, k * (travel[p.a] + travel[p.b]));
+      const float reach = s.radius[p.b] + (s.radius[p.a] + pair_margin);
+      return !spheres_within(s.px[p.b] - s.px[p.a], s.py[p.b] - s.py[p.a], s.pz[p.b] - s.pz[p.a], reach);
+    });
+  }
+
+  /// |v| dt of spheres [first, last), for keep_pairs_within_their_margin (and the grid's
+  /// margins), and never less than a share of the contact slop: k (ta + tb) is then at least
+  /// kRestingContactSlop (ra + rb) / 2, so two spheres at rest that touch, or nearly, keep
+  /// their contact. Without it their margin was 0, the pair search's strict test left out
+  /// spheres touching exactly, and a pulse crossed a resting row one sphere per step (the
+  /// cradle: the far sphere left 4 steps after the impact, tests/test_known_answers.cpp).
+  /// The floor, kRestingContactSlop r / 2k, is 0.125 mm at r = 0.5, k = 2: under gravity only a
+  /// sphere near the top of a hop travels less (g dt^2 is 2.7 mm at 60 Hz).
+  void remember_travel(std::size_t first, std::size_t last) {
+    const SphereSoA& s = w.spheres_;
+    const float floor_per_radius = kRestingContactSlop / (2.0f * w.settings_.pair_margin_travel);  // k > 0 here
+    float* __restrict travel = st.travel.data();
+    const float* __restrict vx = s.vx.data();
+    const float* __restrict vy = s.vy.data();
+    const float* __restrict vz = s.vz.data();
+    const float* __restrict radius = s.radius.data();
+    for (std::size_t i = first; i < last; ++i) {
+      const float moved = std::sqrt(vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) * params.dt;
+      const float least = floor_per_radius * radius[i];
+      travel[i] = moved > least ? moved : least;
+    }
+  }
+
+  /// A fast sphere meets what it does not touch yet in the sweep, at the time it hits: a
+  /// speculative contact would bounce it at the start of the step instead.
+  void drop_fast_speculative_pairs(std::vector<SpherePair>& pairs) const {
+    const SphereSoA& s = w.spheres_;
+    auto fast = [&](std::uint32_t i) { return std::binary_search(st.fast.begin(), st.fast.end(), i); };
+    std::erase_if(pairs, [&](const SpherePair& p) {
+      if (!fast(p.a) && !fast(p.b)) return false;
+      const float dx = s.px[p.b] - s.px[p.a], dy = s.py[p.b] - s.py[p.a], dz = s.pz[p.b] - s.pz[p.a];
+      const float reach = s.radius[p.a] + s.radius[p.b];
+      return dx * dx + dy * dy + dz * dz > reach * reach;
+    });
+  }
+
+  /// Continuous collision: the fast spheres' first impacts found in parallel, then all impacts
+  /// taken in time order (serial, few), then the swept spheres placed at their end of step.
+  void sweep() {
+#if HAIL_WITH_CONTINUOUS_COLLISION
+    ContinuousCollision& ccd = st.ccd;
+    SphereSoA& s = w.spheres_;
+    ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings_.reorder_interval > 0);
+    if (st.fast.empty()) return;
+    const SweepScene scene{w.terrain_.get(), w.terrain_restitution_, w.terrain_friction_, w.planes_,
+                           w.settings_.sphere_collisions, rotation};
+    for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      ccd.find_first_events(s, scene, first, last);
+    });
+    ccd.resolve(s, scene, params.restitution_threshold, w.settings_.max_sweep_events);
+    ccd.finish(s);
+#endif
+  }
+
+  /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
+  /// offsets are summed first, so the blocks are copied (and pairs made into contacts) in
+  /// parallel into fixed places.
+  void merge_contacts() {
+    const SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t static_blocks = block_count(n, kSphereBlock), pair_blocks = block_count(n, kPairRowBlock);
+    std::vector<std::size_t>& offset = st.merge_offsets;
+    assign_geometric(offset, static_blocks + pair_blocks + 1, std::size_t{0});
+    for (std::size_t b = 0; b < static_blocks; ++b) offset[b + 1] = offset[b] + st.contact_blocks[b].size();
+    for (std::size_t b = 0; b < pair_blocks; ++b)
+      offset[static_blocks + b + 1] = offset[static_blocks + b] + st.pair_blocks[b].size();
+    resize_geometric(st.contacts, offset.back());
+    const std::size_t static_count = offset[static_blocks];
+    const bool warm = w.settings_.warm_start;
+    std::atomic<bool> friction{false};        // an OR: the order of stores cannot change the result
+    std::atomic<std::size_t> matched{0};      // a sum: the order of adds cannot change it
+    if (warm) st.contact_cache.begin_layout(s);
+    for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      Contact* const first = st.contacts.data() + offset[b];
+      Contact* out = first;
+      if (b < static_blocks) {
+        out = std::copy(st.contact_blocks[b].begin(), st.contact_blocks[b].end(), out);
+      } else {
+        // Made in place (the returned prvalue initialises *out): assigned from a temporary,
+        // its copy read back 16 bytes at a time what the call had just stored 4 bytes at a time,
+        // and store forwarding failed on each contact (64% of the merge's samples at 64k, perf).
+        for (const SpherePair& pair : st.pair_blocks[b - static_blocks])
+          ::new (static_cast<void*>(out++)) Contact(make_sphere_contact(s, pair));
+      }
+      if (std::any_of(first, out, [](const Contact& c) { return c.friction > 0.0f; }))
+        friction.store(true, std::memory_order_relaxed);
+      // The block's warm-start impulses while its contacts are still in this core's cache
+      // (a pass of its own read them all back from memory at 64k).
+      // And where they lie, for remembering their impulses after the solve.
+      if (warm) {
+        matched += st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s,
+                                         w.settings_.warm_start_factor);
+        if (b < static_blocks) {
+          st.contact_cache.layout_static(st.contacts, offset[b], offset[b + 1], b * kSphereBlock,
+                                         std::min(n, (b + 1) * kSphereBlock), s);
+        } else {
+          const std::size_t rows = b - static_blocks;
+          st.contact_cache.layout_pairs(st.contacts, offset[b], offset[b + 1], rows * kPairRowBlock,
+                                        std::min(n, (rows + 1) * kPairRowBlock));
+        }
+      }
+    });
+    friction_needed_ = friction.load();
+    w.stats_.static_contacts = static_count;
+    w.stats_.sphere_contacts = st.contacts.size() - static_count;
+    w.stats_.warm_started = matched.load();
+  }
+
+  /// Keeps this step's impulses for the next step's warm start: each contact (now in colour
+  /// order) into the cache at its detection-order index, where the merge noted the ranges.
+  void remember_impulses() {
+    if (!w.settings_.warm_start) return;
+    ContactImpulseCache& cache = st.contact_cache;
+    cache.begin_store(st.contacts.size());
+    const std::uint32_t* order = st.colouring.order.data();
+    const std::size_t static_count = w.stats_.static_contacts;
+    for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres_);
+    });
+  }
+
+  /// Runs f(tile, first_batch, last_batch, scalar_contacts) over the staged contact batches:
+  /// first every tile t (kernel/solver/contact_colouring.h) for which tile_wanted(t), as one block, its
+  /// colours in order, tiles in parallel (one crew stage for all of them); then the shared
+  /// colours (tile = tile_count()) one after another, the chunks of each in parallel (one crew
+  /// stage per colour). A serial overflow colour is all scalar contacts (a batched colour has
+  /// none). Chunks are fixed by the batch count, not the thread count.
+  template <class TileWanted, class F>
+  void for_each_batch_chunk(StageCrew& crew, TileWanted&& tile_wanted, F&& f) {
+    const ContactColouring& col = st.colouring;
+    const ContactBatches& batches = st.contact_batches;
+    const std::size_t tiles = col.tile_count();
+    auto whole_colour = [&](std::size_t tile, std::size_t colour) {
+      const std::size_t end = col.colour_begin[colour + 1], tail = batches.tail_begin(colour);
+      f(tile, batches.batch_begin(colour), batches.batch_end(colour), std::span<Contact>(st.contacts.data() + tail, end - tail));
+    };
+    crew.stage(tiles, [&](std::size_t t) {
+      if (!tile_wanted(t)) return;
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) whole_colour(t, colour);
+    });
+    for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour) {
+      const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+      if (col.is_serial(colour) || count <= kBatchChunk) {
+        crew.stage(1, [&](std::size_t) {
+          ScopedTraceRecord record(w.trace_, Phase::Solve);
+          whole_colour(tiles, colour);
+        });
+        continue;
+      }
+      const std::size_t chunks = block_count(count, kBatchChunk);
+      crew.stage(chunks, [&](std::size_t k) {
+        ScopedTraceRecord record(w.trace_, Phase::Solve);
+        f(tiles, first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk), std::span<Contact>());
+      });
+    }
+  }
+
+  /// for_each_batch_chunk over every tile.
+  template <class F>
+  void for_each_batch_chunk(StageCrew& crew, F&& f) {
+    for_each_batch_chunk(crew, [](std::size_t) { return true; }, f);
+  }
+
+  /// After collision pass `pass` applied impulses to some contacts in shared batches [first,
+  /// last) or `scalar`: each tile with a body the pass changed (stamp pass + 1) gets that stamp
+  /// too, so that the next pass runs the tile (tile_changed_ is the most recent stamp of any of
+  /// the tile's bodies). Chunks of one colour may mark one tile at once, with the same value.
+  void mark_changed_tiles(std::size_t first, std::size_t last, std::span<const Contact> scalar,
+                          std::span<const SolverBody> bodies, std::uint32_t pass, std::size_t tile_spheres) {
+    const std::uint32_t stamp = pass + 1;
+    const std::size_t n = bodies.size() - 1;  // the static body is last
+    auto mark = [&](std::uint32_t slot) {
+      if (slot < n && bodies[slot].changed_in_pass == stamp)
+        std::atomic_ref<std::uint32_t>(st.tile_changed[slot / tile_spheres]).store(stamp, std::memory_order_relaxed);
+    };
+    auto mark_contacts = [&](std::span<const Contact> run) {
+      for (const Contact& c : run) {
+        mark(c.a);
+        if (c.b != kStaticBody) mark(c.b);
+      }
+    };
+    const auto [begin, end] = st.contact_batches.contact_range(first, last);
+    mark_contacts(std::span<const Contact>(st.contacts.data() + begin, end - begin));
+    mark_contacts(scalar);
+  }
+
+  /// colour_contacts, its tiles in parallel (TiledColouring: the same colouring, bit for bit)
+  /// when there are tiles and threads to share them. On one thread the plain loop is faster
+  /// (terrain-rain 64k: 15.6 against 16.1 ms of solve), on two the tiles' colouring no longer
+  /// leaves a thread idle (2 threads, solve: 4k 0.338 -> 0.316 ms, 16k 1.54 -> 1.38, 64k 8.93
+  /// -> 8.62; docs/benchmarks.md).
+  void colour(std::size_t n, std::size_t tile_spheres, const SolveStartVelocities& velocities) {
+    if (tile_spheres == 0 || tbb::this_task_arena::max_concurrency() == 1) {
+      colour_contacts(st.contacts, n, st.colouring, tile_spheres, &velocities);
+      return;
+    }
+    const std::size_t static_blocks = block_count(n, kSphereBlock), pair_blocks = block_count(n, kPairRowBlock);
+    const std::vector<std::size_t>& offset = st.merge_offsets;
+    const DetectionBlocks blocks{std::span<const std::size_t>(offset.data(), static_blocks + 1),
+                                 std::span<const std::size_t>(offset.data() + static_blocks, pair_blocks + 1),
+                                 kSphereBlock, kPairRowBlock};
+    TiledColouring& tiled = st.tiled_colouring;
+    const std::size_t tiles = tiled.begin(st.contacts, blocks, n, st.colouring, tile_spheres, &velocities);
+    for_each_block(tiles, 1, [&](std::size_t t, std::size_t, std::size_t) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      tiled.colour_tile(t);
+    });
+    tiled.colour_shared();
+    for_each_block(tiles, 1, [&](std::size_t t, std::size_t, std::size_t) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      tiled.place_tile(t);
+    });
+  }
+
+  void solve() {
+    SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t tile_spheres = solver_tile_size(w.settings_.solver_tile_spheres, n);
+    const SolveStartVelocities velocities{s.vx.data(), s.vy.data(), s.vz.data(), 1.0f / params.dt};
+    colour(n, tile_spheres, velocities);
+    // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
+    // batches are staged from and the scalar parts stream through.
+    resize_geometric(st.coloured_contacts, st.contacts.size());
+    for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) st.coloured_contacts[k] = st.contacts[st.colouring.order[k]];
+    });
+    std::swap(st.contacts, st.coloured_contacts);
+    // What the passes compute: no friction (no contact has any), friction on linear velocities
+    // (rotation off), or friction with the angular terms. Angular velocities are loaded only
+    // for the last: normal impulses (the shock pass's too) never turn a sphere.
+    const FrictionWork work = friction_work(friction_needed_, rotation);
+    const bool angular = rotation && friction_needed_;
+    // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
+    if (st.solver_bodies.size() < n + 1) resize_geometric(st.solver_bodies, n + 1);
+    const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
+    bodies[n] = SolverBody{};
+    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      load_solver_bodies(s, first, last, bodies, angular);
+    });
+    const ContactColouring& col = st.colouring;
+    ContactBatches& batches = st.contact_batches;
+    batches.plan(col.colour_begin, col.serial);
+    for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      batches.fill(first, last, st.contacts, std::span<const float>(s.radius.data(), n));
+    });
+    w.stats_.colours = col.sequential_colours();
+    w.stats_.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
+    w.stats_.tile_contacts = st.contacts.size() - w.stats_.shared_contacts;
+    w.stats_.collision_passes = 0;
+    const float threshold = params.restitution_threshold;
+    const float inv_dt = 1.0f / params.dt;
+    // The passes below are about (collision + 1 + resting) x (1 + shared colours) short
+    // stages: one crew for all of them (jobs/stage_crew.h) instead of a parallel loop each.
+    const std::size_t tiles = col.tile_count();
+    const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
+    assign_geometric(st.tile_changed, tiles, std::uint32_t{0});
+    const std::size_t stages = (static_cast<std::size_t>(w.settings_.collision_iterations) + 1 +
+                                static_cast<std::size_t>(w.settings_.resting_iterations)) * stages_per_pass;
+    st.crew.run(stages, [&](StageCrew& crew) {
+      for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
+        std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
+        const auto number = static_cast<std::uint32_t>(pass);
+        // A tile none of whose bodies changed since the previous pass began would skip every
+        // batch (ContactBatches::solve_collision): skipped whole, without reading its batches.
+        auto tile_wanted = [&](std::size_t t) { return pass == 0 || st.tile_changed[t] >= number; };
+        for_each_batch_chunk(crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
+          const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+          if (!(simd || rest)) return;
+          any.store(true, std::memory_order_relaxed);
+          if (tile < tiles) st.tile_changed[tile] = number + 1;  // only this tile's block writes it
+          else if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
+        });
+        if (!any.load()) break;
+        ++w.stats_.collision_passes;
+      }
+      // Warm start after the collision passes, not before: applied first, an impulse that no
+      // longer fits the pile pushes neighbours into each other faster than the restitution
+      // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of
+      // jitter that way, 1.4 J this way).
+      if (w.settings_.warm_start && w.stats_.warm_started > 0)
+        for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          batches.warm_start(first, last, bodies, work);
+          warm_start_run_scalar(scalar, bodies, work);
+        });
+      for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
+        for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+          batches.solve_resting(first, last, bodies, inv_dt, work);
+          solve_resting_run_scalar(scalar, bodies, inv_dt, work);
+        });
+      }
+    });
+    if (shock) {
+      // Serial: it runs only in scenes of very different masses, and its order is its point.
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      st.shock.plan(st.contacts, bodies);
+      st.shock.solve(st.contacts, bodies, inv_dt);
+    }
+    for_each_block(batches.batch_count(), kBatchChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      batches.store_impulses(st.contacts, first, last);
+    });
+    remember_impulses();
+    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      store_solver_velocities(bodies, first, last, s, angular);
+    });
+  }
+
+  /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):
+  /// the sweep's, then each block's plane impacts in block order (so in slot order).
+  void integrate() {
+    SphereSoA& s = w.spheres_;
+    const bool planes = !w.planes_.empty();
+    const std::size_t blocks = block_count(s.size(), kSphereBlock);
+    if (planes) grow_block_lists(st.impact_blocks, blocks);
+    for_each_block(s.size(), kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Integrate);
+      std::vector<Impact>* impacts = planes ? &st.impact_blocks[b] : nullptr;
+      if (impacts) impacts->clear();
+      integrate_positions(s, first, last, w.planes_, params, st.ccd.moved(), impacts);
+    });
+    st.impacts.clear();
+    std::size_t count = sweeping ? st.ccd.impacts().size() : 0;
+    if (planes)
+      for (std::size_t b = 0; b < blocks; ++b) count += st.impact_blocks[b].size();
+    reserve_geometric(st.impacts, count);
+    if (sweeping) st.impacts.insert(st.impacts.end(), st.ccd.impacts().begin(), st.ccd.impacts().end());
+    if (planes)
+      for (std::size_t b = 0; b < blocks; ++b)
+        st.impacts.insert(st.impacts.end(), st.impact_blocks[b].begin(), st.impact_blocks[b].end());
+  }
+
+  /// Passes of push_apart, colour after colour. A contact whose spheres did not move since
+  /// its previous pass evaluated it (and then moved nothing, or moved them: stamp equal) finds
+  /// the same positions and would do nothing, so it is skipped: the same result for less work
+  /// (most contacts of a pile are within the slop and never move anything). moved_at_ holds,
+  /// per sphere, the number of the last (pass, colour) that moved it, 1-based, and one more
+  /// entry, always 0, for the static body's slot. A colour's batches (staged by the solve) run
+  /// in SIMD (ContactBatches::depenetrate); a serial overflow colour runs push_apart in order.
+  void depenetrate() {
+    SphereSoA& s = w.spheres_;
+    const ContactColouring& col = st.colouring;
+    ContactBatches& batches = st.contact_batches;
+    const std::size_t colours = col.colour_count();
+    assign_geometric(st.moved_at, s.size() + 1, std::uint32_t{0});
+    std::uint32_t* const moved = st.moved_at.data();
+    DepenetrationArrays arrays{s.px.data(), s.py.data(), s.pz.data(), s.inv_mass.data(), moved,
+                               static_cast<std::int32_t>(s.size()), w.settings_.depenetration};
+    for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
+      auto stamps = [&](std::size_t colour) {
+        const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
+        return std::pair{now, pass == 0 ? 0u : now - static_cast<std::uint32_t>(colours)};
+      };
+      // The scalar rule, for a serial colour's contacts (which may share spheres).
+      auto push_run = [&](std::size_t colour, std::span<const Contact> run) {
+        const auto [now, previous] = stamps(colour);
+        for (const Contact& c : run) {
+          const bool dynamic_b = c.b != kStaticBody;
+          if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
+          if (!push_apart(s, c, w.settings_.depenetration)) continue;
+          moved[c.a] = now;
+          if (dynamic_b) moved[c.b] = now;
+        }
+      };
+      auto push_colour = [&](std::size_t colour, std::size_t first_batch, std::size_t last_batch) {
+        const auto [now, previous] = stamps(colour);
+        batches.depenetrate(first_batch, last_batch, arrays, now, previous);
+        const std::size_t tail = batches.tail_begin(colour), end = col.colour_begin[colour + 1];
+        push_run(colour, std::span<const Contact>(st.contacts.data() + tail, end - tail));
+      };
+      // Tiles in parallel, each its colours in order (they share no sphere), then the shared colours.
+      for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
+        ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+        for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
+          push_colour(colour, batches.batch_begin(colour), batches.batch_end(colour));
+      });
+      for (std::size_t colour = col.shared_colour_begin(); colour < colours; ++colour) {
+        if (col.is_serial(colour)) {
+          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          push_colour(colour, 0, 0);
+          continue;
+        }
+        const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
+        const std::pair<std::uint32_t, std::uint32_t> now_previous = stamps(colour);
+        for_each_block(count, kBatchChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          batches.depenetrate(first + begin, first + end, arrays, now_previous.first, now_previous.second);
+        });
+      }
+    }
+  }
+
+  /// Every reorder_interval steps: dense slots re-sorted by Morton code (kernel/broadphase/spatial_order.h).
+  [[nodiscard]] bool reorder_due() const {
+    const int interval = w.settings_.reorder_interval;
+    return interval > 0 && w.steps_taken_ % static_cast<std::uint64_t>(interval) == 0;
+  }
+  /// morton_slot_order and SphereSoA::permute over blocks in parallel: the same order and the
+  /// same state (kernel/broadphase/spatial_order.h). Serial, the sort alone was a phase whose share grows
+  /// with N (n log n) and with the thread count (terrain-rain 256k, 1 thread: 0.86 ms per step
+  /// on average, a re-sort every 16 steps).
+  void reorder() {
+    SphereSoA& s = w.spheres_;
+    const std::size_t n = s.size();
+    const std::size_t blocks = block_count(n, kReorderBlock);
+    assign_geometric(st.reorder_bounds, blocks, empty_aabb());
+    for_each_block(n, kReorderBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Reorder);
+      st.reorder_bounds[b] = finite_centre_bounds(s, first, last);
+    });
+    Aabb bounds = empty_aabb();
+    for (const Aabb& b : st.reorder_bounds) grow(bounds, b);
+    std::vector<std::uint64_t>& keys = st.reorder_keys;
+    std::vector<std::uint32_t>& order = st.reorder_slots;
+    resize_geometric(keys, n);
+    resize_geometric(order, n);
+    for_each_block(n, kReorderBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace_, Phase::Reorder);
+      morton_keys(s, bounds, first, last, keys.data());
+    });
+    if (tbb::this_task_arena::max_concurrency() == 1)
+      std::sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(n));
+    else
+      tbb::parallel_sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(n));
+    auto for_ranges = [&](std::size_t count, auto&& f) {
+      for_each_block(count, kReorderBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+        ScopedTraceRecord record(w.trace_, Phase::Reorder);
+        f(first, last);
+      });
+    };
+    for_ranges(n, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) order[k] = static_cast<std::uint32_t>(keys[k]);
+    });
+    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation, for_ranges);  // without rotation every w is 0
+    st.contact_cache.remap_slots(std::span<const std::uint32_t>(order.data(), n));  // its ranges are kept by slot
+  }
+
+  /// The step is assembled from what the scene has (StepParts): a phase with nothing to do is
+  /// not entered at all, so a scene pays only for the features it uses.
+  void run() {
+    PhaseTimes& t = w.times_;
+    StepParts& ran = w.stats_.ran;
+    ran = {};
+    ran.reorder = reorder_due();
+    if (ran.reorder) { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace_, Phase::Reorder); reorder(); }
+    float margin = 0.0f;
+    guarding = w.terrain_ != nullptr;
+    ran.terrain_guard = guarding;
+    w.stats_.pushed_out = 0;
+    pair_margins = w.settings_.pair_margin_travel > 0.0f && w.settings_.sphere_collisions;
+    if (pair_margins && st.travel.size() < w.spheres_.size()) resize_geometric(st.travel, w.spheres_.size());
+    if (guarding) {
+      const std::size_t n = w.spheres_.size();
+      for (std::vector<float>* v : {&st.start_x, &st.start_y, &st.start_z, &st.reach2})
+        if (v->size() < n) resize_geometric(*v, n);
+    }
+    // Each phase is also recorded on the thread that runs its serial parts (the trace's
+    // per-block records cover the parallel parts).
+    { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace_, Phase::Predict); predict(margin); }
+    ran.detect_static = w.terrain_ != nullptr || !w.planes_.empty();
+    ran.detect_pairs = w.settings_.sphere_collisions && w.spheres_.size() > 1;
+    auto detect_static_timed = [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); };
+    auto detect_pairs_timed = [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); };
+    if (ran.detect_static && ran.detect_pairs) {
+      tbb::parallel_invoke(detect_static_timed, detect_pairs_timed);
+    } else if (ran.detect_static) {
+      detect_static_timed();
+      clear_pair_blocks();
+    } else if (ran.detect_pairs) {
+      clear_static_blocks();
+      detect_pairs_timed();
+    } else {
+      clear_static_blocks();
+      clear_pair_blocks();
+    }
+    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); }
+    ran.solve = !st.contacts.empty();
+    if (ran.solve) {
+      ScopedPhaseTimer timer(t.solve);
+      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      solve();
+    } else {
+      w.stats_.colours = w.stats_.tile_contacts = w.stats_.shared_contacts = 0;
+      w.stats_.collision_passes = 0;
+      if (w.settings_.warm_start) st.contact_cache.clear();  // nothing touched: nothing to carry over
+    }
+    ran.friction = ran.solve && friction_needed_;
+    ran.rotation = ran.solve && rotation && friction_needed_;
+    ran.shock = ran.solve && shock;
+    ran.sweep = sweeping && !st.fast.empty();
+    if (sweeping) {
+      ScopedPhaseTimer timer(t.sweep);
+      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      sweep();
+      w.stats_.sweep = st.ccd.stats();
+    }
+    { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace_, Phase::Integrate); integrate(); }
+    ran.depenetrate = ran.solve && w.settings_.depenetration_iterations > 0;
+    if (ran.depenetrate || guarding) {
+      ScopedPhaseTimer timer(t.depenetrate);
+      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      if (ran.depenetrate) depenetrate();
+      if (guarding) guard_terrain();
+    }
+  }
+
+  /// Phases that are skipped still leave their block buffers empty for merge_contacts.
+  void clear_static_blocks() {
+    const std::size_t blocks = block_count(w.spheres_.size(), kSphereBlock);
+    grow_block_lists(st.contact_blocks, blocks);
+    for (std::size_t b = 0; b < blocks; ++b) st.contact_blocks[b].clear();
+  }
+  void clear_pair_blocks() {
+    const std::size_t blocks = block_count(w.spheres_.size(), kPairRowBlock);
+    grow_block_lists(st.pair_blocks, blocks);
+    for (std::size_t b = 0; b < blocks; ++b) st.pair_blocks[b].clear();
+  }
+};
+
+void World::step(float dt) {
+  // Before anything changes: a refused step leaves the world as it was.
+  const int substeps = static_cast<int>(check_step(settings_, dt));  // <= max_substeps, an int
+  times_ = {};
+  // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
+  const float scaled = dt * settings_.time_scale;
+  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
+  const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
+  // dt * time_scale in float where it is finite (bitwise what steps always took); in double
+  // where the float product overflows yet each substep does not.
+  const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
+                                           : static_cast<float>(double(dt) * settings_.time_scale / substeps);
+  for (int k = 0; k < substeps; ++k) substep(each);
+  stats_.lifted_out = lifted;
+}
+
+void World::substep(float scaled) {
+  StepPipeline pipeline{*this, *step_, {}};
+  pipeline.params.integrator = settings_.integrator;
+  pipeline.params.gravity[0] = settings_.gravity.x();
+  pipeline.params.gravity[1] = settings_.gravity.y();
+  pipeline.params.gravity[2] = settings_.gravity.z();
+  pipeline.params.dt = scaled;
+  pipeline.fast_fraction = settings_.fast_travel_fraction;
+  pipeline.sweeping = settings_.continuous_collision;
+  pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
+  pipeline.params.rotation = pipeline.rotation;
+  // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
+  pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
+  arena_->execute([&] { pipeline.run(); });
+  if (trace_.enabled()) trace_.finish_step(steps_taken_);
+  ++steps_taken_;
+}
+
+}  // namespace hail

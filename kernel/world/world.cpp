@@ -1,0 +1,409 @@
+#include "hail/world.h"
+#include "kernel/world/step_state.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+#include "kernel/dispatch/simd_dispatch.h"
+#include "kernel/terrain/terrain_parts.h"
+
+namespace hail {
+namespace {
+
+/// %g: limits such as 1e-12 read as 0.000000 in std::to_string.
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+std::string describe(const char* what, float value) { return std::string(what) + " = " + std::to_string(value); }
+
+/// Throws InvalidArgument("hail: " + message) unless ok. `message` is a string, or a function
+/// that makes one: then it is made only on failure, so that a check that passes allocates
+/// nothing (add_sphere within reserve() and the accessors must not; tests/allocation/).
+template <class Message>
+void require(bool ok, Message&& message) {
+  if (ok) return;
+  if constexpr (std::is_invocable_v<Message>) throw InvalidArgument("hail: " + std::string(message()));
+  else throw InvalidArgument("hail: " + std::string(message));
+}
+
+void require_finite(const Vec3& v, const char* what) {
+  require(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()), [&] {
+    return std::string(what) + " must be finite, got (" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " +
+           std::to_string(v.z()) + ")";
+  });
+}
+
+void require_material(float restitution, float friction, const char* owner) {
+  require(std::isfinite(restitution) && restitution >= 0.0f && restitution <= 1.0f,
+          [&] { return std::string(owner) + " restitution must be in [0, 1], got " + std::to_string(restitution); });
+  require(std::isfinite(friction) && friction >= 0.0f,
+          [&] { return std::string(owner) + " friction must be finite and >= 0, got " + std::to_string(friction); });
+}
+
+/// Distance from a (>= 0) to the next float up: how finely a float places a point at a.
+float float_spacing(float a) { return std::nextafter(a, std::numeric_limits<float>::infinity()) - a; }
+
+}  // namespace
+
+void World::validate(const WorldSettings& s) {
+  require_finite(s.gravity, "WorldSettings::gravity");
+  require(std::isfinite(s.time_scale) && s.time_scale >= 0.0f,
+          "WorldSettings::time_scale must be finite and >= 0, got " + std::to_string(s.time_scale));
+  require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
+          describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
+  require(s.max_sphere_contacts_per_sphere >= 1, [&] {
+    return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " + std::to_string(s.max_sphere_contacts_per_sphere);
+  });
+  require(s.max_substeps >= 1, "WorldSettings::max_substeps must be >= 1, got " + std::to_string(s.max_substeps));
+  require(s.threads >= 0, "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
+  require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
+  require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
+  require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
+  require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
+    return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
+           ", got " + std::to_string(s.solver_tile_spheres);
+  });
+  require(std::isfinite(s.depenetration.fraction) && s.depenetration.fraction >= 0.0f && s.depenetration.fraction <= 1.0f,
+          describe("WorldSettings::depenetration.fraction must be in [0, 1], got", s.depenetration.fraction));
+  require(std::isfinite(s.depenetration.slop_fraction) && s.depenetration.slop_fraction >= 0.0f,
+          describe("WorldSettings::depenetration.slop_fraction must be >= 0, got", s.depenetration.slop_fraction));
+  require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f,
+          describe("WorldSettings::restitution_threshold must be >= 0, got", s.restitution_threshold));
+  require(std::isfinite(s.warm_start_factor) && s.warm_start_factor >= 0.0f && s.warm_start_factor <= 1.0f,
+          describe("WorldSettings::warm_start_factor must be in [0, 1], got", s.warm_start_factor));
+  require(s.reorder_interval >= 0, "WorldSettings::reorder_interval must be >= 0 (0 = never), got " +
+                                       std::to_string(s.reorder_interval));
+  require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
+          describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
+  require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
+          "WorldSettings::continuous_collision is true, but this hail was built without it "
+          "(HAIL_WITH_CONTINUOUS_COLLISION=OFF)");
+  require(HAIL_WITH_ROTATION || !s.rotation,
+          "WorldSettings::rotation is true, but this hail was built without it (HAIL_WITH_ROTATION=OFF)");
+  require(s.shock_mass_ratio >= 1.0f,  // false for NaN
+          describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
+  require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
+  require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
+          describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
+  require(std::isfinite(s.pair_margin_travel) && s.pair_margin_travel >= 0.0f,
+          describe("WorldSettings::pair_margin_travel must be >= 0, got", s.pair_margin_travel));
+  // Chooses the SIMD path now if nothing has yet, so that a bad HAIL_SIMD is reported here, at
+  // the API boundary, and not from inside a step's parallel loop.
+  (void)active_simd_path();
+}
+
+std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
+  require(std::isfinite(dt) && dt > 0.0f, [&] { return "World::step dt must be finite and > 0, got " + std::to_string(dt); });
+  // float * float is exact in double, and the quotient cannot overflow a double.
+  const double count = std::ceil(double(dt) * double(settings.time_scale) / double(settings.max_substep));
+  if (count <= 0.0) return settings.time_scale > 0.0f ? 1 : 0;
+  constexpr double kBeyondInt64 = 9.2e18;  // below 2^63, so the cast below is defined
+  return count >= kBeyondInt64 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(count);
+}
+
+std::int64_t check_step(const WorldSettings& settings, float dt) {
+  const std::int64_t needed = substeps_needed(settings, dt);
+  require(needed <= settings.max_substeps, [&] {
+    return "World::step dt = " + std::to_string(dt) + " s at time_scale " + std::to_string(settings.time_scale) +
+           " needs " + std::to_string(needed) + " substeps of at most WorldSettings::max_substep = " +
+           std::to_string(settings.max_substep) + " s, more than WorldSettings::max_substeps = " +
+           std::to_string(settings.max_substeps) +
+           ": take shorter steps (several calls), lower time_scale, or raise max_substep or max_substeps";
+  });
+  return needed;
+}
+
+World::World(const WorldSettings& settings) : settings_(settings), step_(std::make_unique<StepState>()) {
+  validate(settings);
+  constexpr int all_hardware_threads = tbb::task_arena::automatic;  // a copy: avoids odr-using the member
+  own_arena_ = std::make_unique<tbb::task_arena>(settings.threads == 0 ? all_hardware_threads : settings.threads);
+  arena_ = own_arena_.get();
+}
+
+World::World(const WorldSettings& settings, tbb::task_arena& host_arena)
+    : settings_(settings), arena_(&host_arena), step_(std::make_unique<StepState>()) {
+  validate(settings);
+}
+
+World::~World() = default;
+
+std::span<const Contact> World::last_contacts() const { return step_->contacts; }
+std::span<const Impact> World::last_impacts() const { return step_->impacts; }
+
+int World::thread_count() const { return arena_->max_concurrency(); }
+
+SphereId World::add_sphere(const SphereDesc& d) {
+  require_finite(d.position, "sphere position");
+  require_finite(d.velocity, "sphere velocity");
+  require_finite(d.angular_velocity, "sphere angular_velocity");
+  require(std::isfinite(d.radius) && d.radius > 0.0f,
+          [&] { return "sphere radius must be finite and > 0, got " + std::to_string(d.radius); });
+  require(d.radius >= kMinSphereRadius && d.radius <= kMaxSphereRadius, [&] {
+    return "sphere radius must be in [kMinSphereRadius, kMaxSphereRadius] = [" + number(kMinSphereRadius) + ", " +
+           number(kMaxSphereRadius) + "] m (include/hail/world.h), got " + number(d.radius);
+  });
+  if (!d.is_static) {
+    require(std::isfinite(d.mass) && d.mass > 0.0f, [&] {
+      return "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass);
+    });
+    require(d.mass >= kMinSphereMass && d.mass <= kMaxSphereMass, [&] {
+      return "sphere mass must be in [kMinSphereMass, kMaxSphereMass] = [" + number(kMinSphereMass) + ", " +
+             number(kMaxSphereMass) + "] kg (include/hail/world.h), got " + number(d.mass);
+    });
+    // Compared squared in double: the float norm of a finite vector can overflow.
+    require(d.velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpeed) * kMaxSphereSpeed, [&] {
+      return "sphere velocity must be at most kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s, got |v| = " +
+             number(d.velocity.cast<double>().norm());
+    });
+    require(d.angular_velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpin) * kMaxSphereSpin, [&] {
+      return "sphere angular_velocity must be at most kMaxSphereSpin = " + number(kMaxSphereSpin) +
+             " rad/s, got |w| = " + number(d.angular_velocity.cast<double>().norm());
+    });
+  }
+  require_material(d.restitution, d.friction, "sphere");
+  const bool spins = !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
+  require(settings_.rotation || d.is_static || !spins, [&] {
+    return "sphere angular_velocity must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
+           std::to_string(d.angular_velocity.x()) + ", " + std::to_string(d.angular_velocity.y()) + ", " +
+           std::to_string(d.angular_velocity.z()) + ")";
+  });
+  const float inv_mass = d.is_static ? 0.0f : 1.0f / d.mass;
+  const float inertia = 0.4f * d.mass * d.radius * d.radius;  // solid sphere, 2/5 m r^2
+  const float inv_inertia = d.is_static ? 0.0f : 1.0f / inertia;
+  require(std::isfinite(inv_mass) && std::isfinite(inv_inertia), [&] {
+    return "sphere mass " + std::to_string(d.mass) + " and radius " + std::to_string(d.radius) +
+           " give an inertia outside float range";
+  });
+  const float farthest = d.position.cwiseAbs().maxCoeff();
+  require(float_spacing(farthest) <= d.radius / kSphereRadiusResolution, [&] {
+    return "sphere position " + number(farthest) + " m from the origin cannot resolve radius " + number(d.radius) +
+           " m: floats there are " + number(float_spacing(farthest)) + " m apart, more than radius / " +
+           "kSphereRadiusResolution = " + number(d.radius / kSphereRadiusResolution) +
+           " m (include/hail/world.h); move the scene nearer the origin or use larger spheres";
+  });
+  unchecked_from_ = std::min(unchecked_from_, spheres_.size());
+  const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
+  const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
+  return spheres_.add({d.position.x(), d.position.y(), d.position.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z(),
+                       d.radius, inv_mass, inv_inertia, d.restitution, d.friction, kSphereFlagNone});
+}
+
+bool World::remove_sphere(SphereId id) {
+  // Its id index may be reused by the next sphere added: warm-start data must not carry over.
+  step_->contact_cache.clear();
+  // The last sphere moves into the hole: if it was still unchecked, so is the hole's slot now.
+  const std::int64_t slot = spheres_.slot_of(id);
+  if (slot >= 0 && spheres_.size() - 1 >= unchecked_from_)
+    unchecked_from_ = std::min(unchecked_from_, static_cast<std::size_t>(slot));
+  return spheres_.remove(id);
+}
+
+std::size_t World::add_plane(const PlaneDesc& d) {
+  require_finite(d.normal, "plane normal");
+  require(std::isfinite(d.offset), "plane offset must be finite, got " + std::to_string(d.offset));
+  // An ordinary normal is divided by its norm, as always. The norm of (1e20, 0, 0) squares past
+  // float range (it stored a zero normal) and that of (1e-20, 0, 0) underflows: those are
+  // scaled by their largest component first, so the norm is of a vector in [1, sqrt 3].
+  float length = d.normal.norm();
+  Vec3 n = d.normal / length;
+  if (!(std::isfinite(length) && length > 1e-18f)) {
+    const float largest = d.normal.cwiseAbs().maxCoeff();
+    const Vec3 scaled = largest > 0.0f ? Vec3(d.normal / largest) : Vec3::Zero();
+    const float scaled_length = scaled.norm();
+    length = largest * scaled_length;  // infinite past float range: the offset below is then ~0
+    n = scaled / scaled_length;
+  }
+  require(length > 1e-6f, [&] { return "plane normal must not be (nearly) zero, got length " + std::to_string(length); });
+  require_material(d.restitution, d.friction, "plane");
+  const float offset = d.offset / length;
+  require(std::isfinite(offset), [&] {
+    return "plane offset / |normal| must be finite, got " + std::to_string(d.offset) + " / " + std::to_string(length);
+  });
+  planes_.push_back({n.x(), n.y(), n.z(), offset, d.restitution, d.friction});
+  return planes_.size() - 1;
+}
+
+#if HAIL_WITH_TERRAIN
+namespace {
+/// set_terrain's rule (kTerrainCellResolution): floats at the terrain's farthest coordinate
+/// resolve its cells.
+void require_terrain_resolvable(const Terrain& terrain) {
+  const Heightmap& h = terrain.heightmap();
+  const HeightmapExtent e = h.extent();
+  const float farthest = std::max({std::fabs(e.min_x), std::fabs(e.max_x), std::fabs(e.min_z), std::fabs(e.max_z),
+                                   std::fabs(h.min_height()), std::fabs(h.max_height())});
+  const float cell = std::min(h.params().cell_x, h.params().cell_z);
+  require(float_spacing(farthest) <= cell / kTerrainCellResolution, [&] {
+    return "terrain reaches " + number(farthest) + " m from the origin, where floats are " +
+           number(float_spacing(farthest)) + " m apart, more than its cell size " + number(cell) +
+           " m / kTerrainCellResolution = " + number(cell / kTerrainCellResolution) +
+           " m (include/hail/world.h); move it nearer the origin or use larger cells";
+  });
+}
+}  // namespace
+
+void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitution, float friction) {
+  require_material(restitution, friction, "terrain");
+  if (terrain) require_terrain_resolvable(*terrain);
+  terrain_ = std::move(terrain);
+  unchecked_from_ = 0;     // every sphere may be inside the new terrain
+  step_->contact_cache.clear();  // triangle features name another terrain's triangles now
+  terrain_restitution_ = restitution;
+  terrain_friction_ = friction;
+}
+#endif
+
+void World::shift_origin(const Vec3& offset) {
+  require_finite(offset, "World::shift_origin: offset");
+  // Everything is checked (and the moved terrain built) before anything changes, so that a
+  // refusal leaves the world as it was.
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    const Plane& p = planes_[k];
+    const float moved = p.offset - (p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z());
+    require(std::isfinite(moved), [&] {
+      return "World::shift_origin: plane " + std::to_string(k) + "'s offset would be " + number(moved) + " (not finite)";
+    });
+  }
+  const SphereSoA& s = spheres_;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const bool finite = std::isfinite(s.px[i] - offset.x()) && std::isfinite(s.py[i] - offset.y()) &&
+                        std::isfinite(s.pz[i] - offset.z());
+    require(finite, [&] {
+      return "World::shift_origin: sphere " + std::to_string(s.id_at(i).index) + " at (" + number(s.px[i]) + ", " +
+             number(s.py[i]) + ", " + number(s.pz[i]) + ") would leave float range";
+    });
+  }
+  std::shared_ptr<const Terrain> moved_terrain;
+#if HAIL_WITH_TERRAIN
+  if (terrain_) {
+    try {
+      moved_terrain = std::make_shared<const Terrain>(terrain_->moved(-offset));
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(std::string("hail: World::shift_origin: the terrain cannot move there: ") + e.what());
+    }
+    require_terrain_resolvable(*moved_terrain);
+  }
+#endif
+
+  for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
+  SphereSoA& m = spheres_;
+  for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
+  for (Impact& i : step_->impacts) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
+#if HAIL_WITH_TERRAIN
+  if (moved_terrain) {
+    // Warm starting keys terrain contacts by triangle index in BVH order (Contact::feature).
+    // The moved terrain's BVH is built over moved boxes; rounding can make two centroids equal
+    // that were not and so reorder triangles. Only then do the remembered impulses name other
+    // triangles, and only then are they dropped (the next step starts its contacts from zero,
+    // as after set_terrain).
+    if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) step_->contact_cache.clear();
+    terrain_ = std::move(moved_terrain);
+  }
+#endif
+}
+
+std::size_t World::lift_out_of_terrain() {
+  std::size_t lifted = 0;
+#if HAIL_WITH_TERRAIN
+  SphereSoA& s = spheres_;
+  if (terrain_) {
+    for (std::size_t i = unchecked_from_; i < s.size(); ++i) {
+      if (!(s.inv_mass[i] > 0.0f)) continue;  // a static sphere never moves
+      if (!terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i])) continue;
+      terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      ++lifted;
+    }
+  }
+#endif
+  unchecked_from_ = spheres_.size();
+  return lifted;
+}
+
+void World::reserve(std::size_t n) { spheres_.reserve(n); }
+
+SphereState World::spheres() const {
+  const std::size_t n = spheres_.size();
+  const SphereSoA& s = spheres_;
+  return {{s.px.data(), n}, {s.py.data(), n}, {s.pz.data(), n}, {s.vx.data(), n}, {s.vy.data(), n},
+          {s.vz.data(), n}, {s.wx.data(), n}, {s.wy.data(), n}, {s.wz.data(), n}, {s.radius.data(), n},
+          {s.inv_mass.data(), n}};
+}
+
+std::size_t World::require_slot(SphereId id) const {
+  const std::int64_t slot = spheres_.slot_of(id);
+  require(slot >= 0, [&] {
+    return "sphere handle " + std::to_string(id.index) + "/" + std::to_string(id.generation) +
+           " is stale or was never issued";
+  });
+  return static_cast<std::size_t>(slot);
+}
+
+Vec3 World::position(SphereId id) const {
+  const std::size_t i = require_slot(id);
+  return {spheres_.px[i], spheres_.py[i], spheres_.pz[i]};
+}
+Vec3 World::velocity(SphereId id) const {
+  const std::size_t i = require_slot(id);
+  return {spheres_.vx[i], spheres_.vy[i], spheres_.vz[i]};
+}
+Vec3 World::angular_velocity(SphereId id) const {
+  const std::size_t i = require_slot(id);
+  return {spheres_.wx[i], spheres_.wy[i], spheres_.wz[i]};
+}
+
+double World::kinetic_energy() const {
+  const SphereSoA& s = spheres_;
+  double energy = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.inv_mass[i] <= 0.0f) continue;
+    const double m = 1.0 / s.inv_mass[i], inertia = 1.0 / s.inv_inertia[i];
+    const double v2 = double(s.vx[i]) * s.vx[i] + double(s.vy[i]) * s.vy[i] + double(s.vz[i]) * s.vz[i];
+    const double w2 = double(s.wx[i]) * s.wx[i] + double(s.wy[i]) * s.wy[i] + double(s.wz[i]) * s.wz[i];
+    energy += 0.5 * m * v2 + 0.5 * inertia * w2;
+  }
+  return energy;
+}
+
+Eigen::Vector3d World::linear_momentum() const {
+  const SphereSoA& s = spheres_;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.inv_mass[i] <= 0.0f) continue;
+    const double m = 1.0 / s.inv_mass[i];
+    p += m * Eigen::Vector3d(s.vx[i], s.vy[i], s.vz[i]);
+  }
+  return p;
+}
+
+std::size_t World::nan_count() const {
+  const SphereSoA& s = spheres_;
+  std::size_t count = 0;
+  for (const AlignedArray<float>* a : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz, &s.wx, &s.wy, &s.wz})
+    for (std::size_t i = 0; i < s.size(); ++i) count += std::isfinite((*a)[i]) ? 0 : 1;
+  return count;
+}
+
+std::uint64_t World::state_hash() const {
+  const SphereSoA& s = spheres_;
+  std::uint64_t h = 1469598103934665603ull;
+  for (const AlignedArray<float>* a : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz}) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &(*a)[i], sizeof bits);
+      for (int byte = 0; byte < 4; ++byte) {
+        h ^= (bits >> (8 * byte)) & 0xFFu;
+        h *= 1099511628211ull;
+      }
+    }
+  }
+  return h;
+}
+
+}  // namespace hail
