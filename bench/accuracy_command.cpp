@@ -12,11 +12,11 @@
 #include "accuracy_cases.h"
 #include "cli_args.h"
 #include "gnuplot.h"
-#include "machine_info.h"
-#include "metrics.h"
-#include "output_file.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/metrics.h"
+#include "bench/scenes/output_file.h"
 #include "peer_engine.h"
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

@@ -25,7 +25,7 @@
 #include "kernel/sphere_grid.h"
 #include "kernel/sphere_pairs.h"
 #include "kernel/sphere_sweep.h"
-#include "machine_info.h"
+#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

@@ -16,7 +16,7 @@
 #include "kernel/simd_kernels.h"
 #include "kernel/terrain.h"
 #include "kernel/terrain_triangles.h"
-#include "machine_info.h"
+#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "cli_args.h"
 #include "gnuplot.h"
-#include "machine_info.h"
-#include "memory_use.h"
-#include "output_file.h"
-#include "scene_run.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/memory_use.h"
+#include "bench/scenes/output_file.h"
+#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "catch.h"
 #include "simd_paths.h"
-#include "../bench/steep_heightmaps.h"
+#include "bench/scenes/steep_heightmaps.h"
 #include "kernel/simd_kernels.h"
 #include "kernel/sphere_triangle.h"
 #include "kernel/world.h"

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/scenes/scenes.h"
 #include "kernel/features.h"
-#include "scenes.h"
 
 namespace {
 
