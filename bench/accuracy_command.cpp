@@ -12,11 +12,11 @@
 #include "accuracy_cases.h"
 #include "cli_args.h"
 #include "gnuplot.h"
-#include "machine_info.h"
-#include "metrics.h"
-#include "output_file.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/metrics.h"
+#include "bench/scenes/output_file.h"
 #include "peer_engine.h"
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 namespace {
@@ -54,7 +54,7 @@ struct Options {
   std::vector<double> dts{1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0};
   std::size_t scene_spheres = 1000;
   int repeats = 3;
-  std::string out_dir = "hail-accuracy";
+  std::string out_dir = "hail-out/accuracy";
   bool no_plot = false, no_scenes = false, quiet = false;
 };
 
@@ -76,7 +76,7 @@ std::optional<Options> parse(const std::vector<std::string>& args) {
               })
       .count("--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases")
       .count("--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported")
-      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-accuracy)")
+      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-out/accuracy)")
       .flag("--no-plot", o.no_plot, "no gnuplot SVGs")
       .flag("--no-scenes", o.no_scenes, "the known-answer cases only")
       .flag("--quiet", o.quiet, "no progress lines on stderr");

@@ -12,12 +12,12 @@
 
 #include "cli_args.h"
 #include "kernel/terrain/terrain_parts.h"
-#include "machine_info.h"
-#include "metrics.h"
-#include "output_file.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/metrics.h"
+#include "bench/scenes/output_file.h"
 #include "peer_engine.h"
 #include "peer_engine_bullet.h"
-#include "scene_run.h"
+#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {

@@ -16,7 +16,7 @@
 #include "run_command.h"
 #include "scale_command.h"
 #include "stress_command.h"
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace {
 

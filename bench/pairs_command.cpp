@@ -25,7 +25,7 @@
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/broadphase/sorted_axis_pairs.h"
-#include "machine_info.h"
+#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

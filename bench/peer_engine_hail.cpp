@@ -1,7 +1,7 @@
 #include <stdexcept>
 
 #include "peer_engine.h"
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

@@ -16,7 +16,7 @@
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/terrain/terrain_triangles.h"
-#include "machine_info.h"
+#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

@@ -9,11 +9,11 @@
 #include <stdexcept>
 
 #include "cli_args.h"
-#include "machine_info.h"
-#include "memory_use.h"
-#include "output_file.h"
-#include "scene_file.h"
-#include "scene_run.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/memory_use.h"
+#include "bench/scenes/output_file.h"
+#include "bench/scenes/scene_file.h"
+#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_run.h"
+#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
 

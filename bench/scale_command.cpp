@@ -8,10 +8,10 @@
 
 #include "cli_args.h"
 #include "gnuplot.h"
-#include "machine_info.h"
-#include "memory_use.h"
-#include "output_file.h"
-#include "scene_run.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/memory_use.h"
+#include "bench/scenes/output_file.h"
+#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {
@@ -30,7 +30,7 @@ struct ScaleOptions {
   std::size_t min_spheres = 1000, max_spheres = 256000;
   int max_threads = 0;  // 0: hardware threads
   int steps = 300;
-  std::string out_dir = "hail-scale";
+  std::string out_dir = "hail-out/scale";
   bool no_plot = false;
   double memory_limit_gb = -1.0;  // < 0: 80% of the memory available at start; 0: no limit
 };
@@ -45,7 +45,7 @@ std::optional<ScaleOptions> parse(const std::vector<std::string>& args) {
       .count("--max", o.max_spheres, 1, kMax, "the largest sphere count (default 256000)")
       .count("--threads", o.max_threads, 0, 4096, "the most threads (0: the hardware's)")
       .count("--steps", o.steps, 1, 100'000'000, "steps of each run (default 300)")
-      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-scale)")
+      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-out/scale)")
       .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
               "GB; a count whose estimate exceeds it is not started (default 80% of the memory available; 0: none)")
       .flag("--no-plot", o.no_plot, "no gnuplot SVGs");

@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "cli_args.h"
-#include "machine_info.h"
-#include "output_file.h"
-#include "stress_cases.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/output_file.h"
+#include "bench/scenes/stress_cases.h"
 
 namespace hail::bench {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench/peer_engine_bullet.h"
-#include "bench/scenes.h"
+#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "hail/heightmap.h"
 

@@ -20,16 +20,16 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "hail/features.h"
 #include "simd_paths.h"
-#include "solver_problems.h"
+#include "bench/scenes/solver_problems.h"
 
 using namespace hail;
 
 namespace {
 
-using Problem = hail::testing::SolverProblem;
-using hail::testing::same_bits;
+using Problem = hail::bench::SolverProblem;
+using hail::bench::same_bits;
 
-Problem random_run(std::size_t count, std::uint32_t seed) { return hail::testing::random_contacts(count, seed); }
+Problem random_run(std::size_t count, std::uint32_t seed) { return hail::bench::random_contacts(count, seed); }
 
 /// Warm start, 4 collision and 4 resting passes over one colour holding every contact of p:
 /// SIMD batches (the last padded), or (simd false) the scalar rules alone.

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/scenes.h"
-#include "bench/scene_run.h"
+#include "bench/scenes/scenes.h"
+#include "bench/scenes/scene_run.h"
 #include "catch.h"
 #include "simd_paths.h"
 

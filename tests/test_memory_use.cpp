@@ -1,4 +1,4 @@
-// Memory figures of hail-bench (bench/memory_use.h) and Terrain::memory_bytes: the heap a run
+// Memory figures of hail-bench (bench/scenes/memory_use.h) and Terrain::memory_bytes: the heap a run
 // holds, and how the scale command's memory limit estimates a count it has not run.
 
 #include <cstring>
@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "bench/memory_use.h"
+#include "bench/scenes/memory_use.h"
 #include "bench/run_command.h"
-#include "bench/scene_run.h"
-#include "bench/scenes.h"
+#include "bench/scenes/scene_run.h"
+#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "kernel/terrain/terrain_parts.h"
 

@@ -11,7 +11,7 @@
 #include "bench/accuracy_command.h"
 #include "bench/compare_command.h"
 #include "bench/gnuplot.h"
-#include "bench/output_file.h"
+#include "bench/scenes/output_file.h"
 #include "bench/run_command.h"
 #include "bench/run_program.h"
 #include "bench/scale_command.h"

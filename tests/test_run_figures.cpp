@@ -1,5 +1,5 @@
-// The error figures hail-bench run reports next to its times (bench/scene_run.*), the
-// tunnelling counted after every step (bench/metrics.*) and the state dumps of --dump-every.
+// The error figures hail-bench run reports next to its times (bench/scenes/scene_run.*), the
+// tunnelling counted after every step (bench/scenes/metrics.*) and the state dumps of --dump-every.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "bench/metrics.h"
-#include "bench/scene_file.h"
-#include "bench/scene_run.h"
-#include "bench/scenes.h"
+#include "bench/scenes/metrics.h"
+#include "bench/scenes/scene_file.h"
+#include "bench/scenes/scene_run.h"
+#include "bench/scenes/scenes.h"
 #include "catch.h"
 
 namespace bench = hail::bench;
@@ -53,7 +53,7 @@ TEST_CASE("The sphere penetration figure reads only real spheres, never the SIMD
 
 namespace {
 
-/// A scene from scene-file text (bench/scene_file.h), for the run figures below.
+/// A scene from scene-file text (bench/scenes/scene_file.h), for the run figures below.
 bench::Scene scene_from(const std::string& body) {
   return bench::parse_scene_text(R"({"format": "hail-scene", "version": 1, )" + body + "}", "figures.json");
 }

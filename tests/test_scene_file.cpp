@@ -1,4 +1,4 @@
-// Scene files (bench/scene_file.h): the shipped files are the built-in scenes exactly; bad files
+// Scene files (bench/scenes/scene_file.h): the shipped files are the built-in scenes exactly; bad files
 // are refused with the file and the field named; the random generator is deterministic.
 
 #include <algorithm>
@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/scene_file.h"
-#include "bench/scene_run.h"
+#include "bench/scenes/scene_file.h"
+#include "bench/scenes/scene_run.h"
 #include "catch.h"
 
 namespace {

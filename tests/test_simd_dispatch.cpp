@@ -25,10 +25,10 @@
 #include "kernel/terrain/terrain_parts.h"
 #include "hail/world.h"
 #include "simd_paths.h"
-#include "solver_problems.h"
+#include "bench/scenes/solver_problems.h"
 
 using namespace hail;
-using hail::testing::SolverProblem, hail::testing::random_contacts, hail::testing::same_bits;
+using hail::bench::SolverProblem, hail::bench::random_contacts, hail::bench::same_bits;
 using hail::testing::ScopedSimdPath;
 using hail::testing::supported_paths;
 

@@ -14,7 +14,7 @@
 #include "catch.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "simd_paths.h"
-#include "../bench/steep_heightmaps.h"
+#include "bench/scenes/steep_heightmaps.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/sphere_triangle.h"
 #include "hail/world.h"

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/scenes/scenes.h"
 #include "hail/features.h"
-#include "scenes.h"
 
 namespace {
 

@@ -2,58 +2,18 @@
 // (ContactBatches) vs the scalar rules they must equal bit for bit: contacts per second.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <numeric>
-#include <random>
 #include <span>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
+#include "bench/scenes/solver_problems.h"
 #include "kernel/solver/contact_solve_simd.h"
 
 namespace hail::micro {
 namespace {
 
-/// `count` contacts over 2 * count bodies, each body in at most one contact (one colour), plus
-/// the static body: tests/test_contact_solve_simd.cpp's random run (30% static contacts, 10%
-/// immovable spheres, half the gaps speculative, impulses carried over).
-struct Run {
-  std::vector<SolverBody> bodies;
-  std::vector<Contact> contacts;
-};
-
-Run random_run(std::size_t count, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
-  Run run;
-  run.bodies.resize(2 * count + 1);
-  for (SolverBody& b : std::span(run.bodies).first(2 * count)) {
-    for (int d = 0; d < 3; ++d) b.v[d] = 5.0f * u(rng), b.w[d] = 3.0f * u(rng);
-    b.radius = 0.1f + unit(rng);
-    const bool fixed = unit(rng) < 0.1f;
-    b.inv_mass = fixed ? 0.0f : 0.2f + 2.0f * unit(rng);
-    b.inv_inertia = fixed ? 0.0f : b.inv_mass / (0.4f * b.radius * b.radius);
-  }
-  std::vector<std::uint32_t> slot(2 * count);
-  std::iota(slot.begin(), slot.end(), 0u);
-  std::shuffle(slot.begin(), slot.end(), rng);  // bodies at random, as colour order visits them
-  for (std::size_t k = 0; k < count; ++k) {
-    Contact c;
-    c.a = slot[2 * k];
-    c.b = unit(rng) < 0.3f ? kStaticBody : slot[2 * k + 1];
-    const float n[3] = {u(rng), u(rng), u(rng)};
-    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-3f;
-    c.nx = n[0] / len, c.ny = n[1] / len, c.nz = n[2] / len;
-    c.gap = 0.2f * u(rng);
-    c.restitution = unit(rng);
-    c.friction = unit(rng) < 0.2f ? 0.0f : unit(rng);
-    c.normal_impulse = unit(rng) < 0.5f ? 0.0f : unit(rng);
-    c.tx = 0.1f * u(rng), c.ty = 0.1f * u(rng), c.tz = 0.1f * u(rng);
-    run.contacts.push_back(c);
-  }
-  return run;
-}
+using Run = bench::SolverProblem;
 
 enum class Pass { Collision, Resting };
 
@@ -63,7 +23,9 @@ enum class Pass { Collision, Resting };
 template <Pass P, bool Simd>
 void solve(benchmark::State& state) {
   const auto count = static_cast<std::size_t>(state.range(0));
-  const Run start = random_run(count, 61);
+  // `count` contacts over 2 * count bodies, each body in at most one contact (one colour), plus
+  // the static body: the tests' random run, with every contact carrying impulses (none idle).
+  const Run start = bench::random_contacts(count, 61, bench::StartImpulses::AllCarried);
   Run run = start;
   const std::uint32_t colour_begin[2] = {0, static_cast<std::uint32_t>(count)};
   ContactBatches batches;

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

@@ -1,4 +1,4 @@
-#include "memory_use.h"
+#include "bench/scenes/memory_use.h"
 
 #include <cstdio>
 #include <fstream>

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "metrics.h"
-#include "scenes.h"
+#include "bench/scenes/metrics.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

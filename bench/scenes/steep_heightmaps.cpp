@@ -1,4 +1,4 @@
-#include "steep_heightmaps.h"
+#include "bench/scenes/steep_heightmaps.h"
 
 #include <random>
 #include <vector>

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

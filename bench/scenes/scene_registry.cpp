@@ -1,4 +1,4 @@
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

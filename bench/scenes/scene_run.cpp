@@ -1,4 +1,4 @@
-#include "scene_run.h"
+#include "bench/scenes/scene_run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "machine_info.h"
-#include "memory_use.h"
-#include "output_file.h"
+#include "bench/scenes/machine_info.h"
+#include "bench/scenes/memory_use.h"
+#include "bench/scenes/output_file.h"
 
 namespace hail::bench {
 namespace {

@@ -1,4 +1,4 @@
-#include "stress_cases.h"
+#include "bench/scenes/stress_cases.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "scenes.h"
-#include "steep_heightmaps.h"
+#include "bench/scenes/scenes.h"
+#include "bench/scenes/steep_heightmaps.h"
 
 namespace hail::bench {
 namespace {

@@ -1,4 +1,4 @@
-#include "metrics.h"
+#include "bench/scenes/metrics.h"
 
 #include <algorithm>
 #include <cmath>

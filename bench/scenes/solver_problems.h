@@ -1,8 +1,9 @@
 #pragma once
 // Random runs of solver contacts that share no sphere (one colour), for the tests that compare
-// the SIMD contact passes with their scalar reference (test_contact_solve_simd.cpp,
-// test_simd_dispatch.cpp): sphere-sphere and static contacts, speculative gaps, immovable bodies,
-// carried-over impulses.
+// the SIMD contact passes with their scalar reference (tests/test_contact_solve_simd.cpp,
+// tests/test_simd_dispatch.cpp) and for the microbenchmark that times them
+// (bench/micro/micro_solver.cpp): sphere-sphere and static contacts, speculative gaps, immovable
+// bodies, carried-over impulses. Header only, so the SIMD tests need no scene library.
 
 #include <algorithm>
 #include <cmath>
@@ -16,16 +17,23 @@
 #include "hail/contact.h"
 #include "kernel/solver/solver_body.h"
 
-namespace hail::testing {
+namespace hail::bench {
 
 struct SolverProblem {
   std::vector<SolverBody> bodies;
   std::vector<Contact> contacts;
 };
 
+/// Whether some contacts start with no impulse at all (as new and speculative contacts do), or
+/// every one carries impulses, so that no batch of the resting passes is idle.
+enum class StartImpulses { SomeZero, AllCarried };
+
 /// `count` contacts sharing no sphere (one colour), 30% static, 10% immovable bodies, about a
-/// third with no impulse to start from.
-inline SolverProblem random_contacts(std::size_t count, std::uint32_t seed) {
+/// third with no impulse to start from (StartImpulses::SomeZero, what the tests check) or none
+/// (AllCarried: the full work of every batch, what hail-micro times; the same contacts but those
+/// impulses, drawn from the same seed).
+inline SolverProblem random_contacts(std::size_t count, std::uint32_t seed,
+                                     StartImpulses start = StartImpulses::SomeZero) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
   SolverProblem p;
@@ -54,7 +62,7 @@ inline SolverProblem random_contacts(std::size_t count, std::uint32_t seed) {
     c.tx = 0.1f * u(rng), c.ty = 0.1f * u(rng), c.tz = 0.1f * u(rng);
     // A third start with no impulse at all, as new and speculative contacts do: the resting
     // passes leave those that do not close too fast as they are (resting_idle).
-    if (unit(rng) < 0.3f) c.normal_impulse = c.tx = c.ty = c.tz = 0.0f;
+    if (start == StartImpulses::SomeZero && unit(rng) < 0.3f) c.normal_impulse = c.tx = c.ty = c.tz = 0.0f;
     p.contacts.push_back(c);
   }
   return p;
@@ -65,4 +73,4 @@ inline bool same_bits(const SolverProblem& a, const SolverProblem& b) {
          std::memcmp(a.contacts.data(), b.contacts.data(), a.contacts.size() * sizeof(Contact)) == 0;
 }
 
-}  // namespace hail::testing
+}  // namespace hail::bench

@@ -1,6 +1,6 @@
 #include <cmath>
 
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

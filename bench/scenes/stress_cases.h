@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "stress_watch.h"
+#include "bench/scenes/stress_watch.h"
 
 namespace hail::bench {
 

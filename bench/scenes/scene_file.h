@@ -13,8 +13,8 @@
 #include <string>
 #include <string_view>
 
-#include "memory_use.h"
-#include "scenes.h"
+#include "bench/scenes/memory_use.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 

@@ -1,4 +1,4 @@
-#include "stress_watch.h"
+#include "bench/scenes/stress_watch.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "scenes.h"
+#include "bench/scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

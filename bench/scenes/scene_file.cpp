@@ -1,4 +1,4 @@
-#include "scene_file.h"
+#include "bench/scenes/scene_file.h"
 
 #include <algorithm>
 #include <cmath>
