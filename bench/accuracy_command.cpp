@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "accuracy_cases.h"
-#include "cli_args.h"
+#include "cli.h"
 #include "gnuplot.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/metrics.h"
@@ -50,39 +50,33 @@ std::vector<Variant> variants() {
   return v;
 }
 
-struct Options {
-  std::vector<double> dts{1.0 / 60.0, 1.0 / 240.0, 1.0 / 1000.0};
-  std::size_t scene_spheres = 1000;
-  int repeats = 3;
-  std::string out_dir = "hail-out/accuracy";
-  bool no_plot = false, no_scenes = false, quiet = false;
-};
+}  // namespace
 
-/// Every flag of `hail-bench accuracy`, parsed by the shared ArgParser; nullopt after --help.
-std::optional<Options> parse(const std::vector<std::string>& args) {
-  Options o;
-  ArgParser parser("accuracy", "error against wall time: known-answer cases and two scenes, for hail's knobs and the peers");
-  parser
-      .custom("--dt", "LIST", "time steps, comma-separated, each a number or 1/N in (0, 1] (default 1/60,1/240,1/1000)",
-              [&](const std::string& list) {
-                o.dts.clear();
-                for (std::size_t start = 0; start <= list.size();) {
-                  const std::size_t end = std::min(list.find(',', start), list.size());
-                  const std::string item = list.substr(start, end - start);
-                  o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / parse_real("--dt 1/N", item.substr(2), 1.0, 1e9)
-                                                           : parse_real("--dt", item, 0.0, 1.0, /*exclude_min=*/true));
-                  start = end + 1;
-                }
-              })
-      .count("--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases")
-      .count("--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported")
-      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-out/accuracy)")
-      .flag("--no-plot", o.no_plot, "no gnuplot SVGs")
-      .flag("--no-scenes", o.no_scenes, "the known-answer cases only")
-      .flag("--quiet", o.quiet, "no progress lines on stderr");
-  if (!parser.parse(args)) return std::nullopt;
-  return o;
+void add_accuracy_options(CLI::App& app, AccuracyOptions& o) {
+  app.description("error against wall time: known-answer cases and two scenes, for hail's knobs and the peers");
+  app.add_option_function<std::string>(
+         "--dt",
+         [&o](const std::string& list) {
+           o.dts.clear();
+           for (std::size_t start = 0; start <= list.size();) {
+             const std::size_t end = std::min(list.find(',', start), list.size());
+             const std::string item = list.substr(start, end - start);
+             o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / parse_real("--dt 1/N", item.substr(2), 1.0, 1e9)
+                                                      : parse_real("--dt", item, 0.0, 1.0, /*exclude_min=*/true));
+             start = end + 1;
+           }
+         },
+         "time steps, comma-separated, each a number or 1/N in (0, 1] (default 1/60,1/240,1/1000)")
+      ->type_name("LIST");
+  add_count(app, "--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported");
+  app.add_option("--out", o.out_dir, "folder of the CSV, JSON and plots")->type_name("DIR");
+  app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
+  app.add_flag("--no-scenes", o.no_scenes, "the known-answer cases only");
+  app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
 }
+
+namespace {
 
 struct Row {
   std::string what, variant;
@@ -179,9 +173,11 @@ do for [c=1:words(CASES)] {
 }  // namespace
 
 int accuracy_command(const std::vector<std::string>& args) {
-  const std::optional<Options> parsed = parse(args);
-  if (!parsed) return 0;  // --help
-  const Options& o = *parsed;
+  const std::optional<AccuracyOptions> parsed = parse_command("accuracy", add_accuracy_options, args);
+  return parsed ? accuracy_command(*parsed) : 0;  // 0 after --help
+}
+
+int accuracy_command(const AccuracyOptions& o) {
   prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end
   const std::vector<Variant> vs = variants();
   std::vector<Row> rows;

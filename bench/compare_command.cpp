@@ -10,7 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/metrics.h"
@@ -22,29 +22,20 @@
 namespace hail::bench {
 namespace {
 
-struct CompareOptions {
-  std::string scene = "terrain-rain";
-  SceneParams params;
-  int steps = -1;  // -1: the scene's default
-  int repeat = 3;
-  std::string json_path;
-  bool quiet = false;
-};
+}  // namespace
 
-/// Every flag of `hail-bench compare`, parsed by the shared ArgParser; nullopt after --help.
-std::optional<CompareOptions> parse(const std::vector<std::string>& args) {
-  CompareOptions o;
-  ArgParser parser("compare", "hail and Bullet (if built in) on the identical scene, R runs each alternating ABBA: one table");
-  parser.positional("scene", o.scene, "a built-in scene (default terrain-rain)")
-      .count("--spheres", o.params.spheres, 1, 10'000'000, "sphere count")
-      .count("--threads", o.params.threads, 0, 4096, "hail's worker threads (0: all; Bullet runs on one)")
-      .count("--steps", o.steps, 1, 100'000'000, "steps (default: the scene's)")
-      .count("--repeat", o.repeat, 1, 1000, "runs of each engine (default 3)")
-      .text("--json", o.json_path, "FILE", "every figure as JSON")
-      .flag("--quiet", o.quiet, "no progress lines on stderr");
-  if (!parser.parse(args)) return std::nullopt;
-  return o;
+void add_compare_options(CLI::App& app, CompareOptions& o) {
+  app.description("hail and Bullet (if built in) on the identical scene, R runs each alternating ABBA: one table");
+  app.add_option("scene", o.scene, "a built-in scene")->check(CLI::IsMember(scene_names()));
+  add_count(app, "--spheres", o.params.spheres, 1, 10'000'000, "sphere count");
+  add_count(app, "--threads", o.params.threads, 0, 4096, "hail's worker threads (0: all; Bullet runs on one)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs of each engine");
+  app.add_option("--json", o.json_path, "every figure as JSON")->type_name("FILE");
+  app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
 }
+
+namespace {
 
 double median_of(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -158,9 +149,11 @@ std::string format_runs(const std::vector<double>& v) {
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
-  const std::optional<CompareOptions> parsed = parse(args);
-  if (!parsed) return 0;  // --help
-  const CompareOptions& o = *parsed;
+  const std::optional<CompareOptions> parsed = parse_command("compare", add_compare_options, args);
+  return parsed ? compare_command(*parsed) : 0;  // 0 after --help
+}
+
+int compare_command(const CompareOptions& o) {
   check_output_paths({o.json_path});
   const SceneEntry& entry = find_scene(o.scene);
   const Scene scene = entry.build(o.params);

@@ -19,7 +19,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
@@ -110,12 +110,19 @@ constexpr const char* kMethodNames[kMethods] = {"brute force SIMD", "grid", "sor
 
 }  // namespace
 
+void add_pairs_options(CLI::App& app, PairsOptions& o) {
+  app.description("sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix");
+  add_count(app, "--max", o.max_n, 1, 10'000'000, "the largest sphere count");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
+}
+
 int pairs_command(const std::vector<std::string>& args) {
-  int max_n = 64000, repeats = 5;
-  ArgParser parser("pairs", "sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix");
-  parser.count("--max", max_n, 1, 10'000'000, "the largest sphere count (default 64000)")
-      .count("--repeats", repeats, 1, 1000, "timed repeats; the median is reported (default 5)");
-  if (!parser.parse(args)) return 0;  // --help
+  const std::optional<PairsOptions> parsed = parse_command("pairs", add_pairs_options, args);
+  return parsed ? pairs_command(*parsed) : 0;  // 0 after --help
+}
+
+int pairs_command(const PairsOptions& o) {
+  const int max_n = o.max_n, repeats = o.repeats;
 
   std::printf("hail-bench pairs: sphere-sphere pair search, build + find_pairs over all rows, 1 thread, median of %d\n", repeats);
   std::printf("  random piles at volume fraction %.2f (fixed seeds), margin %.2f; slot order as generated (random)\n"

@@ -6,10 +6,23 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace hail::bench {
 
-/// Runs the benchmark (flags: --max N caps the sphere count, default 64000; --repeats R,
-/// default 5). Returns 0, or 1 when two pair searches disagree.
+/// Every flag of `hail-bench pairs`.
+struct PairsOptions {
+  int max_n = 64000;  ///< --max N caps the sphere count
+  int repeats = 5;
+};
+
+/// Declares pairs' flags on `app`, writing `o`.
+void add_pairs_options(CLI::App& app, PairsOptions& o);
+/// Runs the benchmark and prints its table; 0, or 1 when two pair searches disagree.
+int pairs_command(const PairsOptions& o);
+/// parse_command("pairs", add_pairs_options, args), then pairs_command; 0 after --help.
 int pairs_command(const std::vector<std::string>& args);
 
 }  // namespace hail::bench

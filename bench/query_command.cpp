@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/bvh/flat_node.h"
@@ -91,13 +91,20 @@ std::vector<Sphere> morton_sorted(std::vector<Sphere> spheres, const Aabb& bound
 
 }  // namespace
 
+void add_query_options(CLI::App& app, QueryOptions& o) {
+  app.description("terrain query microbenchmark: BVH walks (stackless, fixed stack, packet), grid lookup, brute force");
+  add_count(app, "--queries", o.queries, 1, 100'000'000, "spheres queried");
+  add_count(app, "--leaf", o.leaf, 1, kMaxLeafSize, "triangles per BVH leaf (default the terrain's)");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
+}
+
 int query_command(const std::vector<std::string>& args) {
-  int count = 100000, leaf = static_cast<int>(Terrain::kDefaultLeafSize), repeats = 5;
-  ArgParser parser("query", "terrain query microbenchmark: BVH walks (stackless, fixed stack, packet), grid lookup, brute force");
-  parser.count("--queries", count, 1, 100'000'000, "spheres queried (default 100000)")
-      .count("--leaf", leaf, 1, kMaxLeafSize, "triangles per BVH leaf (default the terrain's)")
-      .count("--repeats", repeats, 1, 1000, "timed repeats; the median is reported (default 5)");
-  if (!parser.parse(args)) return 0;  // --help
+  const std::optional<QueryOptions> parsed = parse_command("query", add_query_options, args);
+  return parsed ? query_command(*parsed) : 0;  // 0 after --help
+}
+
+int query_command(const QueryOptions& o) {
+  const int count = o.queries, leaf = o.leaf, repeats = o.repeats;
   const Heightmap map = Heightmap::from_function(256, 256, {}, rain_height);
   const TerrainTriangles grid_order = build_terrain_triangles(map);
   const std::vector<Aabb> bounds = triangle_bounds(grid_order);
@@ -214,11 +221,18 @@ int query_command(const std::vector<std::string>& args) {
   return agree ? 0 : 1;
 }
 
+void add_bvh_build_options(CLI::App& app, BvhBuildCommandOptions& o) {
+  app.description("BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps");
+  add_count(app, "--max-side", o.max_side, 1, 65536, "the largest heightmap side built (4096 takes about 2 GB)");
+}
+
 int bvh_build_command(const std::vector<std::string>& args) {
-  int max_side = 1024;
-  ArgParser parser("bvh-build", "BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps");
-  parser.count("--max-side", max_side, 1, 65536, "the largest heightmap side built (default 1024; 4096 takes about 2 GB)");
-  if (!parser.parse(args)) return 0;  // --help
+  const std::optional<BvhBuildCommandOptions> parsed = parse_command("bvh-build", add_bvh_build_options, args);
+  return parsed ? bvh_build_command(*parsed) : 0;  // 0 after --help
+}
+
+int bvh_build_command(const BvhBuildCommandOptions& o) {
+  const int max_side = o.max_side;
   std::printf("hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
               Terrain::kDefaultLeafSize);
   std::printf("  %-12s %12s %12s %12s %12s\n", "vertices", "triangles", "nodes", "median s", "binned SAH s");

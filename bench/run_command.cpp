@@ -1,6 +1,7 @@
 #include "run_command.h"
 
 #include <algorithm>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,7 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/memory_use.h"
 #include "bench/scenes/output_file.h"
@@ -18,102 +19,105 @@
 namespace hail::bench {
 namespace {
 
-struct CommandOptions {
-  std::string scene = "implosion";
-  SceneParams params;
-  int steps = -1;  // -1: the scene's default
-  std::string json_path;
-  std::string trace_path;
-  bool quiet = false;
-  std::string scene_file;       // --scene FILE.json (instead of a scene name)
-  std::string dump_state_path;  // --dump-state FILE.csv
-  int dump_every = 0;           // --dump-every K (0: the final state only)
-  bool scene_named = false;
-  std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
-  bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
-  int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
-  double memory_limit_gb = -1.0;  // --memory-limit GB (< 0: 80% of the memory available; 0: none)
-  double origin = 0.0;            // --origin D: the scene moved by (D, 0, D) m (bench/scene_origin.cpp)
-  int home_after = 0;             // --home-after K: after step K, shift the scene back by (D, 0, D)
-};
-
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
 
-/// Every flag of `hail-bench run`, parsed by the shared ArgParser; nullopt after --help.
-std::optional<CommandOptions> parse(const std::vector<std::string>& args) {
-  CommandOptions o;
-  SceneParams& p = o.params;
-  ArgParser parser("run", "step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
-  parser.positional("scene", o.scene, "a built-in scene (hail-bench --help lists them; default implosion)")
-      .text("--scene", o.scene_file, "FILE.json", "a scene file (docs/scene_format.md); flags given override its values")
-      .count("--spheres", p.spheres, 1, 100'000'000, "sphere count")
-      .count("--steps", o.steps, 1, 100'000'000, "steps (default: the scene's)")
-      .count("--threads", p.threads, 0, 4096, "worker threads (0: all)")
-      .number("--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true)
-      .count("--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)")
-      .count("--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step")
-      .custom("--tile", "N", "spheres per solver tile: 0 (no tiles) or in [" + std::to_string(kMinSolverTileSpheres) + ", 100000000]",
-              [&](const std::string& v) {
-                const long long n = parse_count("--tile", v, 0, 100'000'000);
-                if (n != 0 && n < static_cast<long long>(kMinSolverTileSpheres))
-                  usage_error("--tile must be 0 (no solver tiles) or a whole number in [" + std::to_string(kMinSolverTileSpheres) +
-                              ", 100000000], got '" + v + "'");
-                p.solver_tile_spheres = static_cast<std::size_t>(n);
-              })
-      .custom("--warm-start", "on|off|FACTOR", "warm starting; a factor in [0, 1] turns it on with that factor",
-              [&](const std::string& v) {
-                if (v == "on" || v == "off") p.warm_start = v == "on";
-                else try {
-                    p.warm_start_factor = static_cast<float>(parse_real("--warm-start", v, 0.0, 1.0));
-                  } catch (const std::invalid_argument&) {
-                    usage_error("--warm-start must be on, off or a factor in [0, 1], got '" + v + "'");
-                  }
-              })
-      .custom("--pairs", "auto|brute|grid|sweep|bvh", "the sphere-pair search", [&](const std::string& v) {
-        const std::pair<const char*, PairSearch> names[] = {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
-                                                            {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
-                                                            {"bvh", PairSearch::Bvh}};
-        const auto it = std::find_if(std::begin(names), std::end(names), [&](const auto& n) { return v == n.first; });
-        if (it == std::end(names)) usage_error("--pairs must be auto, brute, grid, sweep or bvh, got '" + v + "'");
-        p.pair_search = it->second;
-      })
-      .custom("--ccd", "on|off|both", "continuous collision; both: alternate runs with it on and off, one table",
-              [&](const std::string& v) {
-                if (v != "on" && v != "off" && v != "both") usage_error("--ccd must be on, off or both, got '" + v + "'");
-                p.continuous_collision = v != "off";
-                o.ccd_both = v == "both";
-              })
-      .custom("--rotation", "on|off", "off: spheres never spin (WorldSettings::rotation)", [&](const std::string& v) {
-        if (v != "on" && v != "off") usage_error("--rotation must be on or off, got '" + v + "'");
-        p.rotation = v == "on";
-      })
-      .number("--origin", o.origin, -1e7, 1e7,
-              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin")
-      .count("--home-after", o.home_after, 1, 100'000'000,
-             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)")
-      .count("--repeat", o.repeat, 1, 1000, "runs (default 1; 3 with --ccd both)")
-      .text("--json", o.json_path, "FILE", "every figure of the (last) run as JSON")
-      .text("--trace", o.trace_path, "FILE", "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
-      .text("--dump-state", o.dump_state_path, "FILE.csv", "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
-      .count("--dump-every", o.dump_every, 1, 100'000'000,
-             "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, before .csv)")
-      .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
-              "GB; a sphere count over it is refused before anything is built (default 80% of the memory available; 0: none)")
-      .flag("--quiet", o.quiet,
-            "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
-            "progress lines on stderr; with --ccd both, the table");
-  if (!parser.parse(args)) return std::nullopt;
-  if (o.home_after > 0 && o.origin == 0.0) usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
-  for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
-                           "--rotation", "--warm-start"})
-    if (parser.given(flag)) o.given.emplace_back(flag);
-  o.scene_named = parser.given("scene");
-  if (o.dump_every > 0 && o.dump_state_path.empty())
-    usage_error("--dump-every " + std::to_string(o.dump_every) + " needs --dump-state FILE.csv (the files are named after it)");
-  if (o.scene_named && !o.scene_file.empty())
-    usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
-  return o;
+using CommandOptions = RunCommandOptions;
+
+/// The sphere-pair searches by their names on the command line.
+const std::map<std::string, PairSearch>& pair_search_names() {
+  static const std::map<std::string, PairSearch> names{{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
+                                                       {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
+                                                       {"bvh", PairSearch::Bvh}};
+  return names;
 }
+
+}  // namespace
+
+void add_run_options(CLI::App& app, RunCommandOptions& o) {
+  SceneParams& p = o.params;
+  app.description("step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
+  app.add_option("scene", o.scene, "a built-in scene (hail-bench --help lists them)")->check(CLI::IsMember(scene_names()));
+  app.add_option("--scene", o.scene_file, "a scene file (docs/scene_format.md); flags given override its values")
+      ->type_name("FILE.json");
+  add_count(app, "--spheres", p.spheres, 1, 100'000'000, "sphere count");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
+  add_count(app, "--threads", p.threads, 0, 4096, "worker threads (0: all)");
+  add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
+  add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
+  add_count(app, "--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step");
+  add_count(app, "--tile", p.solver_tile_spheres, 0, 100'000'000,
+            "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            const long long n = std::stoll(v);  // whole_number_in ran first
+            return n != 0 && n < static_cast<long long>(kMinSolverTileSpheres)
+                       ? "must be 0 (no solver tiles) or a whole number in [" + std::to_string(kMinSolverTileSpheres) +
+                             ", 100000000], got '" + v + "'"
+                       : std::string();
+          },
+          ""));
+  app.add_option_function<std::string>(
+         "--warm-start",
+         [&p](const std::string& v) {
+           if (v == "on" || v == "off") p.warm_start = v == "on";
+           else p.warm_start_factor = static_cast<float>(std::stod(v));
+         },
+         "warm starting; a factor in [0, 1] turns it on with that factor")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            std::string factor = v;
+            return v == "on" || v == "off" || number_in(0.0, 1.0)(factor).empty()
+                       ? std::string()
+                       : "must be on, off or a factor in [0, 1], got '" + v + "'";
+          },
+          "on|off|FACTOR"))
+      ->type_name("on|off|FACTOR");
+  app.add_option_function<std::string>(
+         "--pairs", [&p](const std::string& v) { p.pair_search = pair_search_names().at(v); }, "the sphere-pair search")
+      ->check(CLI::IsMember({"auto", "brute", "grid", "sweep", "bvh"}));
+  app.add_option_function<std::string>(
+         "--ccd",
+         [&](const std::string& v) {
+           p.continuous_collision = v != "off";
+           o.ccd_both = v == "both";
+         },
+         "continuous collision; both: alternate runs with it on and off, one table")
+      ->check(CLI::IsMember({"on", "off", "both"}));
+  app.add_option_function<std::string>(
+         "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; }, "off: spheres never spin (WorldSettings::rotation)")
+      ->check(CLI::IsMember({"on", "off"}));
+  add_number(app, "--origin", o.origin, -1e7, 1e7,
+             "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
+  add_count(app, "--home-after", o.home_after, 1, 100'000'000,
+            "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both)");
+  app.add_option("--json", o.json_path, "every figure of the (last) run as JSON")->type_name("FILE");
+  app.add_option("--trace", o.trace_path, "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
+      ->type_name("FILE");
+  app.add_option("--dump-state", o.dump_state_path, "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
+      ->type_name("FILE.csv");
+  add_count(app, "--dump-every", o.dump_every, 1, 100'000'000,
+            "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, before .csv)");
+  add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+             "GB; a sphere count over it is refused before anything is built (default -1: 80% of the memory available; 0: none)");
+  app.add_flag("--quiet", o.quiet,
+               "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
+               "progress lines on stderr; with --ccd both, the table");
+  // The checks between flags, once every flag is read.
+  app.callback([&app, &o] {
+    if (o.home_after > 0 && o.origin == 0.0) usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
+    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
+                             "--rotation", "--warm-start"})
+      if (app.count(flag) > 0) o.given.emplace_back(flag);
+    o.scene_named = app.count("scene") > 0;
+    if (o.dump_every > 0 && o.dump_state_path.empty())
+      usage_error("--dump-every " + std::to_string(o.dump_every) + " needs --dump-state FILE.csv (the files are named after it)");
+    if (o.scene_named && !o.scene_file.empty())
+      usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
+  });
+}
+
+namespace {
 
 /// The flags given on the command line, which override a scene file's values.
 SceneOverrides file_overrides(const CommandOptions& o) {
@@ -242,17 +246,23 @@ std::string summary_line(const RunResult& r) {
 namespace {
 
 /// --ccd both: runs with continuous collision on and off, alternating in ABBA order so that a
-/// drift in machine speed falls on both alike; one table with the ratio of the medians.
-int run_both(const CommandOptions& o) {
+/// drift in machine speed falls on both alike.
+void run_both(const CommandOptions& o, RunCommandResult& result) {
   const int repeat = o.repeat > 0 ? o.repeat : 3;
-  std::vector<RunResult> on, off;
   for (int k = 0; k < 2 * repeat; ++k) {
     const bool ccd = (k % 4 == 0 || k % 4 == 3);
     SceneParams params = o.params;
     params.continuous_collision = ccd;
     if (!o.quiet) std::fprintf(stderr, "  run %d/%d: continuous collision %s\n", k + 1, 2 * repeat, ccd ? "on" : "off");
-    (ccd ? on : off).push_back(run_once(o, params, k + 2 >= 2 * repeat));
+    (ccd ? result.ccd_on : result.ccd_off).push_back(run_once(o, params, k + 2 >= 2 * repeat));
   }
+}
+
+/// --ccd both's table, with the ratio of the medians, and its JSON.
+int report_both(const CommandOptions& o, const RunCommandResult& result) {
+  const std::vector<RunResult>& on = result.ccd_on;
+  const std::vector<RunResult>& off = result.ccd_off;
+  const int repeat = static_cast<int>(on.size());
   auto medians = [](const std::vector<RunResult>& runs) {
     std::vector<double> m;
     for (const RunResult& r : runs) m.push_back(r.median_ms);
@@ -309,9 +319,11 @@ void check_memory(const CommandOptions& o) {
 }
 
 int run_command(const std::vector<std::string>& args) {
-  const std::optional<CommandOptions> parsed = parse(args);
-  if (!parsed) return 0;  // --help
-  const CommandOptions& o = *parsed;
+  const std::optional<RunCommandOptions> parsed = parse_command("run", add_run_options, args);
+  return parsed ? run_command(*parsed) : 0;  // 0 after --help
+}
+
+int run_command(const RunCommandOptions& o) {
   // Before anything is built: an output that cannot be written, or that would overwrite the
   // scene file (or its heightmap) or another output, stops the run now rather than at its end.
   // --dump-every's files lie beside --dump-state's: the first of them stands for them all.
@@ -319,10 +331,24 @@ int run_command(const std::vector<std::string>& args) {
                       o.dump_every > 0 ? step_dump_path(o.dump_state_path, 0) : std::string()},
                      scene_inputs(o.scene_file));
   check_memory(o);
-  if (o.ccd_both) return run_both(o);
+  return report_runs(o, run_runs(o));
+}
+
+RunCommandResult run_runs(const RunCommandOptions& o) {
+  RunCommandResult result;
+  if (o.ccd_both) {
+    run_both(o, result);
+    return result;
+  }
   const int repeat = o.repeat > 0 ? o.repeat : 1;
-  std::vector<RunResult> runs;
-  for (int k = 0; k < repeat; ++k) runs.push_back(run_once(o, o.params, k + 1 == repeat));
+  for (int k = 0; k < repeat; ++k) result.runs.push_back(run_once(o, o.params, k + 1 == repeat));
+  return result;
+}
+
+int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
+  if (o.ccd_both) return report_both(o, result);
+  const std::vector<RunResult>& runs = result.runs;
+  const int repeat = static_cast<int>(runs.size());
   const RunResult& r = runs.back();
   if (o.quiet) std::printf("%s\n", summary_line(r).c_str());
   else print_report(r);

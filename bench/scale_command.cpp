@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "gnuplot.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/memory_use.h"
@@ -25,37 +25,29 @@ constexpr double kMaxSpheres = 8.0 * 1024 * 1024;
 /// (plus the terrain) fits the memory limit: deeper piles hold more contacts per sphere.
 constexpr double kMemoryHeadroom = 1.5;
 
-struct ScaleOptions {
-  std::string scene = "terrain-rain";
-  std::size_t min_spheres = 1000, max_spheres = 256000;
-  int max_threads = 0;  // 0: hardware threads
-  int steps = 300;
-  std::string out_dir = "hail-out/scale";
-  bool no_plot = false;
-  double memory_limit_gb = -1.0;  // < 0: 80% of the memory available at start; 0: no limit
-};
+}  // namespace
 
-/// Every flag of `hail-bench scale`, parsed by the shared ArgParser; nullopt after --help.
-std::optional<ScaleOptions> parse(const std::vector<std::string>& args) {
-  ScaleOptions o;
+void add_scale_options(CLI::App& app, ScaleOptions& o) {
   constexpr long long kMax = static_cast<long long>(kMaxSpheres);
-  ArgParser parser("scale", "the scene at doubling sphere counts on 1..T threads: table, CSV, JSON and gnuplot SVGs");
-  parser.positional("scene", o.scene, "a built-in scene (default terrain-rain)")
-      .count("--min", o.min_spheres, 1, kMax, "the smallest sphere count (default 1000)")
-      .count("--max", o.max_spheres, 1, kMax, "the largest sphere count (default 256000)")
-      .count("--threads", o.max_threads, 0, 4096, "the most threads (0: the hardware's)")
-      .count("--steps", o.steps, 1, 100'000'000, "steps of each run (default 300)")
-      .text("--out", o.out_dir, "DIR", "folder of the CSV, JSON and plots (default hail-out/scale)")
-      .number("--memory-limit", o.memory_limit_gb, 0.0, 1e9,
-              "GB; a count whose estimate exceeds it is not started (default 80% of the memory available; 0: none)")
-      .flag("--no-plot", o.no_plot, "no gnuplot SVGs");
-  if (!parser.parse(args)) return std::nullopt;
-  if (o.min_spheres > o.max_spheres)
-    throw std::invalid_argument("--min (" + std::to_string(o.min_spheres) + ") must not exceed --max (" +
-                                std::to_string(o.max_spheres) + ")");
-  if (o.max_threads == 0) o.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return o;
+  app.description("the scene at doubling sphere counts on 1..T threads: table, CSV, JSON and gnuplot SVGs");
+  app.add_option("scene", o.scene, "a built-in scene")->check(CLI::IsMember(scene_names()));
+  add_count(app, "--min", o.min_spheres, 1, kMax, "the smallest sphere count");
+  add_count(app, "--max", o.max_spheres, 1, kMax, "the largest sphere count");
+  add_count(app, "--threads", o.max_threads, 0, 4096, "the most threads (0: the hardware's)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps of each run");
+  app.add_option("--out", o.out_dir, "folder of the CSV, JSON and plots")->type_name("DIR");
+  add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+             "GB; a count whose estimate exceeds it is not started (default -1: 80% of the memory available; 0: none)");
+  app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
+  app.callback([&o] {
+    if (o.min_spheres > o.max_spheres)
+      throw std::invalid_argument("--min (" + std::to_string(o.min_spheres) + ") must not exceed --max (" +
+                                  std::to_string(o.max_spheres) + ")");
+    if (o.max_threads == 0) o.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  });
 }
+
+namespace {
 
 // Reads the two matrices written beside scale.csv (gnuplot joins points only within one column).
 const char* kGnuplotScript = R"(# hail-bench scale: ns per sphere-step against spheres, and speed-up against threads.
@@ -79,9 +71,11 @@ plot for [k=1:COUNTS] 'speedup.dat' using 1:(column(k + 1)) with linespoints tit
 }  // namespace
 
 int scale_command(const std::vector<std::string>& args) {
-  const std::optional<ScaleOptions> parsed = parse(args);
-  if (!parsed) return 0;  // --help
-  const ScaleOptions& o = *parsed;
+  const std::optional<ScaleOptions> parsed = parse_command("scale", add_scale_options, args);
+  return parsed ? scale_command(*parsed) : 0;  // 0 after --help
+}
+
+int scale_command(const ScaleOptions& o) {
   const SceneEntry& entry = find_scene(o.scene);
   prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end
   std::vector<std::size_t> counts;

@@ -5,29 +5,34 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "cli_args.h"
+#include "cli.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/stress_cases.h"
 
 namespace hail::bench {
 
+void add_stress_options(CLI::App& app, StressOptions& o) {
+  std::vector<std::string> names;
+  for (const StressCase& c : stress_cases()) names.push_back(c.name);
+  app.description("the stability battery: each stiff or extreme case with its invariants; exit status 1 if any fails");
+  // A misspelt case name is refused before the header, naming the cases there are.
+  app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
+  app.add_flag("--quick", o.quick, "skip the slow cases");
+  app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
+}
+
 int stress_command(const std::vector<std::string>& args) {
-  std::string only, json_path;
-  bool quick = false;
-  ArgParser parser("stress", "the stability battery: each stiff or extreme case with its invariants; exit status 1 if any fails");
-  parser.text("--case", only, "NAME", "run this case alone")
-      .flag("--quick", quick, "skip the slow cases")
-      .text("--json", json_path, "FILE", "every case's worst values as JSON");
-  if (!parser.parse(args)) return 0;  // --help
+  const std::optional<StressOptions> parsed = parse_command("stress", add_stress_options, args);
+  return parsed ? stress_command(*parsed) : 0;  // 0 after --help
+}
+
+int stress_command(const StressOptions& o) {
+  const std::string& only = o.only;
+  const bool quick = o.quick;
+  const std::string& json_path = o.json_path;
   check_output_paths({json_path});
   const std::vector<StressCase> cases = stress_cases();
-  // A misspelt case name is refused before the header, naming the cases there are.
-  if (!only.empty() && std::none_of(cases.begin(), cases.end(), [&](const StressCase& c) { return c.name == only; })) {
-    std::string names;
-    for (const StressCase& c : cases) names += (names.empty() ? "" : ", ") + c.name;
-    throw std::invalid_argument("no stress case named '" + only + "' (the cases: " + names + ")");
-  }
   std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
   std::printf("  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
               "  no NaN, no centre below the terrain surface; worst values over every step\n\n");

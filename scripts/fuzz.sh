@@ -30,7 +30,7 @@ ci_runs=(heightmap:heightmap:900000:8192 scene-file:scene:250000:65536)
 ci_seed=20261123
 ci_cap=180  # seconds per target, a safety cap only
 
-need_packages clang libclang-rt-14-dev cmake make libtbb-dev libxsimd-dev libeigen3-dev nlohmann-json3-dev libstb-dev
+need_packages clang libclang-rt-14-dev cmake make libtbb-dev libxsimd-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libstb-dev
 command -v clang++ > /dev/null || { echo "fuzz.sh: clang++ not found (sudo apt-get install clang)" >&2; exit 1; }
 flags="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link"
 t0=$SECONDS

@@ -21,4 +21,4 @@ need_packages() {
 
 # What every hail build and test run needs (the same list as scripts/quickstart.sh test).
 # shellcheck disable=SC2034  # used by the scripts that source this file
-hail_test_packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libstb-dev)
+hail_test_packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev libstb-dev)

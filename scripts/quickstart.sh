@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 mode="${1:-bench}"
 case "$mode" in bench|test) ;; *) echo "usage: $0 bench|test" >&2; exit 2 ;; esac
 
-packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libstb-dev)
+packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev libstb-dev)
 # The benchmark side also wants the peers and tools it compares with; the tests never need them.
 if [ "$mode" = bench ]; then packages+=(libbullet-dev libbenchmark-dev gnuplot-nox); fi
 missing=()

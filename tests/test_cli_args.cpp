@@ -1,6 +1,6 @@
-// hail-bench's one command-line parser (bench/cli_args.*) and every command's use of it: counts
-// are whole numbers in range, unknown flags are errors naming the flag, --help for each command;
-// hail-bench run's --quiet line and --dump-every.
+// hail-bench's command line (CLI11, with the shared validators of bench/cli.h) and every
+// command's use of it: counts are whole numbers in range, unknown flags are errors naming the
+// flag, --help for hail-bench and each command; hail-bench run's --quiet line and --dump-every.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -15,7 +15,8 @@
 #include <vector>
 
 #include "bench/accuracy_command.h"
-#include "bench/cli_args.h"
+#include "bench/cli.h"
+#include "bench/command_line.h"
 #include "bench/compare_command.h"
 #include "bench/pairs_command.h"
 #include "bench/query_command.h"
@@ -64,61 +65,74 @@ TEST_CASE("A count must be a whole number in its range; the message names the fl
     return std::string("(no error)");
   };
   // 1e10 once overflowed an int and came out as "must be >= 1"; 2.7 was truncated to 2.
-  CHECK(message("1e10") == "--steps must be a whole number in [1, 100000000], got '1e10'");
-  CHECK(message("2.7") == "--steps must be a whole number in [1, 100000000], got '2.7'");
+  CHECK(message("1e10") == "--steps: must be a whole number in [1, 100000000], got '1e10'");
+  CHECK(message("2.7") == "--steps: must be a whole number in [1, 100000000], got '2.7'");
   for (const char* bad : {"0", "-3", "", " 5", "5x", "abc", "inf", "nan", "0.5"}) {
     INFO(bad);
     CHECK(contains(message(bad), "[1, 100000000], got '" + std::string(bad) + "'"));
   }
   CHECK(bench::parse_real("--dt", "0.01", 0.0, 10.0, true) == 0.01);
   CHECK_THROWS_AS(bench::parse_real("--dt", "0", 0.0, 10.0, true), std::invalid_argument);
-  CHECK_THROWS_WITH(bench::parse_real("--dt", "11", 0.0, 10.0, true), "--dt must be a number in (0, 10], got '11'");
+  CHECK_THROWS_WITH(bench::parse_real("--dt", "11", 0.0, 10.0, true), "--dt: must be a number in (0, 10], got '11'");
 }
 
-TEST_CASE("The parser: unknown flags, missing values, --flag=value, a positional, --help", "[bench][cli]") {
+namespace {
+
+/// A command of a few flags, parsed as every hail-bench command is.
+struct DemoOptions {
   int steps = 7;
+  double dt = 0.5;
   bool quiet = false;
   std::string scene = "default", json;
-  auto parser = [&] {
-    bench::ArgParser p("demo", "a test command");
-    p.positional("scene", scene, "the scene")
-        .count("--steps", steps, 1, 1000, "steps")
-        .flag("--quiet", quiet, "quiet")
-        .text("--json", json, "FILE", "output");
-    return p;
-  };
-  {
-    bench::ArgParser p = parser();
-    REQUIRE(p.parse({"rain", "--steps=12", "--quiet", "--json", "x.json"}));
-    CHECK(scene == "rain");
-    CHECK(steps == 12);
-    CHECK(quiet);
-    CHECK(json == "x.json");
-    CHECK(p.given("--steps"));
-    CHECK(p.given("scene"));
-    CHECK_FALSE(bench::ArgParser(parser()).given("--json"));
-  }
-  auto parse_error = [&](const std::vector<std::string>& args) {
-    try {
-      (void)parser().parse(args);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
-  CHECK(parse_error({"--stpes", "3"}) == "unknown option '--stpes' for hail-bench demo (see hail-bench demo --help)");
-  CHECK(contains(parse_error({"--steps"}), "--steps needs a value"));
-  CHECK(contains(parse_error({"a", "b"}), "unexpected argument 'b'"));
-  CHECK(contains(parse_error({"--quiet=yes"}), "--quiet takes no value"));
-  steps = 7;
-  CHECK_FALSE(parser().parse({"--steps", "9", "--help", "--bogus"}));  // --help: usage printed, nothing run
-  const std::string usage = parser().usage();
-  CHECK(contains(usage, "usage: hail-bench demo [scene] [options]"));
-  CHECK(contains(usage, "--steps N"));
-  CHECK(contains(usage, "(whole number in [1, 1000])"));
+};
+
+void add_demo_options(CLI::App& app, DemoOptions& o) {
+  app.add_option("scene", o.scene, "the scene");
+  bench::add_count(app, "--steps", o.steps, 1, 1000, "steps");
+  bench::add_number(app, "--dt", o.dt, 0.0, 1.0, "time step", /*exclude_min=*/true);
+  app.add_flag("--quiet", o.quiet, "quiet");
+  app.add_option("--json", o.json, "output");
 }
 
-TEST_CASE("Every hail-bench command parses with the shared parser: unknown flags and bad counts are refused", "[bench][cli]") {
+/// The message of the std::invalid_argument parsing `args` as the demo command throws, or "(no error)".
+std::string demo_error(const std::vector<std::string>& args) {
+  try {
+    (void)bench::parse_command("demo", add_demo_options, args);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("The shared conventions: unknown flags, missing values, --flag=value, a positional, the last flag wins, --help", "[bench][cli]") {
+  const std::optional<DemoOptions> o =
+      bench::parse_command("demo", add_demo_options, {"rain", "--steps=12", "--quiet", "--json", "x.json", "--dt", "0.1", "--dt", "0.25"});
+  REQUIRE(o);
+  CHECK(o->scene == "rain");
+  CHECK(o->steps == 12);
+  CHECK(o->quiet);
+  CHECK(o->json == "x.json");
+  CHECK(o->dt == 0.25);  // the last of a repeated flag wins, as before CLI11
+  CHECK(bench::parse_command("demo", add_demo_options, {"--steps", "1e3"})->steps == 1000);
+  CHECK(demo_error({"--stpes", "3"}) == "The following argument was not expected: --stpes (see hail-bench demo --help)");
+  CHECK(contains(demo_error({"--steps"}), "--steps"));
+  CHECK(contains(demo_error({"--steps", "2.7"}), "--steps: must be a whole number in [1, 1000], got '2.7'"));
+  CHECK(contains(demo_error({"--dt", "0"}), "--dt: must be a number in (0, 1], got '0'"));
+  CHECK(contains(demo_error({"--dt", "nan"}), "--dt: must be a number in (0, 1], got 'nan'"));
+  CHECK(contains(demo_error({"a", "b"}), "not expected: b"));
+  CHECK_FALSE(bench::parse_command("demo", add_demo_options, {"--steps", "9", "--help"}));  // --help: usage printed, nothing run
+  CLI::App app("a test command", "hail-bench demo");
+  DemoOptions options;
+  add_demo_options(app, options);
+  const std::string usage = app.help();
+  CHECK(contains(usage, "hail-bench demo"));
+  CHECK(contains(usage, "--steps N"));
+  CHECK(contains(usage, "whole number in [1, 1000]"));
+}
+
+TEST_CASE("Every hail-bench command parses with CLI11: unknown flags and bad counts are refused", "[bench][cli]") {
   // query, pairs and bvh-build once ignored unknown flags and reported a bad number as "stoi".
   const std::pair<const char*, Command> commands[] = {
       {"run", bench::run_command},         {"accuracy", bench::accuracy_command}, {"compare", bench::compare_command},
@@ -126,33 +140,40 @@ TEST_CASE("Every hail-bench command parses with the shared parser: unknown flags
       {"pairs", bench::pairs_command},     {"bvh-build", bench::bvh_build_command}};
   for (const auto& [name, command] : commands) {
     INFO(name);
-    CHECK(refusal(command, {"--bogus-flag", "1"}) ==
-          "unknown option '--bogus-flag' for hail-bench " + std::string(name) + " (see hail-bench " + name + " --help)");
+    CHECK(refusal(command, {"--bogus-flag"}) ==
+          "The following argument was not expected: --bogus-flag (see hail-bench " + std::string(name) + " --help)");
     CHECK(command({"--help"}) == 0);  // prints the command's usage and runs nothing
   }
-  CHECK(refusal(bench::query_command, {"--queries", "many"}) == "--queries must be a whole number in [1, 100000000], got 'many'");
-  CHECK(contains(refusal(bench::query_command, {"--leaf", "9"}), "--leaf must be a whole number in [1, 8], got '9'"));
-  CHECK(contains(refusal(bench::pairs_command, {"--repeats", "2.5"}), "--repeats must be a whole number"));
-  CHECK(contains(refusal(bench::bvh_build_command, {"--max-side", "x"}), "--max-side must be a whole number"));
-  CHECK(refusal(bench::run_command, {"--steps", "1e10"}) == "--steps must be a whole number in [1, 100000000], got '1e10'");
+  CHECK(refusal(bench::query_command, {"--queries", "many"}) ==
+        "--queries: must be a whole number in [1, 100000000], got 'many' (see hail-bench query --help)");
+  CHECK(contains(refusal(bench::query_command, {"--leaf", "9"}), "--leaf: must be a whole number in [1, 8], got '9'"));
+  CHECK(contains(refusal(bench::pairs_command, {"--repeats", "2.5"}), "--repeats: must be a whole number"));
+  CHECK(contains(refusal(bench::bvh_build_command, {"--max-side", "x"}), "--max-side: must be a whole number"));
+  CHECK(refusal(bench::run_command, {"--steps", "1e10"}) ==
+        "--steps: must be a whole number in [1, 100000000], got '1e10' (see hail-bench run --help)");
   CHECK(contains(refusal(bench::run_command, {"--steps", "2.7"}), "got '2.7'"));
-  CHECK(contains(refusal(bench::run_command, {"--threads", "-1"}), "--threads must be a whole number in [0, 4096], got '-1'"));
-  CHECK(contains(refusal(bench::run_command, {"--pairs", "octree"}), "--pairs must be auto, brute, grid, sweep or bvh"));
-  CHECK(contains(refusal(bench::run_command, {"--warm-start", "2"}), "--warm-start must be on, off or a factor in [0, 1]"));
-  CHECK(contains(refusal(bench::run_command, {"--tile", "3"}), "--tile must be 0 (no solver tiles) or a whole number"));
+  CHECK(contains(refusal(bench::run_command, {"--threads", "-1"}), "--threads: must be a whole number in [0, 4096], got '-1'"));
+  CHECK(contains(refusal(bench::run_command, {"--pairs", "octree"}), "--pairs: octree not in {auto,brute,grid,sweep,bvh}"));
+  CHECK(contains(refusal(bench::run_command, {"--warm-start", "2"}), "--warm-start: must be on, off or a factor in [0, 1]"));
+  CHECK(contains(refusal(bench::run_command, {"--tile", "3"}), "--tile: must be 0 (no solver tiles) or a whole number"));
   CHECK(contains(refusal(bench::scale_command, {"--min", "64", "--max", "8"}), "--min (64) must not exceed --max (8)"));
-  CHECK(contains(refusal(bench::compare_command, {"--repeat", "0"}), "--repeat must be a whole number in [1, 1000]"));
+  CHECK(contains(refusal(bench::compare_command, {"--repeat", "0"}), "--repeat: must be a whole number in [1, 1000]"));
+  CHECK(contains(refusal(bench::run_command, {"no-such-scene"}), "scene: no-such-scene not in {"));
+  CHECK(contains(refusal(bench::run_command, {"--spheres", "0"}), "--spheres: must be a whole number in [1, 100000000], got '0'"));
+  CHECK(contains(refusal(bench::run_command, {"--ccd", "maybe"}), "--ccd: maybe not in {on,off,both}"));
+  CHECK(contains(refusal(bench::run_command, {"--dt", "0"}), "--dt: must be a number in (0, 10], got '0'"));
   // A misspelt stress case is refused naming the cases there are (it printed the table's header first).
-  CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile"}), "no stress case named 'bowl-pile' (the cases: "));
+  CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile"}), "--case: bowl-pile not in {"));
   CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile"}), "bowl-pile-10k-20s"));
   CHECK(contains(refusal(bench::stress_command, {"--case", "bowl-pile-10k-20s", "--quick"}), "is a slow case"));
 }
 
 TEST_CASE("hail-bench accuracy refuses a repeat count that rounds to 0 (it crashed in median())", "[bench][cli]") {
-  CHECK(refusal(bench::accuracy_command, {"--repeats", "0.5"}) == "--repeats must be a whole number in [1, 1000], got '0.5'");
+  CHECK(refusal(bench::accuracy_command, {"--repeats", "0.5"}) ==
+        "--repeats: must be a whole number in [1, 1000], got '0.5' (see hail-bench accuracy --help)");
   CHECK(contains(refusal(bench::accuracy_command, {"--repeats", "0"}), "[1, 1000], got '0'"));
-  CHECK(contains(refusal(bench::accuracy_command, {"--spheres", "0.5"}), "--spheres must be a whole number"));
-  CHECK(contains(refusal(bench::accuracy_command, {"--dt", "1/0"}), "--dt 1/N must be a number in [1, 1e+09], got '0'"));
+  CHECK(contains(refusal(bench::accuracy_command, {"--spheres", "0.5"}), "--spheres: must be a whole number"));
+  CHECK(contains(refusal(bench::accuracy_command, {"--dt", "1/0"}), "--dt 1/N: must be a number in [1, 1e+09], got '0'"));
 }
 
 TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, the others stand", "[bench][cli]") {
@@ -178,29 +199,37 @@ TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, 
 
 namespace {
 
-/// What `command(args)` prints on stdout (file descriptor 1, where printf writes), and its status.
-std::pair<int, std::string> stdout_of(Command command, const std::vector<std::string>& args, const std::string& capture) {
+/// What `command(args)` writes on file descriptor `fd` (1: stdout, where printf writes; 2: stderr),
+/// and its status.
+std::pair<int, std::string> output_of(int fd, Command command, const std::vector<std::string>& args, const std::string& capture) {
   std::fflush(stdout);
-  const int saved = ::dup(1);
+  std::fflush(stderr);
+  const int saved = ::dup(fd);
   const int file = ::open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   REQUIRE(saved >= 0);
   REQUIRE(file >= 0);
-  ::dup2(file, 1);
+  ::dup2(file, fd);
   ::close(file);
   int status = -1;
   try {
     status = command(args);
   } catch (...) {
     std::fflush(stdout);
-    ::dup2(saved, 1);
+    std::fflush(stderr);
+    ::dup2(saved, fd);
     ::close(saved);
     throw;
   }
   std::fflush(stdout);
-  ::dup2(saved, 1);
+  std::fflush(stderr);
+  ::dup2(saved, fd);
   ::close(saved);
   std::ifstream in(capture);
   return {status, std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>())};
+}
+
+std::pair<int, std::string> stdout_of(Command command, const std::vector<std::string>& args, const std::string& capture) {
+  return output_of(1, command, args, capture);
 }
 
 }  // namespace
@@ -226,7 +255,7 @@ TEST_CASE("hail-bench run --quiet prints one summary line; --dump-every needs --
 
   CHECK(refusal(bench::run_command, {"--scene", scene, "--dump-every", "10"}) ==
         "--dump-every 10 needs --dump-state FILE.csv (the files are named after it)");
-  CHECK(contains(refusal(bench::run_command, {"--dump-every", "0"}), "--dump-every must be a whole number in [1, 100000000]"));
+  CHECK(contains(refusal(bench::run_command, {"--dump-every", "0"}), "--dump-every: must be a whole number in [1, 100000000]"));
   // A folder that cannot take the files is refused before the run.
   CHECK(contains(refusal(bench::run_command, {"--scene", scene, "--dump-state", (dir / "no-such-folder" / "s.csv").string(),
                                               "--dump-every", "2"}),
@@ -256,5 +285,37 @@ TEST_CASE("hail-bench run --origin D moves the scene out, --home-after K brings 
   auto x_of = [](const std::string& row) { return std::stod(row.substr(row.find(',') + 1)); };
   CHECK(x_of(out) == x_of(home) + 1024.0);  // x 115.5 + 1024: exact, and a falling sphere keeps its x
   CHECK(x_of(back) == x_of(home));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("hail-bench (the whole command line): every command refuses an unknown flag and has --help", "[bench][cli]") {
+  const auto dir = fresh_dir("hail-test-cli-args-main");
+  const std::string capture = (dir / "out.txt").string();
+  const auto [help_status, help] = stdout_of(bench::hail_bench, {"--help"}, capture);
+  CHECK(help_status == 0);
+  INFO(help);
+  for (const char* command : {"run", "accuracy", "compare", "stress", "scale", "query", "pairs", "bvh-build"}) {
+    INFO(command);
+    CHECK(contains(help, std::string("  ") + command + " "));  // hail-bench --help lists every command
+    // Each command refuses an unknown flag with exit status 2, naming it (query, pairs and
+    // bvh-build once ignored them), before running anything.
+    const auto [status, error] = output_of(2, bench::hail_bench, {command, "--bogus-flag"}, capture);
+    CHECK(status == 2);
+    CHECK(error == "hail-bench: The following argument was not expected: --bogus-flag (see hail-bench " + std::string(command) +
+                       " --help)\n");
+    // Each has its own --help: its usage on stdout, status 0, nothing run.
+    const auto [command_help_status, command_help] = stdout_of(bench::hail_bench, {command, "--help"}, capture);
+    CHECK(command_help_status == 0);
+    CHECK(contains(command_help, std::string("hail-bench ") + command));
+    CHECK_FALSE(contains(command_help, "Subcommands:"));
+  }
+  CHECK(contains(help, "terrain-rain"));  // and the scenes
+  // A bad value is refused naming the flag; --simd is hail-bench's own, before or after the command.
+  const auto [bad_status, bad] = output_of(2, bench::hail_bench, {"run", "--steps", "2.7"}, capture);
+  CHECK(bad_status == 2);
+  CHECK(contains(bad, "--steps: must be a whole number in [1, 100000000], got '2.7'"));
+  CHECK(output_of(2, bench::hail_bench, {"run", "--simd", "neon"}, capture).first == 2);
+  CHECK(output_of(2, bench::hail_bench, {"--simd", "neon", "run"}, capture).first == 2);
+  CHECK(output_of(2, bench::hail_bench, {"no-such-command"}, capture).first == 2);
   std::filesystem::remove_all(dir);
 }

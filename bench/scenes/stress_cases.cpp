@@ -464,7 +464,7 @@ double steepest_slope_deg(const Heightmap& h) {
 }
 
 /// Rain over steep ground (issue 28, part 1): the shipped DEMs (slopes to 84 degrees) and the
-/// generated noise, cliff, spike and fold maps (bench/steep_heightmaps.h), every step checked
+/// generated noise, cliff, spike and fold maps (bench/scenes/steep_heightmaps.h), every step checked
 /// for centres below the surface and for ground overlap, where a ghost contact from a steep
 /// triangle's plane used to throw spheres through ridges.
 StressResult steep_rains() {

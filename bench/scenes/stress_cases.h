@@ -1,6 +1,6 @@
 #pragma once
 // The stability battery (issue 7): stiff and extreme cases, each with the invariants it states
-// and checks after every step (bench/stress_watch.h). Shared by tests/test_stress.cpp (pass or
+// and checks after every step (bench/scenes/stress_watch.h). Shared by tests/test_stress.cpp (pass or
 // fail) and `hail-bench stress` (the table of worst values).
 
 #include <functional>
