@@ -54,7 +54,7 @@ int run(int argc, char** argv) {
   auto terrain = std::make_shared<const hail::Terrain>(make_heightmap(argc, argv));
   const hail::Heightmap& map = terrain->heightmap();
   std::printf("terrain: %u x %u vertices, %zu triangles, heights %.2f..%.2f m\n", map.cols(), map.rows(),
-              terrain->triangles().size(), map.min_height(), map.max_height());
+              terrain->triangle_count(), map.min_height(), map.max_height());
 
   // 2. The host's arena: hail's step() runs its parallel phases here and nowhere else.
   tbb::task_arena arena(2);

@@ -85,17 +85,17 @@ stray=$(find "$prefix" -type f \( -name '*.cpp' -o -name '*.cc' -o -name 'CMakeL
 stray=$(find "$inc" -mindepth 1 -maxdepth 1 ! -name hail | sed "s|$prefix/||")
 [ -z "$stray" ] || fail "installed outside include/hail: $stray"
 
-# Every "quoted" include must be an installed header; <angle> includes of hail's own folders too.
+# Every include of hail's own must be an installed public header, written "hail/<name>.h" or
+# <hail/<name>.h> (the only include directory a consumer gets is <prefix>/include); none may
+# name the library's internal folders.
 missing=""
 while IFS= read -r header; do
   while IFS= read -r included; do
     case "$included" in
-      \"*) name=${included//\"/}
-           [ -f "$(dirname "$header")/$name" ] || [ -f "$inc/hail/$name" ] || [ -f "$inc/$name" ] ||
-             missing+="  ${header#"$inc"/} includes \"$name\""$'\n' ;;
-      \<hail/*|\<kernel/*|\<soa/*|\<jobs/*)
-           name=${included#<}; name=${name%>}
-           [ -f "$inc/hail/$name" ] || [ -f "$inc/$name" ] || missing+="  ${header#"$inc"/} includes <$name>"$'\n' ;;
+      \"*|\<hail/*|\<kernel/*|\<soa/*|\<jobs/*)
+           name=${included#[<\"]}; name=${name%[>\"]}
+           [ -f "$inc/$name" ] && [[ "$name" == hail/* ]] ||
+             missing+="  ${header#"$inc"/} includes $included"$'\n' ;;
     esac
   done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*\([<"][^>"]*[>"]\).*/\1/p' "$header")
 done < <(find "$inc" -name '*.h' | sort)
@@ -119,7 +119,7 @@ mkdir -p "$tmp/headers"
   echo 'add_library(all_headers OBJECT all_headers.cpp)'
   echo 'target_link_libraries(all_headers PRIVATE hail::hail)'
 } > "$tmp/headers/CMakeLists.txt"
-(cd "$inc/hail" && find . -name '*.h' | sort | sed 's|^\./|#include "|; s|$|"|') > "$tmp/headers/all_headers.cpp"
+(cd "$inc/hail" && find . -name '*.h' | sort | sed 's|^\./|#include <hail/|; s|$|>|') > "$tmp/headers/all_headers.cpp"
 echo '#include <hail/hail.h>' >> "$tmp/headers/all_headers.cpp"
 step "compiling all $header_count installed headers in one file against the moved prefix"
 cmake -S "$tmp/headers" -B "$tmp/headers/build" -DCMAKE_PREFIX_PATH="$prefix" -DREQUEST=0.2 >/dev/null ||
@@ -142,6 +142,10 @@ check_example_flags() {  # <example build dir> <route>
   cmd=$(grep '"command".*drop_spheres\.cpp' "$dir/compile_commands.json") || fail "$route: no compile command"
   if grep -qE -- '-march|-ffp-contract|-Wall|-Wextra' <<<"$cmd"; then
     fail "$route: the example was compiled with hail's flags: $cmd"
+  fi
+  # It sees the public headers only: hail's source root (kernel/, soa/, jobs/) is not on its path.
+  if grep -qE -- "-I$src( |\"|$)|-isystem $src( |\"|$)" <<<"$cmd"; then
+    fail "$route: the example sees hail's internal folders (-I$src): $cmd"
   fi
 }
 check_example() {  # <example build dir> <route>
@@ -181,7 +185,7 @@ for route in "${routes[@]}"; do
   for option in HAIL_BUILD_TESTS HAIL_BUILD_BENCH HAIL_INSTALL; do
     grep -q "^$option:BOOL=OFF" "$dir/CMakeCache.txt" || fail "$route: $option is not OFF below a parent project"
   done
-  grep -q '"command".*-march=.*kernel/world\.cpp' "$dir/compile_commands.json" ||
+  grep -q '"command".*-march=.*kernel/world/world\.cpp' "$dir/compile_commands.json" ||
     fail "$route: hail's own objects lost their -march flag"
   if [ "$full" = 1 ]; then
     step "$route: building hail from source and the example"
