@@ -68,9 +68,9 @@ class Terrain {
   /// The same terrain moved by `by` (m): built from heightmap().moved(by) with the same leaf
   /// size, so its triangles are the same grid of the same heights with the origin moved (bit
   /// for bit the old vertices plus `by` where that sum is exact, e.g. `by` a multiple of a
-  /// power of two no finer than the vertices' spacing). Costs a full build (see the constructor);
-  /// World::shift_origin uses it. Throws
-  /// InvalidArgument as Heightmap::moved.
+  /// power of two no finer than the vertices' spacing). Costs a full build, as the constructor
+  /// (the BVH rebuilt); World::shift_origin uses it. Throws InvalidArgument as
+  /// Heightmap::moved.
   [[nodiscard]] Terrain moved(const Vec3& by) const { return Terrain(heightmap_.moved(by), leaf_size_); }
 
   /// The heightmap it was built from; surface_height(x, z) is the ground height under a point.
