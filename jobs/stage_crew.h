@@ -1,8 +1,9 @@
 #pragma once
 // A crew of threads that runs many short stages in a row with a cheap barrier between them:
-// the solver's passes are colour after colour (a step of terrain-rain 4k has about 175 such
-// stages of a few microseconds each), and a tbb::parallel_for per stage paid its task start
-// and join every time, which is what kept two threads well below twice one thread's speed.
+// the solver's passes are colour after colour (a step has many such stages, each short:
+// docs/benchmarks.md, "Figures behind the code's choices"), and a tbb::parallel_for per stage
+// paid its task start and join every time, which is what kept two threads well below twice one
+// thread's speed.
 //
 // After Box2D v3's solver stages: one task per arena thread for the whole sequence. The calling
 // thread (the "lead") publishes a stage, claims its blocks like everyone else, and waits until

@@ -53,13 +53,13 @@ class Terrain {
  public:
   /// Triangles per BVH leaf unless the constructor is told otherwise. 8, not 4: the packet
   /// walk tests a leaf's triangle boxes for all lanes at once, so larger leaves cost little
-  /// there and save node tests (terrain-rain detect-terrain 3-5% faster on AVX2 and AVX-512,
-  /// 4k and 64k; `hail-bench query --leaf 4` and `--leaf 8`: docs/benchmarks.md).
+  /// there and save node tests, so terrain-rain's detect-terrain is faster with 8 (`hail-bench
+  /// query --leaf 4` and `--leaf 8`: docs/benchmarks.md, "Figures behind the code's choices").
   static constexpr std::uint32_t kDefaultLeafSize = 8;
 
   /// Builds triangles and BVH (leaf_size 1..8; InvalidArgument otherwise), on the calling
-  /// thread. The BVH build alone takes 0.04 s for 256 x 256 vertices and 18 s for 4096 x 4096
-  /// (docs/benchmarks.md, `hail-bench bvh-build`).
+  /// thread. The BVH build is O(n log n) in the triangles: a large map takes seconds
+  /// (timings in docs/benchmarks.md, `hail-bench bvh-build`).
   explicit Terrain(Heightmap heightmap, std::uint32_t leaf_size = kDefaultLeafSize);
   Terrain(Terrain&&) noexcept;
   Terrain& operator=(Terrain&&) noexcept;
@@ -68,9 +68,9 @@ class Terrain {
   /// The same terrain moved by `by` (m): built from heightmap().moved(by) with the same leaf
   /// size, so its triangles are the same grid of the same heights with the origin moved (bit
   /// for bit the old vertices plus `by` where that sum is exact, e.g. `by` a multiple of a
-  /// power of two no finer than the vertices' spacing). Costs a full build (0.04 s for 256 x
-  /// 256 vertices, include/hail/terrain.h's constructor); World::shift_origin uses it. Throws
-  /// InvalidArgument as Heightmap::moved.
+  /// power of two no finer than the vertices' spacing). Costs a full build, as the constructor
+  /// (the BVH rebuilt); World::shift_origin uses it. Throws InvalidArgument as
+  /// Heightmap::moved.
   [[nodiscard]] Terrain moved(const Vec3& by) const { return Terrain(heightmap_.moved(by), leaf_size_); }
 
   /// The heightmap it was built from; surface_height(x, z) is the ground height under a point.
@@ -86,8 +86,8 @@ class Terrain {
   /// The flat BVH over triangles(), for custom queries with kernel/bvh/flat_bvh.h's walks.
   [[nodiscard]] const FlatBvh& bvh() const { return *bvh_; }
   /// Bytes the terrain holds: its heights, per-triangle data, BVH nodes and triangle boxes
-  /// (capacities, as allocated). For memory budgets: terrain-rain's 256^2 map holds 16.5 MB
-  /// (hail-bench run prints it beside what the whole run holds).
+  /// (capacities, as allocated), for memory budgets; hail-bench run prints it beside what the
+  /// whole run holds (terrain-rain's map: docs/benchmarks.md, "Figures behind the code's choices").
   [[nodiscard]] std::size_t memory_bytes() const;
   /// Per triangle, BVH order: its box, which the packet walk tests for all lanes at once.
   [[nodiscard]] const std::vector<Aabb>& triangle_bounds() const { return *triangle_bounds_; }
@@ -117,8 +117,9 @@ class Terrain {
   /// faces count; a ray through a shared edge or vertex reports one of the triangles), or
   /// nullopt for a miss. `dir` need not be unit: t is in units of |dir|. max_t may be infinite.
   /// The flat BVH's stackless nearest-hit walk (kernel/bvh/flat_bvh.h, query_ray) with exact
-  /// Moller-Trumbore tests (kernel/geometry/ray_triangle.h). hail-micro measures 2.2-3.3 M short rays
-  /// (up to 5 m) per second per thread on terrain-rain's map; a longer ray visits more nodes.
+  /// Moller-Trumbore tests (kernel/geometry/ray_triangle.h). hail-micro measures its rate on
+  /// terrain-rain's map (docs/benchmarks.md, "Figures behind the code's choices"); a longer ray
+  /// visits more nodes.
   /// No allocation; thread-safe. Throws InvalidArgument (naming the value) for a non-finite
   /// origin or dir, a zero dir, or a NaN or negative max_t.
   [[nodiscard]] std::optional<TerrainRayHit> raycast(const Vec3& origin, const Vec3& dir,

@@ -75,9 +75,9 @@ inline constexpr float kMaxSphereSpin = 1e6f;     ///< rad/s, |angular_velocity|
 /// coordinates (2^-23 of their magnitude), so far from the origin small things blur. add_sphere
 /// requires the spacing at the sphere's largest |coordinate| to be at most radius /
 /// kSphereRadiusResolution: contacts, the depenetration slop and the stress battery's bounds
-/// are a few percent of a radius, and the overlaps grow with the spacing (hail-bench stress,
-/// terrain-rain's terrain moved out: deepest sphere overlap 0.8% of r at 1e4 m, 3.2% at 1e5 m
-/// where the spacing is r / 64, 6.3% past the 5% bound at 2.5e5 m, r / 32). A sphere of radius
+/// are a few percent of a radius, and the overlaps grow with the spacing: at a spacing of r / 32
+/// terrain-rain's terrain moved out broke the stress battery's 5% bound, at r / 64 it held
+/// (hail-bench stress: docs/benchmarks.md, "Figures behind the code's choices"). A sphere of radius
 /// 0.5 may so be placed up to 2^17 = 131,072 m out, one of radius 1e-6 within 0.25 m. The
 /// check is made when a sphere is added; a step does not stop a sphere flying further.
 inline constexpr float kSphereRadiusResolution = 64.0f;
@@ -158,7 +158,7 @@ class World {
   /// 1e5 m are 7.8 mm apart) moves it back near the origin now and then, e.g. when the player
   /// is past 1-2 km out (docs/embedding.md, "Keeping the action near the origin").
   /// Cost: O(spheres + planes), plus a new Terrain built from terrain()->moved(-offset) (its
-  /// BVH rebuilt: 0.04 s for 256 x 256 vertices), which this World then holds instead of the
+  /// BVH rebuilt: docs/benchmarks.md, `hail-bench bvh-build`), which this World then holds instead of the
   /// shared one. Warm-start impulses are kept unless the moved terrain's BVH orders its
   /// triangles differently (then they are dropped, as after set_terrain). last_contacts() is
   /// unchanged (it holds no positions); last_impacts() points move too.

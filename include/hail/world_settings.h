@@ -35,14 +35,14 @@ enum class PairSearch {
   Bvh,            ///< per-step BVH over the spheres (the terrain's builder and flat walk)
 };
 
-/// PairSearch::Automatic: below this many spheres of similar radii brute force wins (measured
-/// crossover with the grid, `hail-bench pairs`: brute force ahead at 256, the grid from 1,000,
-/// in random and in Morton order).
+/// PairSearch::Automatic: below this many spheres of similar radii brute force wins, above it
+/// the grid (crossover measured with `hail-bench pairs`, in random and in Morton order:
+/// docs/benchmarks.md, "Figures behind the code's choices").
 inline constexpr std::size_t kPairSearchMinSpheres = 1000;
 /// Radii are "mixed" when largest / smallest is above kMixedRadiusSpread: the grid's cells must
-/// fit the largest, so it needs more spheres to pay (measured on piles of 0.25..2.5 with 1% at
-/// 5: brute force ahead at 1,000, the grid from 4,000 and ahead of the sphere BVH in either
-/// slot order).
+/// fit the largest, so it needs more spheres to pay; from this count on it beats brute force and
+/// the sphere BVH on mixed piles in either slot order (`hail-bench pairs`: docs/benchmarks.md,
+/// "Figures behind the code's choices").
 inline constexpr std::size_t kMixedPairSearchMinSpheres = 4000;
 inline constexpr float kMixedRadiusSpread = 4.0f;
 /// Beyond this spread (not measured: the bench's piles stop at 20) a few giants would make
@@ -80,8 +80,8 @@ struct WorldSettings {
   float time_scale = 1.0f;
   /// Steps longer than this (s, after time_scale) are split into equal substeps no longer than
   /// it. A step of 1.7 s (time scale 100 at 1/60) sweeps every sphere resting on the ground
-  /// thousands of times and gained energy 20-fold in the stress battery; 1/20 s keeps every step
-  /// of the shipped scenes whole.
+  /// thousands of times and multiplied its energy in the stress battery (docs/benchmarks.md,
+  /// "Figures behind the code's choices"); 1/20 s keeps every step of the shipped scenes whole.
   float max_substep = 0.05f;
   /// Most substeps one step(dt) may be split into, >= 1. A step that needs more
   /// (substeps_needed below) is refused with InvalidArgument and the world is left unchanged:
@@ -133,10 +133,10 @@ struct WorldSettings {
   /// Each pair's own speculative margin: this many times the distance the two spheres can close
   /// this step by their own speeds, (|va| + |vb|) dt, and never more than the step's margin
   /// above (which one fast sphere widens for everyone). Resting neighbours then get contacts
-  /// only where they touch, not with the next shell of a pile: terrain-rain 4k, 12.5k -> 7.0k
-  /// sphere contacts per step with the same worst penetration (docs/benchmarks.md). 2 leaves room for
-  /// speed gained from impacts during the step (1 let spheres sink 0.0085 m instead of 0.005);
-  /// 0 gives every pair the step's margin.
+  /// only where they touch, not with the next shell of a pile: far fewer sphere contacts per step
+  /// with the same worst penetration. 2 leaves room for speed gained from impacts during the step
+  /// (1 let spheres sink deeper); 0 gives every pair the step's margin. Figures: docs/benchmarks.md,
+  /// "Figures behind the code's choices".
   float pair_margin_travel = 2.0f;
   /// Every this many steps the spheres' dense slots are re-sorted by the Morton code of their
   /// centres (handles stay valid; slot order, and so World::spheres() order, changes), so
@@ -166,9 +166,9 @@ struct WorldSettings {
   float fast_travel_fraction = 1.0f;
   /// Impacts one swept sphere may have in one step; a sphere that reaches it stops where the
   /// last one left it for the rest of the step (StepStats::sweep.capped counts it). A guard
-  /// against endless zero-time impacts, not a working limit: a 1e4 m/s sphere into a pile of 48
-  /// took 750 impacts with no sphere above 64; at a cap of 16, 23 spheres stopped early and
-  /// the pile ended 9% of a radius inside itself (hail-bench stress).
+  /// against endless zero-time impacts, not a working limit: a very fast sphere into a pile needs
+  /// hundreds of impacts in one step, and a low cap stops spheres early and leaves the pile
+  /// overlapping (hail-bench stress: docs/benchmarks.md, "Figures behind the code's choices").
   int max_sweep_events = 256;
   /// Shock propagation (kernel/solver/shock_propagation.h): one more resting pass from the ground up
   /// with the lower body of each contact held still, run in steps where the heaviest movable

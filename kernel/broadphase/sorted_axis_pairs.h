@@ -10,8 +10,8 @@
 // radius for every sphere, so a few giants would widen every window. Spheres are therefore
 // sorted within radius classes (radii within a factor 4 share a class), and each class is
 // searched with its own largest radius: one binary search pair per non-empty class and row.
-// Measured (1 thread): 16k spheres of r 0.5 plus one of r 25, 3145 ns/sphere in one run,
-// 656 in classes; on hail-bench pairs' mixed pile (r 0.25..2.5, 1% r 5) both within noise.
+// With one giant among many small spheres the classes are several times faster, and on an
+// ordinary mixed pile they cost nothing (docs/benchmarks.md, "Figures behind the code's choices").
 
 #include <cstdint>
 #include <vector>

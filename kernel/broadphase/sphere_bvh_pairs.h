@@ -21,9 +21,9 @@ namespace hail {
 
 class SphereBvhPairs {
  public:
-  /// Build settings by default: median split, leaves of 8 spheres. Measured on random piles
-  /// (hail-bench pairs, 16k-64k spheres): each halving of the leaf size cost 10-15% more time,
-  /// build and walk together; 8 is the builder's largest leaf.
+  /// Build settings by default: median split, leaves of 8 spheres. Smaller leaves cost more
+  /// time, build and walk together (hail-bench pairs: docs/benchmarks.md, "Figures behind the
+  /// code's choices"); 8 is the builder's largest leaf.
   static constexpr BvhBuildOptions kDefaultOptions{.split = BvhSplit::Median, .leaf_size = 8};
 
   /// Rebuilds the BVH over the spheres' boxes. Serial, O(n log n); allocates only on growth.

@@ -74,8 +74,8 @@ void SphereGrid::build(const SphereSoA& s, float margin, PairMargins pair_margin
   // The cell size only trades runs against candidates (the windows are exact, top of
   // sphere_grid.h). Two reaches: a window (two reaches wide) then spans 2 cells per axis, so
   // 4 runs of 2 cells; at one reach it spans 3, 9 runs of 3 cells with fewer candidates each.
-  // terrain-rain 4k, 1 thread, detect-pairs ms: 0.63 / 0.54 (AVX-512), 0.67 / 0.58 (AVX2),
-  // 0.77 / 0.63 (SSE4.2) at one / two reaches; 0.7 reaches 0.83, 2.5 and 3 within noise of 2.
+  // Fewer, longer runs win on every SIMD path (detect-pairs by cell size: docs/benchmarks.md,
+  // "Figures behind the code's choices").
   // An infinite cell puts every sphere in cell 0; a zero or NaN one gets any positive size.
   float cell = 2.0f * (2.0f * max_radius + std::fabs(margin));
   if (!(cell >= std::numeric_limits<float>::min())) cell = std::numeric_limits<float>::min();

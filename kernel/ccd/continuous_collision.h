@@ -51,9 +51,9 @@
 namespace hail {
 
 /// From this many fast spheres in a step on, their sphere candidates come from a BVH built over
-/// every sphere's path box instead of a scan of all path boxes per fast sphere. Measured
-/// crossover (`hail-bench run bullets --threads 1`, ms/step scan vs BVH): 250 fast spheres
-/// 0.079 vs 0.099, 500: 0.276 vs 0.261, 1,000: 0.934 vs 0.525.
+/// every sphere's path box instead of a scan of all path boxes per fast sphere: the scan wins
+/// below it, the BVH above (crossover measured with `hail-bench run bullets --threads 1`:
+/// docs/benchmarks.md, "Figures behind the code's choices").
 inline constexpr std::size_t kSweepBvhMinFast = 512;
 
 /// Where a sweep's sphere candidates come from; both give the same impacts (tested).

@@ -2,8 +2,8 @@
 // compress_lanes: a SIMD batch's hit lanes packed to the front and stored at once, where a loop
 // over the set lanes would take a branch per hit. Whether a batch holds a hit (a grid slot
 // within reach, a leaf triangle touched) is close to a coin toss in the pair search and the
-// terrain walk, so that loop mispredicted about once per hit (terrain-rain 4k: detect-pairs
-// -26%, detect-terrain -22% without it). AVX-512 has a compress instruction; AVX2 has none, so
+// terrain walk, so that loop mispredicted about once per hit (what the packing saves:
+// docs/benchmarks.md, "Figures behind the code's choices"). AVX-512 has a compress instruction; AVX2 has none, so
 // a 256-entry table (kSetLanes) gives the permutation; SSE4.2 keeps the loop, the reference.
 // Included only by kernel/simd/ translation units.
 

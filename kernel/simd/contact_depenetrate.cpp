@@ -5,8 +5,8 @@
 // contacts of a batch belong to one colour and share no sphere, so their order does not matter.
 //
 // Why: most contacts of a pile sit within the slop and move nothing, and the scalar loop spent
-// its time reading 60-byte contacts and branching on each (depenetrate was 7% of a terrain-rain
-// 64k step). Here a batch reads its slots, normals and offsets from the staged arrays, gathers
+// its time reading 60-byte contacts and branching on each (docs/benchmarks.md, "Figures behind
+// the code's choices"). Here a batch reads its slots, normals and offsets from the staged arrays, gathers
 // positions only when the skip rule keeps one of its lanes, and stores only for lanes that push.
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace

@@ -3,7 +3,7 @@
 // loads on SSE4.2; and from a table of one batch, a lane permute. xsimd 8.1's batch::gather
 // never reaches its per-architecture overloads (it passes two template arguments to functions
 // that take one) and inserts the elements one by one; in the terrain kernel that emulation took
-// 5% of a terrain-rain run (perf), more than the tests it fed.
+// more time than the tests it fed (perf: docs/benchmarks.md, "Figures behind the code's choices").
 // Pure data movement: every path loads the same floats.
 
 #include <cstdint>

@@ -162,8 +162,8 @@ std::uint64_t count_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x,
     const std::size_t n = count - first < kSpherePacketWidth ? count - first : kSpherePacketWidth;
     packet.clear();
     for (std::size_t k = first; k < first + n; ++k) packet.add(x[k], y[k], z[k], r[k]);
-    // A counter local to the packet stays in a register through the walk (measured: 92 -> 71 ns
-    // per query in Morton order with one outside the loop).
+    // A counter local to the packet stays in a register through the walk; one outside the loop
+    // made every query slower (docs/benchmarks.md, "Figures behind the code's choices").
     std::uint32_t packet_hits = 0;
     if (test == PacketLeafTest::LeafBoxes) {
       // Each primitive's lanes counted at once, as the terrain kernel appends them at once.

@@ -6,9 +6,9 @@
 // scalar push_out, exactly as its loop would have continued. Compiled once per SIMD path
 // (kernel/dispatch/simd_arch.h).
 //
-// Why packets: the guard's spheres (those that moved further than their contacts reached, 1-2%
-// of terrain-rain's at 64k) walked the tree one by one, and that walk, its node loads missing
-// the cache, was 2.6% of a 64k run (perf, 1 thread).
+// Why packets: the guard's spheres (those that moved further than their contacts reached, a
+// few in each step) walked the tree one by one, and that walk's node loads missed the cache
+// (perf: docs/benchmarks.md, "Figures behind the code's choices").
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 

@@ -13,10 +13,10 @@
 // merges them (layout_static, layout_pairs: the contacts are in cache then, and the merge's
 // blocks are by slot), and the impulses are stored after the solve wherever the solver keeps
 // its contacts (store_entry takes each contact's detection-order index): copying them back
-// into detection order and reading every contact again took 0.048 ms of terrain-rain's 0.57 ms
-// solve at 4k, against 0.009 now. Keyed by sphere id instead, every lookup was a jump through
-// the ids' order: a cache miss a contact from 64k spheres on (34% of the lookup's samples,
-// perf). A re-sort that moves the spheres to other slots moves their ranges with them
+// into detection order and reading every contact again cost several times as much. Keyed by
+// sphere id instead, every lookup was a jump through the ids' order: a cache miss a contact in
+// large worlds (figures for both: docs/benchmarks.md, "Figures behind the code's choices").
+// A re-sort that moves the spheres to other slots moves their ranges with them
 // (remap_slots); each range also remembers its sphere's id, so a range whose slot now holds
 // another sphere is never taken for it.
 

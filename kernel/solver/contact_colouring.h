@@ -33,8 +33,8 @@ struct SolveStartVelocities {
 /// half in the step (static side at rest): a speculative one that the resting passes most
 /// likely leave as it is (resting_idle, kernel/solver/contact_impulse.h). Each colour lists these
 /// after its other contacts (each group in contact order), so that they fill SIMD batches of
-/// their own, which the passes skip whole (terrain-rain: 35% of the resting batches at 4k, 59%
-/// at 64k). Within a parallel colour the order changes no result, as its contacts share no
+/// their own, which the passes skip whole (how many, in terrain-rain: docs/benchmarks.md,
+/// "Figures behind the code's choices"). Within a parallel colour the order changes no result, as its contacts share no
 /// sphere. Without velocities, the gap alone decides.
 [[nodiscard]] inline bool starts_idle(const Contact& c, const SolveStartVelocities* v = nullptr) {
   const bool idle = holds_no_impulse(c) & (c.gap > 0.0f);  // & : branch-free, as holds_no_impulse

@@ -253,8 +253,9 @@ inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restit
 /// Whether a resting pass leaves contact c as it is: it holds no impulse (normal or friction)
 /// and its bodies close no faster than its gap allows (vn + allowed_closing >= 0), so the
 /// clamped normal impulse stays zero and friction, limited to mu * 0, stays zero too. Most
-/// speculative contacts are such in every pass (terrain-rain: half the contact evaluations of
-/// the resting passes at 4k, 79% at 64k). Their rule would add impulses of zero; skipping it
+/// speculative contacts are such in every pass (terrain-rain: about half the contact
+/// evaluations of the resting passes and more in larger piles, docs/benchmarks.md, "Figures
+/// behind the code's choices"). Their rule would add impulses of zero; skipping it
 /// differs only in the sign of a velocity that is exactly zero (x - 0 is x, but -0 + 0 is +0)
 /// and in a slip small enough that its square underflows, so SIMD batches of such contacts
 /// skip their angular loads, their friction and their stores (kernel/simd/contact_solve.cpp).

@@ -72,8 +72,8 @@ class ContactBatches {
   void fill(std::size_t first, std::size_t last, std::span<const Contact> contacts, std::span<const SolverBody> bodies);
   /// fill() with the spheres' radii by slot (`radius`, the values the bodies hold) instead of
   /// the bodies, whose static body has slot radius.size(): the step's solve reads 4 bytes a
-  /// sphere instead of a 64-byte body line (the radius loads were a third of fill's samples at
-  /// 64k, perf).
+  /// sphere instead of a 64-byte body line (the radius loads were much of fill's time in large
+  /// worlds: docs/benchmarks.md, "Figures behind the code's choices").
   void fill(std::size_t first, std::size_t last, std::span<const Contact> contacts, std::span<const float> radius);
   [[nodiscard]] std::size_t batch_count() const { return first_contact_.size(); }
   /// Contacts per batch, as the last plan() laid them out.

@@ -66,7 +66,8 @@ double earliest_root(double d0, double vn, double an, double limit) {
 /// The part of a sphere's step in which it meets planes: up to four impacts, each at its exact
 /// time, the motion x, u advanced to it and `remaining` shortened. Out of the loop that runs for
 /// every sphere, so that a scene without planes does not carry it there: inlined, it cost
-/// terrain-rain 4k 16 instructions per sphere and step (callgrind, 120 steps, one thread).
+/// every sphere instructions in every step (callgrind: docs/benchmarks.md, "Figures behind the
+/// code's choices").
 [[gnu::noinline]] void bounce_off_planes(SphereSoA& s, std::size_t i, std::span<const Plane> planes,
                                          const IntegrationParams& p, const float a[3], float x[3], float u[3],
                                          float& remaining, std::vector<Impact>* impacts) {

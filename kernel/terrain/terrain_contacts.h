@@ -80,7 +80,7 @@ inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const SphereT
   if (slot == nullptr) return;
   // Made in its place: built in a temporary and copied, the copy read back 32 bytes at a time
   // what had just been stored 4 bytes at a time, and store forwarding failed on every contact
-  // (8% of detect-terrain's samples at 4k, perf).
+  // (perf: docs/benchmarks.md, "Figures behind the code's choices").
   ::new (static_cast<void*>(slot)) Contact{.a = static_cast<std::uint32_t>(i),
                                            .b = kStaticBody,
                                            .nx = st.n[0],

@@ -126,8 +126,9 @@ struct StepPipeline {
   /// (the reach of Terrain::find_contacts; swept spheres need no guard), plus the overlap the
   /// depenetration tolerates anyway (slop): a sphere that moved no further than that cannot
   /// have entered ground outside its contacts by more than the slop. Without that allowance
-  /// rounding flags every falling sphere (its move is exactly its reach): terrain-rain 4k
-  /// spent 11% more instructions on queries that moved nothing (callgrind).
+  /// rounding flags every falling sphere (its move is exactly its reach), and the guard spends
+  /// its queries on spheres that move nothing (callgrind: docs/benchmarks.md, "Figures behind
+  /// the code's choices").
   void remember_reach(std::size_t first, std::size_t last) {
     const SphereSoA& s = w.spheres_;
     const float slop = w.settings_.depenetration.slop_fraction;
@@ -380,7 +381,8 @@ struct StepPipeline {
       } else {
         // Made in place (the returned prvalue initialises *out): assigned from a temporary,
         // its copy read back 16 bytes at a time what the call had just stored 4 bytes at a time,
-        // and store forwarding failed on each contact (64% of the merge's samples at 64k, perf).
+        // and store forwarding failed on each contact, most of the merge's time (perf:
+        // docs/benchmarks.md, "Figures behind the code's choices").
         for (const SpherePair& pair : st.pair_blocks[b - static_blocks])
           ::new (static_cast<void*>(out++)) Contact(make_sphere_contact(s, pair));
       }
@@ -490,9 +492,8 @@ struct StepPipeline {
 
   /// colour_contacts, its tiles in parallel (TiledColouring: the same colouring, bit for bit)
   /// when there are tiles and threads to share them. On one thread the plain loop is faster
-  /// (terrain-rain 64k: 15.6 against 16.1 ms of solve), on two the tiles' colouring no longer
-  /// leaves a thread idle (2 threads, solve: 4k 0.338 -> 0.316 ms, 16k 1.54 -> 1.38, 64k 8.93
-  /// -> 8.62; docs/benchmarks.md).
+  /// (it lists no tiles), on two the tiles' colouring no longer leaves a thread idle (solve
+  /// phase, terrain-rain: docs/benchmarks.md, "Figures behind the code's choices").
   void colour(std::size_t n, std::size_t tile_spheres, const SolveStartVelocities& velocities) {
     if (tile_spheres == 0 || tbb::this_task_arena::max_concurrency() == 1) {
       colour_contacts(st.contacts, n, st.colouring, tile_spheres, &velocities);
@@ -583,8 +584,8 @@ struct StepPipeline {
       }
       // Warm start after the collision passes, not before: applied first, an impulse that no
       // longer fits the pile pushes neighbours into each other faster than the restitution
-      // threshold, and the collision passes bounce them (measured: bowl-pile kept 33.7 J of
-      // jitter that way, 1.4 J this way).
+      // threshold, and the collision passes bounce them: the pile keeps jittering (bowl-pile's
+      // energy: docs/benchmarks.md, "Figures behind the code's choices").
       if (w.settings_.warm_start && w.stats_.warm_started > 0)
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.warm_start(first, last, bodies, work);
@@ -705,8 +706,8 @@ struct StepPipeline {
   }
   /// morton_slot_order and SphereSoA::permute over blocks in parallel: the same order and the
   /// same state (kernel/broadphase/spatial_order.h). Serial, the sort alone was a phase whose share grows
-  /// with N (n log n) and with the thread count (terrain-rain 256k, 1 thread: 0.86 ms per step
-  /// on average, a re-sort every 16 steps).
+  /// with N (n log n) and with the thread count (terrain-rain 256k: docs/benchmarks.md,
+  /// "Figures behind the code's choices").
   void reorder() {
     SphereSoA& s = w.spheres_;
     const std::size_t n = s.size();
