@@ -243,7 +243,6 @@ class World {
   [[nodiscard]] std::span<const Impact> last_impacts() const;
 
  private:
-  friend struct StepPipeline;
   static void validate(const WorldSettings& settings);
   /// One pass of the step pipeline over `scaled` (time-scaled) seconds.
   void substep(float scaled);

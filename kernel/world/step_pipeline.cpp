@@ -62,8 +62,22 @@ constexpr float kGuardSinkFraction = 0.02f;
 constexpr float kRestingContactSlop = 1e-3f;
 }  // namespace
 
+/// What a step reads and writes of its World besides the scratch: World::substep hands these
+/// over, so the pipeline needs no access to World's private members.
+struct StepWorld {
+  const WorldSettings& settings;
+  SphereSoA& spheres;
+  std::span<const Plane> planes;
+  const Terrain* terrain;  ///< null: no terrain
+  float terrain_restitution, terrain_friction;
+  StepStats& stats;
+  PhaseTimes& times;
+  PhaseTrace& trace;
+  std::uint64_t steps_taken;  ///< steps before this one (the re-sort's phase)
+};
+
 struct StepPipeline {
-  World& w;
+  StepWorld w;
   StepState& st;  // w's scratch (kernel/world/step_state.h)
   IntegrationParams params;
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
@@ -76,14 +90,14 @@ struct StepPipeline {
   bool rotation = true;          // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
 
   void predict(float& margin) {
-    SphereSoA& s = w.spheres_;
+    SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kSphereBlock);
     assign_geometric(st.block_max_speed, blocks, 0.0f);
     if (st.block_extremes.size() < blocks) resize_geometric(st.block_extremes, blocks);
     grow_block_lists(st.fast_blocks, blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Predict);
+      ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
       st.block_max_speed[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
       st.block_extremes[b] = block_extremes(first, last);
@@ -104,13 +118,13 @@ struct StepPipeline {
     min_radius = n > 0 ? all.min_radius : 0.0f;
     const float min_inv_mass = all.min_inv_mass, max_inv_mass = all.max_inv_mass;
     // Heaviest over lightest = largest inverse mass over smallest.
-    shock = max_inv_mass > w.settings_.shock_mass_ratio * min_inv_mass;
-    margin = std::min(2.0f * max_speed * params.dt, w.settings_.speculative_radii * max_radius);
+    shock = max_inv_mass > w.settings.shock_mass_ratio * min_inv_mass;
+    margin = std::min(2.0f * max_speed * params.dt, w.settings.speculative_radii * max_radius);
   }
 
   /// Radii and inverse masses (of movable spheres) of spheres [first, last), branch-free.
   SphereExtremes block_extremes(std::size_t first, std::size_t last) const {
-    const SphereSoA& s = w.spheres_;
+    const SphereSoA& s = w.spheres;
     SphereExtremes e;
     for (std::size_t i = first; i < last; ++i) {
       const float r = s.radius[i], im = s.inv_mass[i];
@@ -130,8 +144,8 @@ struct StepPipeline {
   /// its queries on spheres that move nothing (callgrind: docs/benchmarks.md, "Figures behind
   /// the code's choices").
   void remember_reach(std::size_t first, std::size_t last) {
-    const SphereSoA& s = w.spheres_;
-    const float slop = w.settings_.depenetration.slop_fraction;
+    const SphereSoA& s = w.spheres;
+    const float slop = w.settings.depenetration.slop_fraction;
     const float swept_reach = sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
     // Selects, no branches, and unaliased pointers, so that it vectorises: it runs for every sphere.
     float* __restrict x0 = st.start_x.data();
@@ -160,10 +174,10 @@ struct StepPipeline {
   /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
   void guard_terrain() {
 #if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
-    SphereSoA& s = w.spheres_;
+    SphereSoA& s = w.spheres;
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
     for_each_block(s.size(), kSphereBlock, [&](std::size_t block, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      ScopedTraceRecord record(w.trace, Phase::Depenetrate);
       // Flags first, branch-free so that it vectorises; then the few flagged spheres, a packet
       // at a time (Terrain::push_out_spheres).
       std::uint8_t beyond[kSphereBlock];
@@ -184,7 +198,7 @@ struct StepPipeline {
         for (const Contact& c : st.contact_blocks[block])
           if (c.b == kStaticBody && current_gap(s, c) < -kGuardSinkFraction * s.radius[c.a])
             beyond[c.a - first] = static_cast<std::uint8_t>(s.inv_mass[c.a] > 0.0f);
-        const Heightmap& ground = w.terrain_->heightmap();
+        const Heightmap& ground = w.terrain->heightmap();
         for (std::size_t i = first; i < last; ++i)
           if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
               s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i])
@@ -202,54 +216,54 @@ struct StepPipeline {
         const std::uint32_t i = flagged[k];
         const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
         if (!is_fast(v2, params.dt, s.radius[i], fast_fraction))
-          w.terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+          w.terrain->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
       }
-      const std::size_t count = w.terrain_->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
+      const std::size_t count = w.terrain->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
       if (count) pushed += count;
     });
-    w.stats_.pushed_out = pushed.load();
+    w.stats.pushed_out = pushed.load();
 #endif
   }
 
   void detect_static() {
-    const SphereSoA& s = w.spheres_;
+    const SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kSphereBlock);
     grow_block_lists(st.contact_blocks, blocks);
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::DetectTerrain);
+      ScopedTraceRecord record(w.trace, Phase::DetectTerrain);
       st.contact_blocks[b].clear();
-      find_plane_contacts(s, w.planes_, first, last, st.contact_blocks[b]);
+      find_plane_contacts(s, w.planes, first, last, st.contact_blocks[b]);
 #if HAIL_WITH_TERRAIN
-      if (w.terrain_)
-        w.terrain_->find_contacts(s, first, last, params.dt, w.terrain_restitution_, w.terrain_friction_,
+      if (w.terrain)
+        w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
                                   st.contact_blocks[b], fast_fraction, sweeping);
 #endif
     });
   }
 
   void detect_pairs(float margin) {
-    const SphereSoA& s = w.spheres_;
+    const SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kPairRowBlock);
     grow_block_lists(st.pair_blocks, blocks);
     grow_block_lists(st.pair_row_scratch, blocks);
     for (std::size_t b = 0; b < blocks; ++b) st.pair_blocks[b].clear();
-    w.stats_.sphere_contacts_capped = false;
-    if (!w.settings_.sphere_collisions) return;
-    PairSearch search = w.settings_.pair_search;
+    w.stats.sphere_contacts_capped = false;
+    if (!w.settings.sphere_collisions) return;
+    PairSearch search = w.settings.pair_search;
     if (search == PairSearch::Automatic)
       search = automatic_pair_search(n, min_radius, max_radius);
-    w.stats_.pair_search = search;
+    w.stats.pair_search = search;
     // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
-    const PairMargins own_margins = pair_margins ? PairMargins{st.travel.data(), w.settings_.pair_margin_travel} : PairMargins{};
+    const PairMargins own_margins = pair_margins ? PairMargins{st.travel.data(), w.settings.pair_margin_travel} : PairMargins{};
     if (search == PairSearch::Grid) st.grid.build(s, margin, own_margins);
     if (search == PairSearch::SweepAndPrune) st.sorted_axis.build(s, margin);
     if (search == PairSearch::Bvh) st.sphere_bvh.build(s, margin);
-    const std::size_t per_sphere = w.settings_.max_sphere_contacts_per_sphere;
+    const std::size_t per_sphere = w.settings.max_sphere_contacts_per_sphere;
     std::atomic<bool> capped{false};  // an OR: the order of stores cannot change it
     for_each_block(n, kPairRowBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::DetectPairs);
+      ScopedTraceRecord record(w.trace, Phase::DetectPairs);
       std::vector<SpherePair>& out = st.pair_blocks[b];
       std::vector<std::uint32_t>& row = st.pair_row_scratch[b];
       auto find = [&](std::size_t from, std::size_t to) {
@@ -282,15 +296,15 @@ struct StepPipeline {
       if (!st.fast.empty()) drop_fast_speculative_pairs(out);
       if (pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
     });
-    w.stats_.sphere_contacts_capped = capped.load();
+    w.stats.sphere_contacts_capped = capped.load();
   }
 
   /// Drops the pairs whose gap is beyond their own margin (WorldSettings::pair_margin_travel):
   /// the search used the step's margin, which the fastest sphere sets for every pair. The
   /// predicate is spheres_within's, with the pair's margin in place of the step's.
   void keep_pairs_within_their_margin(std::vector<SpherePair>& pairs, float margin) const {
-    const SphereSoA& s = w.spheres_;
-    const float k = w.settings_.pair_margin_travel;
+    const SphereSoA& s = w.spheres;
+    const float k = w.settings.pair_margin_travel;
     const float* travel = st.travel.data();
     std::erase_if(pairs, [&](const SpherePair& p) {
       const float pair_margin = std::min(margin, k * (travel[p.a] + travel[p.b]));
@@ -308,8 +322,8 @@ struct StepPipeline {
   /// The floor, kRestingContactSlop r / 2k, is 0.125 mm at r = 0.5, k = 2: under gravity only a
   /// sphere near the top of a hop travels less (g dt^2 is 2.7 mm at 60 Hz).
   void remember_travel(std::size_t first, std::size_t last) {
-    const SphereSoA& s = w.spheres_;
-    const float floor_per_radius = kRestingContactSlop / (2.0f * w.settings_.pair_margin_travel);  // k > 0 here
+    const SphereSoA& s = w.spheres;
+    const float floor_per_radius = kRestingContactSlop / (2.0f * w.settings.pair_margin_travel);  // k > 0 here
     float* __restrict travel = st.travel.data();
     const float* __restrict vx = s.vx.data();
     const float* __restrict vy = s.vy.data();
@@ -325,7 +339,7 @@ struct StepPipeline {
   /// A fast sphere meets what it does not touch yet in the sweep, at the time it hits: a
   /// speculative contact would bounce it at the start of the step instead.
   void drop_fast_speculative_pairs(std::vector<SpherePair>& pairs) const {
-    const SphereSoA& s = w.spheres_;
+    const SphereSoA& s = w.spheres;
     auto fast = [&](std::uint32_t i) { return std::binary_search(st.fast.begin(), st.fast.end(), i); };
     std::erase_if(pairs, [&](const SpherePair& p) {
       if (!fast(p.a) && !fast(p.b)) return false;
@@ -340,16 +354,16 @@ struct StepPipeline {
   void sweep() {
 #if HAIL_WITH_CONTINUOUS_COLLISION
     ContinuousCollision& ccd = st.ccd;
-    SphereSoA& s = w.spheres_;
-    ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings_.reorder_interval > 0);
+    SphereSoA& s = w.spheres;
+    ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings.reorder_interval > 0);
     if (st.fast.empty()) return;
-    const SweepScene scene{w.terrain_.get(), w.terrain_restitution_, w.terrain_friction_, w.planes_,
-                           w.settings_.sphere_collisions, rotation};
+    const SweepScene scene{w.terrain, w.terrain_restitution, w.terrain_friction, w.planes,
+                           w.settings.sphere_collisions, rotation};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
     });
-    ccd.resolve(s, scene, params.restitution_threshold, w.settings_.max_sweep_events);
+    ccd.resolve(s, scene, params.restitution_threshold, w.settings.max_sweep_events);
     ccd.finish(s);
 #endif
   }
@@ -358,7 +372,7 @@ struct StepPipeline {
   /// offsets are summed first, so the blocks are copied (and pairs made into contacts) in
   /// parallel into fixed places.
   void merge_contacts() {
-    const SphereSoA& s = w.spheres_;
+    const SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
     const std::size_t static_blocks = block_count(n, kSphereBlock), pair_blocks = block_count(n, kPairRowBlock);
     std::vector<std::size_t>& offset = st.merge_offsets;
@@ -368,12 +382,12 @@ struct StepPipeline {
       offset[static_blocks + b + 1] = offset[static_blocks + b] + st.pair_blocks[b].size();
     resize_geometric(st.contacts, offset.back());
     const std::size_t static_count = offset[static_blocks];
-    const bool warm = w.settings_.warm_start;
+    const bool warm = w.settings.warm_start;
     std::atomic<bool> friction{false};        // an OR: the order of stores cannot change the result
     std::atomic<std::size_t> matched{0};      // a sum: the order of adds cannot change it
     if (warm) st.contact_cache.begin_layout(s);
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       Contact* const first = st.contacts.data() + offset[b];
       Contact* out = first;
       if (b < static_blocks) {
@@ -393,7 +407,7 @@ struct StepPipeline {
       // And where they lie, for remembering their impulses after the solve.
       if (warm) {
         matched += st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s,
-                                         w.settings_.warm_start_factor);
+                                         w.settings.warm_start_factor);
         if (b < static_blocks) {
           st.contact_cache.layout_static(st.contacts, offset[b], offset[b + 1], b * kSphereBlock,
                                          std::min(n, (b + 1) * kSphereBlock), s);
@@ -405,22 +419,22 @@ struct StepPipeline {
       }
     });
     friction_needed_ = friction.load();
-    w.stats_.static_contacts = static_count;
-    w.stats_.sphere_contacts = st.contacts.size() - static_count;
-    w.stats_.warm_started = matched.load();
+    w.stats.static_contacts = static_count;
+    w.stats.sphere_contacts = st.contacts.size() - static_count;
+    w.stats.warm_started = matched.load();
   }
 
   /// Keeps this step's impulses for the next step's warm start: each contact (now in colour
   /// order) into the cache at its detection-order index, where the merge noted the ranges.
   void remember_impulses() {
-    if (!w.settings_.warm_start) return;
+    if (!w.settings.warm_start) return;
     ContactImpulseCache& cache = st.contact_cache;
     cache.begin_store(st.contacts.size());
     const std::uint32_t* order = st.colouring.order.data();
-    const std::size_t static_count = w.stats_.static_contacts;
+    const std::size_t static_count = w.stats.static_contacts;
     for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
-      for (std::size_t k = first; k < last; ++k) cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres_);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres);
     });
   }
 
@@ -441,21 +455,21 @@ struct StepPipeline {
     };
     crew.stage(tiles, [&](std::size_t t) {
       if (!tile_wanted(t)) return;
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) whole_colour(t, colour);
     });
     for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour) {
       const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
       if (col.is_serial(colour) || count <= kBatchChunk) {
         crew.stage(1, [&](std::size_t) {
-          ScopedTraceRecord record(w.trace_, Phase::Solve);
+          ScopedTraceRecord record(w.trace, Phase::Solve);
           whole_colour(tiles, colour);
         });
         continue;
       }
       const std::size_t chunks = block_count(count, kBatchChunk);
       crew.stage(chunks, [&](std::size_t k) {
-        ScopedTraceRecord record(w.trace_, Phase::Solve);
+        ScopedTraceRecord record(w.trace, Phase::Solve);
         f(tiles, first + k * kBatchChunk, first + std::min(count, (k + 1) * kBatchChunk), std::span<Contact>());
       });
     }
@@ -507,27 +521,27 @@ struct StepPipeline {
     TiledColouring& tiled = st.tiled_colouring;
     const std::size_t tiles = tiled.begin(st.contacts, blocks, n, st.colouring, tile_spheres, &velocities);
     for_each_block(tiles, 1, [&](std::size_t t, std::size_t, std::size_t) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       tiled.colour_tile(t);
     });
     tiled.colour_shared();
     for_each_block(tiles, 1, [&](std::size_t t, std::size_t, std::size_t) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       tiled.place_tile(t);
     });
   }
 
   void solve() {
-    SphereSoA& s = w.spheres_;
+    SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
-    const std::size_t tile_spheres = solver_tile_size(w.settings_.solver_tile_spheres, n);
+    const std::size_t tile_spheres = solver_tile_size(w.settings.solver_tile_spheres, n);
     const SolveStartVelocities velocities{s.vx.data(), s.vy.data(), s.vz.data(), 1.0f / params.dt};
     colour(n, tile_spheres, velocities);
     // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
     // batches are staged from and the scalar parts stream through.
     resize_geometric(st.coloured_contacts, st.contacts.size());
     for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       for (std::size_t k = first; k < last; ++k) st.coloured_contacts[k] = st.contacts[st.colouring.order[k]];
     });
     std::swap(st.contacts, st.coloured_contacts);
@@ -541,20 +555,20 @@ struct StepPipeline {
     const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
     bodies[n] = SolverBody{};
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       load_solver_bodies(s, first, last, bodies, angular);
     });
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
     batches.plan(col.colour_begin, col.serial);
     for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       batches.fill(first, last, st.contacts, std::span<const float>(s.radius.data(), n));
     });
-    w.stats_.colours = col.sequential_colours();
-    w.stats_.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
-    w.stats_.tile_contacts = st.contacts.size() - w.stats_.shared_contacts;
-    w.stats_.collision_passes = 0;
+    w.stats.colours = col.sequential_colours();
+    w.stats.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
+    w.stats.tile_contacts = st.contacts.size() - w.stats.shared_contacts;
+    w.stats.collision_passes = 0;
     const float threshold = params.restitution_threshold;
     const float inv_dt = 1.0f / params.dt;
     // The passes below are about (collision + 1 + resting) x (1 + shared colours) short
@@ -562,10 +576,10 @@ struct StepPipeline {
     const std::size_t tiles = col.tile_count();
     const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
     assign_geometric(st.tile_changed, tiles, std::uint32_t{0});
-    const std::size_t stages = (static_cast<std::size_t>(w.settings_.collision_iterations) + 1 +
-                                static_cast<std::size_t>(w.settings_.resting_iterations)) * stages_per_pass;
+    const std::size_t stages = (static_cast<std::size_t>(w.settings.collision_iterations) + 1 +
+                                static_cast<std::size_t>(w.settings.resting_iterations)) * stages_per_pass;
     st.crew.run(stages, [&](StageCrew& crew) {
-      for (int pass = 0; pass < w.settings_.collision_iterations; ++pass) {
+      for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
         const auto number = static_cast<std::uint32_t>(pass);
         // A tile none of whose bodies changed since the previous pass began would skip every
@@ -580,18 +594,18 @@ struct StepPipeline {
           else if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
         });
         if (!any.load()) break;
-        ++w.stats_.collision_passes;
+        ++w.stats.collision_passes;
       }
       // Warm start after the collision passes, not before: applied first, an impulse that no
       // longer fits the pile pushes neighbours into each other faster than the restitution
       // threshold, and the collision passes bounce them: the pile keeps jittering (bowl-pile's
       // energy: docs/benchmarks.md, "Figures behind the code's choices").
-      if (w.settings_.warm_start && w.stats_.warm_started > 0)
+      if (w.settings.warm_start && w.stats.warm_started > 0)
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.warm_start(first, last, bodies, work);
           warm_start_run_scalar(scalar, bodies, work);
         });
-      for (int pass = 0; pass < w.settings_.resting_iterations; ++pass) {
+      for (int pass = 0; pass < w.settings.resting_iterations; ++pass) {
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.solve_resting(first, last, bodies, inv_dt, work);
           solve_resting_run_scalar(scalar, bodies, inv_dt, work);
@@ -600,17 +614,17 @@ struct StepPipeline {
     });
     if (shock) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       st.shock.plan(st.contacts, bodies);
       st.shock.solve(st.contacts, bodies, inv_dt);
     }
     for_each_block(batches.batch_count(), kBatchChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       batches.store_impulses(st.contacts, first, last);
     });
     remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       store_solver_velocities(bodies, first, last, s, angular);
     });
   }
@@ -618,15 +632,15 @@ struct StepPipeline {
   /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):
   /// the sweep's, then each block's plane impacts in block order (so in slot order).
   void integrate() {
-    SphereSoA& s = w.spheres_;
-    const bool planes = !w.planes_.empty();
+    SphereSoA& s = w.spheres;
+    const bool planes = !w.planes.empty();
     const std::size_t blocks = block_count(s.size(), kSphereBlock);
     if (planes) grow_block_lists(st.impact_blocks, blocks);
     for_each_block(s.size(), kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Integrate);
+      ScopedTraceRecord record(w.trace, Phase::Integrate);
       std::vector<Impact>* impacts = planes ? &st.impact_blocks[b] : nullptr;
       if (impacts) impacts->clear();
-      integrate_positions(s, first, last, w.planes_, params, st.ccd.moved(), impacts);
+      integrate_positions(s, first, last, w.planes, params, st.ccd.moved(), impacts);
     });
     st.impacts.clear();
     std::size_t count = sweeping ? st.ccd.impacts().size() : 0;
@@ -647,15 +661,15 @@ struct StepPipeline {
   /// entry, always 0, for the static body's slot. A colour's batches (staged by the solve) run
   /// in SIMD (ContactBatches::depenetrate); a serial overflow colour runs push_apart in order.
   void depenetrate() {
-    SphereSoA& s = w.spheres_;
+    SphereSoA& s = w.spheres;
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
     const std::size_t colours = col.colour_count();
     assign_geometric(st.moved_at, s.size() + 1, std::uint32_t{0});
     std::uint32_t* const moved = st.moved_at.data();
     DepenetrationArrays arrays{s.px.data(), s.py.data(), s.pz.data(), s.inv_mass.data(), moved,
-                               static_cast<std::int32_t>(s.size()), w.settings_.depenetration};
-    for (int pass = 0; pass < w.settings_.depenetration_iterations; ++pass) {
+                               static_cast<std::int32_t>(s.size()), w.settings.depenetration};
+    for (int pass = 0; pass < w.settings.depenetration_iterations; ++pass) {
       auto stamps = [&](std::size_t colour) {
         const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
         return std::pair{now, pass == 0 ? 0u : now - static_cast<std::uint32_t>(colours)};
@@ -666,7 +680,7 @@ struct StepPipeline {
         for (const Contact& c : run) {
           const bool dynamic_b = c.b != kStaticBody;
           if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
-          if (!push_apart(s, c, w.settings_.depenetration)) continue;
+          if (!push_apart(s, c, w.settings.depenetration)) continue;
           moved[c.a] = now;
           if (dynamic_b) moved[c.b] = now;
         }
@@ -679,20 +693,20 @@ struct StepPipeline {
       };
       // Tiles in parallel, each its colours in order (they share no sphere), then the shared colours.
       for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
-        ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+        ScopedTraceRecord record(w.trace, Phase::Depenetrate);
         for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
           push_colour(colour, batches.batch_begin(colour), batches.batch_end(colour));
       });
       for (std::size_t colour = col.shared_colour_begin(); colour < colours; ++colour) {
         if (col.is_serial(colour)) {
-          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          ScopedTraceRecord record(w.trace, Phase::Depenetrate);
           push_colour(colour, 0, 0);
           continue;
         }
         const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
         const std::pair<std::uint32_t, std::uint32_t> now_previous = stamps(colour);
         for_each_block(count, kBatchChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
-          ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+          ScopedTraceRecord record(w.trace, Phase::Depenetrate);
           batches.depenetrate(first + begin, first + end, arrays, now_previous.first, now_previous.second);
         });
       }
@@ -701,20 +715,20 @@ struct StepPipeline {
 
   /// Every reorder_interval steps: dense slots re-sorted by Morton code (kernel/broadphase/spatial_order.h).
   [[nodiscard]] bool reorder_due() const {
-    const int interval = w.settings_.reorder_interval;
-    return interval > 0 && w.steps_taken_ % static_cast<std::uint64_t>(interval) == 0;
+    const int interval = w.settings.reorder_interval;
+    return interval > 0 && w.steps_taken % static_cast<std::uint64_t>(interval) == 0;
   }
   /// morton_slot_order and SphereSoA::permute over blocks in parallel: the same order and the
   /// same state (kernel/broadphase/spatial_order.h). Serial, the sort alone was a phase whose share grows
   /// with N (n log n) and with the thread count (terrain-rain 256k: docs/benchmarks.md,
   /// "Figures behind the code's choices").
   void reorder() {
-    SphereSoA& s = w.spheres_;
+    SphereSoA& s = w.spheres;
     const std::size_t n = s.size();
     const std::size_t blocks = block_count(n, kReorderBlock);
     assign_geometric(st.reorder_bounds, blocks, empty_aabb());
     for_each_block(n, kReorderBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Reorder);
+      ScopedTraceRecord record(w.trace, Phase::Reorder);
       st.reorder_bounds[b] = finite_centre_bounds(s, first, last);
     });
     Aabb bounds = empty_aabb();
@@ -724,7 +738,7 @@ struct StepPipeline {
     resize_geometric(keys, n);
     resize_geometric(order, n);
     for_each_block(n, kReorderBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace_, Phase::Reorder);
+      ScopedTraceRecord record(w.trace, Phase::Reorder);
       morton_keys(s, bounds, first, last, keys.data());
     });
     if (tbb::this_task_arena::max_concurrency() == 1)
@@ -733,7 +747,7 @@ struct StepPipeline {
       tbb::parallel_sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(n));
     auto for_ranges = [&](std::size_t count, auto&& f) {
       for_each_block(count, kReorderBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-        ScopedTraceRecord record(w.trace_, Phase::Reorder);
+        ScopedTraceRecord record(w.trace, Phase::Reorder);
         f(first, last);
       });
     };
@@ -747,29 +761,29 @@ struct StepPipeline {
   /// The step is assembled from what the scene has (StepParts): a phase with nothing to do is
   /// not entered at all, so a scene pays only for the features it uses.
   void run() {
-    PhaseTimes& t = w.times_;
-    StepParts& ran = w.stats_.ran;
+    PhaseTimes& t = w.times;
+    StepParts& ran = w.stats.ran;
     ran = {};
     ran.reorder = reorder_due();
-    if (ran.reorder) { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace_, Phase::Reorder); reorder(); }
+    if (ran.reorder) { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace, Phase::Reorder); reorder(); }
     float margin = 0.0f;
-    guarding = w.terrain_ != nullptr;
+    guarding = w.terrain != nullptr;
     ran.terrain_guard = guarding;
-    w.stats_.pushed_out = 0;
-    pair_margins = w.settings_.pair_margin_travel > 0.0f && w.settings_.sphere_collisions;
-    if (pair_margins && st.travel.size() < w.spheres_.size()) resize_geometric(st.travel, w.spheres_.size());
+    w.stats.pushed_out = 0;
+    pair_margins = w.settings.pair_margin_travel > 0.0f && w.settings.sphere_collisions;
+    if (pair_margins && st.travel.size() < w.spheres.size()) resize_geometric(st.travel, w.spheres.size());
     if (guarding) {
-      const std::size_t n = w.spheres_.size();
+      const std::size_t n = w.spheres.size();
       for (std::vector<float>* v : {&st.start_x, &st.start_y, &st.start_z, &st.reach2})
         if (v->size() < n) resize_geometric(*v, n);
     }
     // Each phase is also recorded on the thread that runs its serial parts (the trace's
     // per-block records cover the parallel parts).
-    { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace_, Phase::Predict); predict(margin); }
-    ran.detect_static = w.terrain_ != nullptr || !w.planes_.empty();
-    ran.detect_pairs = w.settings_.sphere_collisions && w.spheres_.size() > 1;
-    auto detect_static_timed = [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace_, Phase::DetectTerrain); detect_static(); };
-    auto detect_pairs_timed = [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace_, Phase::DetectPairs); detect_pairs(margin); };
+    { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace, Phase::Predict); predict(margin); }
+    ran.detect_static = w.terrain != nullptr || !w.planes.empty();
+    ran.detect_pairs = w.settings.sphere_collisions && w.spheres.size() > 1;
+    auto detect_static_timed = [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace, Phase::DetectTerrain); detect_static(); };
+    auto detect_pairs_timed = [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace, Phase::DetectPairs); detect_pairs(margin); };
     if (ran.detect_static && ran.detect_pairs) {
       tbb::parallel_invoke(detect_static_timed, detect_pairs_timed);
     } else if (ran.detect_static) {
@@ -782,16 +796,16 @@ struct StepPipeline {
       clear_static_blocks();
       clear_pair_blocks();
     }
-    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace_, Phase::Solve); merge_contacts(); }
+    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace, Phase::Solve); merge_contacts(); }
     ran.solve = !st.contacts.empty();
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
-      ScopedTraceRecord record(w.trace_, Phase::Solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
       solve();
     } else {
-      w.stats_.colours = w.stats_.tile_contacts = w.stats_.shared_contacts = 0;
-      w.stats_.collision_passes = 0;
-      if (w.settings_.warm_start) st.contact_cache.clear();  // nothing touched: nothing to carry over
+      w.stats.colours = w.stats.tile_contacts = w.stats.shared_contacts = 0;
+      w.stats.collision_passes = 0;
+      if (w.settings.warm_start) st.contact_cache.clear();  // nothing touched: nothing to carry over
     }
     ran.friction = ran.solve && friction_needed_;
     ran.rotation = ran.solve && rotation && friction_needed_;
@@ -799,15 +813,15 @@ struct StepPipeline {
     ran.sweep = sweeping && !st.fast.empty();
     if (sweeping) {
       ScopedPhaseTimer timer(t.sweep);
-      ScopedTraceRecord record(w.trace_, Phase::Sweep);
+      ScopedTraceRecord record(w.trace, Phase::Sweep);
       sweep();
-      w.stats_.sweep = st.ccd.stats();
+      w.stats.sweep = st.ccd.stats();
     }
-    { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace_, Phase::Integrate); integrate(); }
-    ran.depenetrate = ran.solve && w.settings_.depenetration_iterations > 0;
+    { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace, Phase::Integrate); integrate(); }
+    ran.depenetrate = ran.solve && w.settings.depenetration_iterations > 0;
     if (ran.depenetrate || guarding) {
       ScopedPhaseTimer timer(t.depenetrate);
-      ScopedTraceRecord record(w.trace_, Phase::Depenetrate);
+      ScopedTraceRecord record(w.trace, Phase::Depenetrate);
       if (ran.depenetrate) depenetrate();
       if (guarding) guard_terrain();
     }
@@ -815,12 +829,12 @@ struct StepPipeline {
 
   /// Phases that are skipped still leave their block buffers empty for merge_contacts.
   void clear_static_blocks() {
-    const std::size_t blocks = block_count(w.spheres_.size(), kSphereBlock);
+    const std::size_t blocks = block_count(w.spheres.size(), kSphereBlock);
     grow_block_lists(st.contact_blocks, blocks);
     for (std::size_t b = 0; b < blocks; ++b) st.contact_blocks[b].clear();
   }
   void clear_pair_blocks() {
-    const std::size_t blocks = block_count(w.spheres_.size(), kPairRowBlock);
+    const std::size_t blocks = block_count(w.spheres.size(), kPairRowBlock);
     grow_block_lists(st.pair_blocks, blocks);
     for (std::size_t b = 0; b < blocks; ++b) st.pair_blocks[b].clear();
   }
@@ -843,7 +857,10 @@ void World::step(float dt) {
 }
 
 void World::substep(float scaled) {
-  StepPipeline pipeline{*this, *step_, {}};
+  StepPipeline pipeline{{settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_, stats_,
+                         times_, trace_, steps_taken_},
+                        *step_,
+                        {}};
   pipeline.params.integrator = settings_.integrator;
   pipeline.params.gravity[0] = settings_.gravity.x();
   pipeline.params.gravity[1] = settings_.gravity.y();
