@@ -53,7 +53,11 @@ class SlideToRoll final : public AccuracyCase {
     PeerScene s;
     s.name = name();
     s.planes.push_back({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.0f, .friction = 0.3f});
-    s.spheres.push_back({.position = {0, 0.5f, 0}, .velocity = {5, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.0f,
+    s.spheres.push_back({.position = {0, 0.5f, 0},
+                         .velocity = {5, 0, 0},
+                         .radius = 0.5f,
+                         .mass = 1,
+                         .restitution = 0.0f,
                          .friction = 0.3f});
     return s;
   }
@@ -93,13 +97,16 @@ class HeadOn final : public AccuracyCase {
     PeerScene s;
     s.name = name();
     s.gravity = Vec3(0, 0, 0);
-    s.spheres.push_back({.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
+    s.spheres.push_back(
+        {.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
     s.spheres.push_back({.position = {2, 0, 0}, .radius = 0.5f, .mass = m2_, .restitution = 1, .friction = 0});
     return s;
   }
   double duration() const override { return 1.0; }
   void reset() override { v1_ = v2_ = 0.0; }
-  void observe(const std::vector<PeerState>& state, double) override { v1_ = state[0].velocity.x(), v2_ = state[1].velocity.x(); }
+  void observe(const std::vector<PeerState>& state, double) override {
+    v1_ = state[0].velocity.x(), v2_ = state[1].velocity.x();
+  }
   double error() const override {
     const double m1 = 1.0, m2 = m2_;
     const double e1 = (m1 - m2) / (m1 + m2) * 10.0, e2 = 2.0 * m1 / (m1 + m2) * 10.0;
@@ -121,7 +128,8 @@ class Cradle final : public AccuracyCase {
     PeerScene s;
     s.name = name();
     s.gravity = Vec3(0, 0, 0);
-    s.spheres.push_back({.position = {-1.5f, 0, 0}, .velocity = {1, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
+    s.spheres.push_back(
+        {.position = {-1.5f, 0, 0}, .velocity = {1, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
     for (int k = 0; k < 5; ++k)
       s.spheres.push_back({.position = {float(k), 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
     return s;
@@ -152,7 +160,8 @@ class SlopeRoll final : public AccuracyCase {
     s.name = name();
     const float c = std::cos(kTheta), sn = std::sin(kTheta);
     s.planes.push_back({.normal = {sn, c, 0}, .offset = 0, .restitution = 0.0f, .friction = 0.5f});
-    s.spheres.push_back({.position = {0.5f * sn, 0.5f * c, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.0f, .friction = 0.5f});
+    s.spheres.push_back(
+        {.position = {0.5f * sn, 0.5f * c, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.0f, .friction = 0.5f});
     return s;
   }
   double duration() const override { return 1.0; }

@@ -10,13 +10,13 @@
 #include <stdexcept>
 
 #include "accuracy_cases.h"
-#include "cli.h"
-#include "gnuplot.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/metrics.h"
 #include "bench/scenes/output_file.h"
-#include "peer_engine.h"
 #include "bench/scenes/scenes.h"
+#include "cli.h"
+#include "gnuplot.h"
+#include "peer_engine.h"
 
 namespace hail::bench {
 namespace {
@@ -41,9 +41,11 @@ std::vector<Variant> variants() {
   };
   std::vector<Variant> v;
   v.push_back({"hail", hail_with([](WorldSettings&) {}), 1});
-  v.push_back({"hail-uniform-accel", hail_with([](WorldSettings& s) { s.integrator = Integrator::UniformAcceleration; }), 1});
+  v.push_back(
+      {"hail-uniform-accel", hail_with([](WorldSettings& s) { s.integrator = Integrator::UniformAcceleration; }), 1});
   v.push_back({"hail-4-substeps", hail_with([](WorldSettings&) {}), 4});
-  v.push_back({"hail-4+2-passes", hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
+  v.push_back({"hail-4+2-passes",
+               hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
   // Peers at their defaults, and with 4 substeps per frame (their usual accuracy knob).
   for (const PeerFactory& peer : peer_factories())
     v.push_back({peer.name, peer.make, peer.name.ends_with("-4-substeps") ? 4 : 1});
@@ -119,15 +121,16 @@ SceneFigures scene_figures(const PeerScene& scene, const Terrain* terrain, const
     f.kinetic_energy += 0.5 * s.mass * double(state[k].velocity.squaredNorm()) +
                         0.5 * 0.4 * s.mass * s.radius * s.radius * double(state[k].angular_velocity.squaredNorm());
     if (terrain)
-      f.ground_penetration = std::max<double>(
-          f.ground_penetration, terrain->penetration(px.back(), py.back(), pz.back(), s.radius));
+      f.ground_penetration =
+          std::max<double>(f.ground_penetration, terrain->penetration(px.back(), py.back(), pz.back(), s.radius));
   }
   f.sphere_penetration = max_pair_overlap(px, py, pz, r);
   return f;
 }
 
 /// Positions after `seconds` of a scene at dt, and the wall time of the stepping.
-std::pair<std::vector<PeerState>, double> run_scene_for(const PeerScene& scene, const Variant& v, double dt, double seconds) {
+std::pair<std::vector<PeerState>, double> run_scene_for(const PeerScene& scene, const Variant& v, double dt,
+                                                        double seconds) {
   std::unique_ptr<PeerEngine> engine = v.make(scene);
   const long frames = std::lround(seconds / dt);
   const float sub = static_cast<float>(dt / v.substeps);
@@ -149,8 +152,10 @@ double median(std::vector<double> v) {
 std::string dt_label(double dt) {
   char buffer[32];
   const double inverse = 1.0 / dt;
-  if (std::fabs(inverse - std::round(inverse)) < 1e-6) std::snprintf(buffer, sizeof buffer, "1/%.0f", inverse);
-  else std::snprintf(buffer, sizeof buffer, "%.6g", dt);
+  if (std::fabs(inverse - std::round(inverse)) < 1e-6)
+    std::snprintf(buffer, sizeof buffer, "1/%.0f", inverse);
+  else
+    std::snprintf(buffer, sizeof buffer, "%.6g", dt);
   return buffer;
 }
 
@@ -207,7 +212,8 @@ int accuracy_command(const AccuracyOptions& o) {
     SceneParams params;
     params.spheres = o.scene_spheres;
     params.threads = 1;
-    const std::pair<const char*, SceneBuilder> scenes[] = {{"terrain-rain", build_terrain_rain}, {"bowl-pile", build_bowl_pile}};
+    const std::pair<const char*, SceneBuilder> scenes[] = {{"terrain-rain", build_terrain_rain},
+                                                           {"bowl-pile", build_bowl_pile}};
     for (const auto& [name, build] : scenes) {
       const PeerScene peer = peer_scene_from(build(params), name);
       const Terrain terrain(*peer.heightmap);
@@ -227,8 +233,10 @@ int accuracy_command(const AccuracyOptions& o) {
           std::size_t nan = 0;
           for (std::size_t k = 0; k < state.size(); ++k) {
             const Vec3 d = state[k].position - reference[k].position;
-            if (!d.allFinite()) ++nan;
-            else sum += double(d.squaredNorm());
+            if (!d.allFinite())
+              ++nan;
+            else
+              sum += double(d.squaredNorm());
           }
           const double rms = std::sqrt(sum / double(std::max<std::size_t>(state.size(), 1)));
           const std::string what = std::string(name) + "-" + std::to_string(o.scene_spheres);
@@ -239,8 +247,8 @@ int accuracy_command(const AccuracyOptions& o) {
                         100.0 * (fig.kinetic_energy - reference_energy) / std::max(reference_energy, 1e-9),
                         nan ? (", " + std::to_string(nan) + " NaN").c_str() : "");
           rows.push_back({what, v.name, dt, rms, median(walls), note});
-          std::printf("  %-20s %-22s %8s %12.3e %12.3f   (m, RMS position vs dt = 1/960 at t = 1 s; %s)\n", what.c_str(),
-                      v.name.c_str(), dt_label(dt).c_str(), rms, rows.back().wall_ms, note);
+          std::printf("  %-20s %-22s %8s %12.3e %12.3f   (m, RMS position vs dt = 1/960 at t = 1 s; %s)\n",
+                      what.c_str(), v.name.c_str(), dt_label(dt).c_str(), rms, rows.back().wall_ms, note);
           std::fflush(stdout);
         }
       }
@@ -251,10 +259,16 @@ int accuracy_command(const AccuracyOptions& o) {
   write_file_atomically(o.out_dir + "/accuracy.csv", [&](std::ostream& csv) {
     csv << "case,engine,dt,error,wall_ms,note\n";
     for (const Row& r : rows)
-      csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ",\"" << r.note << "\"\n";
+      csv << r.what << ',' << r.variant << ',' << r.dt << ',' << r.error << ',' << r.wall_ms << ",\"" << r.note
+          << "\"\n";
   });
   for (const Row& r : rows)
-    runs.push_back({{"case", r.what}, {"engine", r.variant}, {"dt", r.dt}, {"error", r.error}, {"wall_ms", r.wall_ms}, {"note", r.note}});
+    runs.push_back({{"case", r.what},
+                    {"engine", r.variant},
+                    {"dt", r.dt},
+                    {"error", r.error},
+                    {"wall_ms", r.wall_ms},
+                    {"note", r.note}});
   write_file_atomically(o.out_dir + "/accuracy.json", [&](std::ostream& out) {
     out << nlohmann::json{{"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}}}, {"runs", runs}}.dump(2) << "\n";
   });
@@ -264,7 +278,8 @@ int accuracy_command(const AccuracyOptions& o) {
   std::vector<std::string> case_names, variant_names;
   for (const Row& r : rows) {
     if (std::find(case_names.begin(), case_names.end(), r.what) == case_names.end()) case_names.push_back(r.what);
-    if (std::find(variant_names.begin(), variant_names.end(), r.variant) == variant_names.end()) variant_names.push_back(r.variant);
+    if (std::find(variant_names.begin(), variant_names.end(), r.variant) == variant_names.end())
+      variant_names.push_back(r.variant);
   }
   std::string cases_word, variants_word;
   for (const std::string& c : case_names) {

@@ -33,7 +33,9 @@ std::string range_text(char open, const std::string& min, const std::string& max
   return text;
 }
 
-std::string count_range(long long min, long long max) { return range_text('[', std::to_string(min), std::to_string(max)); }
+std::string count_range(long long min, long long max) {
+  return range_text('[', std::to_string(min), std::to_string(max));
+}
 
 std::string real_range(double min, double max, bool exclude_min) {
   return range_text(exclude_min ? '(' : '[', format_real(min), format_real(max));

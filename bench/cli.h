@@ -30,13 +30,14 @@ namespace hail::bench {
 
 /// A whole-number flag (whole_number_in) writing `target`; its default is shown in --help.
 template <std::integral T>
-CLI::Option* add_count(CLI::App& app, const std::string& name, T& target, long long min, long long max, const std::string& help) {
+CLI::Option* add_count(CLI::App& app, const std::string& name, T& target, long long min, long long max,
+                       const std::string& help) {
   return app.add_option(name, target, help)->transform(whole_number_in(min, max))->type_name("N");
 }
 /// A real-number flag (number_in) writing `target`.
 template <std::floating_point T>
-CLI::Option* add_number(CLI::App& app, const std::string& name, T& target, double min, double max, const std::string& help,
-                        bool exclude_min = false) {
+CLI::Option* add_number(CLI::App& app, const std::string& name, T& target, double min, double max,
+                        const std::string& help, bool exclude_min = false) {
   return app.add_option(name, target, help)->check(number_in(min, max, exclude_min))->type_name("X");
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "accuracy_command.h"
+#include "bench/scenes/scenes.h"
 #include "cli.h"
 #include "compare_command.h"
 #include "kernel/dispatch/simd_dispatch.h"
@@ -13,7 +14,6 @@
 #include "query_command.h"
 #include "run_command.h"
 #include "scale_command.h"
-#include "bench/scenes/scenes.h"
 #include "stress_command.h"
 
 namespace hail::bench {
@@ -112,7 +112,7 @@ int hail_bench(const std::vector<std::string>& args) {
     (void)active_simd_path();
     for (const Command& c : commands)
       if (c.app->parsed()) return c.run();
-    return 2;  // require_subcommand(1) leaves no way here
+    return 2;                                 // require_subcommand(1) leaves no way here
   } catch (const std::invalid_argument& e) {  // hail::InvalidArgument too: a bad command line or input
     std::fprintf(stderr, "hail-bench: %s\n", e.what());
     return 2;

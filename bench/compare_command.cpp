@@ -10,19 +10,17 @@
 #include <optional>
 #include <stdexcept>
 
-#include "cli.h"
-#include "kernel/terrain/terrain_parts.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/metrics.h"
 #include "bench/scenes/output_file.h"
+#include "bench/scenes/scene_run.h"
+#include "cli.h"
+#include "kernel/terrain/terrain_parts.h"
 #include "peer_engine.h"
 #include "peer_engine_bullet.h"
-#include "bench/scenes/scene_run.h"
 
 namespace hail::bench {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void add_compare_options(CLI::App& app, CompareOptions& o) {
   app.description("hail and Bullet (if built in) on the identical scene, R runs each alternating ABBA: one table");
@@ -47,13 +45,13 @@ double median_of(std::vector<double> v) {
 /// The figures of one engine's final state, measured the same way for every engine from its
 /// read_state(), independently of the engines' own contact lists.
 struct PeerErrors {
-  std::size_t tunnelled = 0;       ///< centres below the terrain surface at their (x, z), inside its extent
-  std::size_t fell_off = 0;        ///< centres outside the terrain's x/z extent
-  std::size_t nan_spheres = 0;     ///< spheres with any non-finite position, velocity or spin
-  double ground_penetration = 0;   ///< m, deepest sphere into the terrain or a plane
-  double sphere_penetration = 0;   ///< m, deepest overlap of two spheres
-  double kinetic_energy = 0;       ///< J, translational + rotational (I = 2/5 m r^2)
-  double momentum = 0;             ///< kg m/s, |sum m v|
+  std::size_t tunnelled = 0;      ///< centres below the terrain surface at their (x, z), inside its extent
+  std::size_t fell_off = 0;       ///< centres outside the terrain's x/z extent
+  std::size_t nan_spheres = 0;    ///< spheres with any non-finite position, velocity or spin
+  double ground_penetration = 0;  ///< m, deepest sphere into the terrain or a plane
+  double sphere_penetration = 0;  ///< m, deepest overlap of two spheres
+  double kinetic_energy = 0;      ///< J, translational + rotational (I = 2/5 m r^2)
+  double momentum = 0;            ///< kg m/s, |sum m v|
 };
 
 PeerErrors measure(const PeerScene& scene, const Terrain* terrain, const std::vector<PeerState>& state) {
@@ -174,7 +172,8 @@ int compare_command(const CompareOptions& o) {
   constexpr int kRaySamples = 64;
   if (with_bullet) {
     contenders.push_back({"Bullet", [&] { return make_bullet_engine(peer, {.sleeping = true}); }, {}, {}, {}, {}});
-    contenders.push_back({"Bullet no sleep", [&] { return make_bullet_engine(peer, {.sleeping = false}); }, {}, {}, {}, {}});
+    contenders.push_back(
+        {"Bullet no sleep", [&] { return make_bullet_engine(peer, {.sleeping = false}); }, {}, {}, {}, {}});
     if (peer.heightmap) {
       const std::unique_ptr<PeerEngine> probe = make_bullet_engine(peer, {});
       ray_error = bullet_terrain_ray_error(*probe, *peer.heightmap, kRaySamples);
@@ -206,21 +205,27 @@ int compare_command(const CompareOptions& o) {
 
   std::printf("hail-bench compare %s  (%s)\n", o.scene.c_str(), scene.description.c_str());
   std::printf("  machine   %s, SIMD %s\n", cpu_model().c_str(), simd_path().c_str());
-  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, timed steps %d..%d; runs each: %d, alternating ABBA\n"
-              "  at start  kinetic energy %.6g J, |momentum| %.3g kg m/s\n",
-              peer.spheres.size(), steps, dt, warmup, steps - 1, o.repeat, start_energy, start.momentum);
-  std::printf("  hail      threads: %d; continuous collision %s, %d collision + %d resting passes, warm start %s\n", hail_threads,
-              hail_settings.continuous_collision ? "on" : "off", hail_settings.collision_iterations,
+  std::printf(
+      "  scene     %zu spheres, %d steps of dt = %.6g s, timed steps %d..%d; runs each: %d, alternating ABBA\n"
+      "  at start  kinetic energy %.6g J, |momentum| %.3g kg m/s\n",
+      peer.spheres.size(), steps, dt, warmup, steps - 1, o.repeat, start_energy, start.momentum);
+  std::printf("  hail      threads: %d; continuous collision %s, %d collision + %d resting passes, warm start %s\n",
+              hail_threads, hail_settings.continuous_collision ? "on" : "off", hail_settings.collision_iterations,
               hail_settings.resting_iterations, hail_settings.warm_start ? "on" : "off");
   if (with_bullet) {
-    std::printf("  Bullet    %s, single-threaded (btDiscreteDynamicsWorld): btDbvtBroadphase, btSequentialImpulseConstraintSolver\n"
-                "            with %d iterations (default), one internal step per frame (stepSimulation(dt, 0)), one btSphereShape\n"
-                "            per radius, CCD off (its default); restitution min and friction geometric mean, as hail;\n"
-                "            sleeping as Bullet defaults (\"Bullet\") and off (\"Bullet no sleep\")\n",
-                bullet_version().c_str(), BulletOptions{}.solver_iterations);
+    std::printf(
+        "  Bullet    %s, single-threaded (btDiscreteDynamicsWorld): btDbvtBroadphase, "
+        "btSequentialImpulseConstraintSolver\n"
+        "            with %d iterations (default), one internal step per frame (stepSimulation(dt, 0)), one "
+        "btSphereShape\n"
+        "            per radius, CCD off (its default); restitution min and friction geometric mean, as hail;\n"
+        "            sleeping as Bullet defaults (\"Bullet\") and off (\"Bullet no sleep\")\n",
+        bullet_version().c_str(), BulletOptions{}.solver_iterations);
     if (peer.heightmap)
-      std::printf("            heightfield placed as hail's terrain: %d vertical ray casts, max |hit - hail surface| = %.3g m\n",
-                  kRaySamples * kRaySamples, ray_error);
+      std::printf(
+          "            heightfield placed as hail's terrain: %d vertical ray casts, max |hit - hail surface| = %.3g "
+          "m\n",
+          kRaySamples * kRaySamples, ray_error);
   } else {
     std::printf("  Bullet    not built in (sudo apt-get install libbullet-dev, then configure again): hail alone\n");
   }
@@ -249,7 +254,8 @@ int compare_command(const CompareOptions& o) {
   row("kinetic energy J", [&](const Contender& c) { return num("%.6g", c.errors.kinetic_energy); });
   row("|momentum| kg m/s", [&](const Contender& c) { return num("%.3g", c.errors.momentum); });
   row("NaN spheres", [&](const Contender& c) { return std::to_string(c.errors.nan_spheres); });
-  if (with_bullet) row("asleep at end", [&](const Contender& c) { return c.asleep < 0 ? "-" : std::to_string(c.asleep); });
+  if (with_bullet)
+    row("asleep at end", [&](const Contender& c) { return c.asleep < 0 ? "-" : std::to_string(c.asleep); });
   std::printf("  (ms/step: median over runs of each run's median/mean; errors: final state of the last run)\n");
 
   if (!o.json_path.empty()) {
@@ -274,8 +280,12 @@ int compare_command(const CompareOptions& o) {
                          {"asleep_at_end", c.asleep}});
     }
     const nlohmann::json out_json = {
-        {"scene", o.scene},       {"spheres", peer.spheres.size()}, {"steps", steps},
-        {"timed_steps_from", warmup}, {"dt", dt},                   {"repeat", o.repeat},
+        {"scene", o.scene},
+        {"spheres", peer.spheres.size()},
+        {"steps", steps},
+        {"timed_steps_from", warmup},
+        {"dt", dt},
+        {"repeat", o.repeat},
         {"bullet", with_bullet ? bullet_version() : "not built in"},
         {"bullet_terrain_ray_error", ray_error},
         {"kinetic_energy_start", start_energy},

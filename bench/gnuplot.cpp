@@ -21,12 +21,15 @@ bool plot_with_gnuplot(const std::string& dir, const std::string& script, const 
     std::printf("  plots: %s\n", made.c_str());
     return true;
   }
-  const std::string by_hand = "cd " + shell_quoted(dir) + " && " + program + " -e " + shell_quoted(assignments) + " " + script;
+  const std::string by_hand =
+      "cd " + shell_quoted(dir) + " && " + program + " -e " + shell_quoted(assignments) + " " + script;
   if (!run.started)
-    std::printf("  plots: %s (gnuplot not installed? sudo apt-get install gnuplot-nox); the data and %s are in %s/: %s\n",
-                run.error.c_str(), script.c_str(), dir.c_str(), by_hand.c_str());
+    std::printf(
+        "  plots: %s (gnuplot not installed? sudo apt-get install gnuplot-nox); the data and %s are in %s/: %s\n",
+        run.error.c_str(), script.c_str(), dir.c_str(), by_hand.c_str());
   else
-    std::printf("  plots: %s failed (exit status %d); run it by hand: %s\n", program.c_str(), run.exit_status, by_hand.c_str());
+    std::printf("  plots: %s failed (exit status %d); run it by hand: %s\n", program.c_str(), run.exit_status,
+                by_hand.c_str());
   return false;
 }
 

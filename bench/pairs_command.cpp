@@ -19,13 +19,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "bench/scenes/machine_info.h"
 #include "cli.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
-#include "kernel/broadphase/sorted_axis_pairs.h"
-#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {
@@ -58,7 +58,8 @@ SphereSoA make_pile(std::size_t n, Radii radii, std::uint32_t seed) {
   SphereSoA s;
   s.reserve(n);
   for (std::size_t k = 0; k < n; ++k)
-    s.add({side * unit(rng), side * unit(rng), side * unit(rng), 0, 0, 0, 0, 0, 0, radius[k], 1.0f, 1.0f, 0.5f, 0.5f, 0});
+    s.add(
+        {side * unit(rng), side * unit(rng), side * unit(rng), 0, 0, 0, 0, 0, 0, radius[k], 1.0f, 1.0f, 0.5f, 0.5f, 0});
   return s;
 }
 
@@ -124,9 +125,12 @@ int pairs_command(const std::vector<std::string>& args) {
 int pairs_command(const PairsOptions& o) {
   const int max_n = o.max_n, repeats = o.repeats;
 
-  std::printf("hail-bench pairs: sphere-sphere pair search, build + find_pairs over all rows, 1 thread, median of %d\n", repeats);
-  std::printf("  random piles at volume fraction %.2f (fixed seeds), margin %.2f; slot order as generated (random)\n"
-              "  or Morton-sorted (what World's periodic re-sort gives)\n", kVolumeFraction, kMargin);
+  std::printf("hail-bench pairs: sphere-sphere pair search, build + find_pairs over all rows, 1 thread, median of %d\n",
+              repeats);
+  std::printf(
+      "  random piles at volume fraction %.2f (fixed seeds), margin %.2f; slot order as generated (random)\n"
+      "  or Morton-sorted (what World's periodic re-sort gives)\n",
+      kVolumeFraction, kMargin);
   std::printf("  machine %s, SIMD %s\n  flags %s\n", cpu_model().c_str(), simd_path().c_str(), build_flags().c_str());
   std::printf("  ns per sphere, build + find (build alone in parentheses); pairs hash = FNV-1a of the pair list\n");
   std::printf("  %-20s %-6s %6s", "radii", "order", "N");
@@ -170,7 +174,8 @@ int pairs_command(const PairsOptions& o) {
         }
         if (brute_repeats > 0) {
           result[kBrute] = time_search(
-              brute_repeats, [] {}, [&](std::vector<SpherePair>& out) { find_sphere_pairs_simd(s, 0, n, kMargin, out); });
+              brute_repeats, [] {},
+              [&](std::vector<SpherePair>& out) { find_sphere_pairs_simd(s, 0, n, kMargin, out); });
           brute_seconds_last = result[kBrute].total_ns * 1e-9;
           brute_n_last = n;
         }
@@ -185,7 +190,8 @@ int pairs_command(const PairsOptions& o) {
             [&](std::vector<SpherePair>& out) { bvh.find_pairs(s, 0, n, kMargin, out, row); });
 
         // The reference is brute force where it ran, else the grid (itself checked at smaller N).
-        const std::vector<SpherePair>& reference = result[kBrute].repeats > 0 ? result[kBrute].pairs : result[kGrid].pairs;
+        const std::vector<SpherePair>& reference =
+            result[kBrute].repeats > 0 ? result[kBrute].pairs : result[kGrid].pairs;
         bool agree = true;
         std::printf("  %-20s %-6s %6zu", describe(radii), order_name, n);
         for (int m = 0; m < kMethods; ++m) {
@@ -203,7 +209,8 @@ int pairs_command(const PairsOptions& o) {
                     agree ? "yes" : "NO");
         if (result[kBrute].repeats == 0)
           notes.push_back("brute force skipped at N = " + std::to_string(n) + ": predicted over " +
-                          std::to_string(int(kBruteBudgetSeconds)) + " s per repeat; agreement checked against the grid");
+                          std::to_string(int(kBruteBudgetSeconds)) +
+                          " s per repeat; agreement checked against the grid");
         else if (result[kBrute].repeats < repeats)
           notes.push_back("brute force at N = " + std::to_string(n) + ": " + std::to_string(result[kBrute].repeats) +
                           " repeat(s), to stay within about " + std::to_string(int(kBruteBudgetSeconds)) + " s");
@@ -225,7 +232,8 @@ int pairs_command(const PairsOptions& o) {
         }
         std::printf("    crossover, %s, %s order: %s ", describe(radii), order_name, kMethodNames[m]);
         if (first_win != 0)
-          std::printf("beats brute force from N = %zu%s\n", first_win, first_win == sizes.front() ? " (the smallest N measured)" : "");
+          std::printf("beats brute force from N = %zu%s\n", first_win,
+                      first_win == sizes.front() ? " (the smallest N measured)" : "");
         else
           std::printf("does not beat brute force at any N measured%s\n", compared ? "" : " (brute force not run)");
       }

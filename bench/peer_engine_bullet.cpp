@@ -67,7 +67,8 @@ class BulletEngine final : public PeerEngine {
     dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
     broadphase_ = std::make_unique<btDbvtBroadphase>();
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+    world_ =
+        std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
     world_->setGravity(to_bt(scene.gravity));
     world_->getSolverInfo().m_numIterations = options.solver_iterations;
     if (scene.heightmap) add_terrain(scene);
@@ -111,9 +112,7 @@ class BulletEngine final : public PeerEngine {
   BulletEngine(const BulletEngine&) = delete;
   BulletEngine& operator=(const BulletEngine&) = delete;
 
-  [[nodiscard]] std::string name() const override {
-    return options_.sleeping ? "Bullet" : "Bullet, no sleep";
-  }
+  [[nodiscard]] std::string name() const override { return options_.sleeping ? "Bullet" : "Bullet, no sleep"; }
 
   // maxSubSteps = 0: one internal step of exactly dt, no fixed-step accumulator (which could
   // take 0 or 2 steps in a frame) and no motion-state interpolation.
@@ -142,8 +141,8 @@ class BulletEngine final : public PeerEngine {
     const Heightmap& map = *heightmap_;
     const HeightmapParams& params = map.params();
     const float low = map.min_height(), high = map.max_height();
-    auto shape = std::make_unique<btHeightfieldTerrainShape>(int(map.cols()), int(map.rows()), map.heights().data(), low,
-                                                             high, /*upAxis=*/1, /*flipQuadEdges=*/false);
+    auto shape = std::make_unique<btHeightfieldTerrainShape>(int(map.cols()), int(map.rows()), map.heights().data(),
+                                                             low, high, /*upAxis=*/1, /*flipQuadEdges=*/false);
     shape->setLocalScaling(btVector3(params.cell_x, 1.0f, params.cell_z));
     btTransform at;
     at.setIdentity();

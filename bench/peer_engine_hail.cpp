@@ -1,7 +1,7 @@
 #include <stdexcept>
 
-#include "peer_engine.h"
 #include "bench/scenes/scenes.h"
+#include "peer_engine.h"
 
 namespace hail::bench {
 namespace {
@@ -20,9 +20,13 @@ class HailEngine final : public PeerEngine {
     // hail combines restitution by the minimum and friction by the geometric mean, so a sphere
     // given the effective values meets a surface of the same values with exactly those.
     for (const PeerSphere& s : scene.spheres)
-      ids_.push_back(world_->add_sphere({.position = s.position, .velocity = s.velocity,
-                                         .angular_velocity = s.angular_velocity, .radius = s.radius, .mass = s.mass,
-                                         .restitution = s.restitution, .friction = s.friction,
+      ids_.push_back(world_->add_sphere({.position = s.position,
+                                         .velocity = s.velocity,
+                                         .angular_velocity = s.angular_velocity,
+                                         .radius = s.radius,
+                                         .mass = s.mass,
+                                         .restitution = s.restitution,
+                                         .friction = s.friction,
                                          .is_static = s.mass == 0.0f}));
   }
   [[nodiscard]] std::string name() const override { return "hail"; }
@@ -55,17 +59,21 @@ PeerScene peer_scene_from(const Scene& scene, const std::string& name) {
     peer.terrain_friction = w.terrain_friction();
   }
   for (const Plane& p : w.planes())
-    peer.planes.push_back({.normal = {p.nx, p.ny, p.nz}, .offset = p.offset, .restitution = p.restitution,
-                           .friction = p.friction});
+    peer.planes.push_back(
+        {.normal = {p.nx, p.ny, p.nz}, .offset = p.offset, .restitution = p.restitution, .friction = p.friction});
   const SphereSoA& s = w.soa();
   if (scene.ids.size() != w.sphere_count())
     throw std::logic_error("peer_scene_from: the scene does not list its sphere handles");
   for (SphereId id : scene.ids) {
     const std::size_t i = static_cast<std::size_t>(w.slot_of(id));
     const float mass = s.inv_mass[i] > 0.0f ? 1.0f / s.inv_mass[i] : 0.0f;
-    peer.spheres.push_back({.position = {s.px[i], s.py[i], s.pz[i]}, .velocity = {s.vx[i], s.vy[i], s.vz[i]},
-                            .angular_velocity = {s.wx[i], s.wy[i], s.wz[i]}, .radius = s.radius[i], .mass = mass,
-                            .restitution = s.restitution[i], .friction = s.friction[i]});
+    peer.spheres.push_back({.position = {s.px[i], s.py[i], s.pz[i]},
+                            .velocity = {s.vx[i], s.vy[i], s.vz[i]},
+                            .angular_velocity = {s.wx[i], s.wy[i], s.wz[i]},
+                            .radius = s.radius[i],
+                            .mass = mass,
+                            .restitution = s.restitution[i],
+                            .friction = s.friction[i]});
   }
   return peer;
 }

@@ -7,16 +7,16 @@
 #include <random>
 #include <stdexcept>
 
+#include "bench/scenes/machine_info.h"
 #include "cli.h"
+#include "hail/heightmap.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/bvh/flat_node.h"
-#include "hail/heightmap.h"
-#include "kernel/geometry/morton.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/morton.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/terrain/terrain_triangles.h"
-#include "bench/scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {
@@ -33,7 +33,9 @@ std::vector<Aabb> triangle_bounds(const TerrainTriangles& t) {
   return bounds;
 }
 
-struct Sphere { float x, y, z, r; };
+struct Sphere {
+  float x, y, z, r;
+};
 
 /// Runs `query` over the spheres in groups of `group` (the last may be short), `repeats`
 /// times; returns ns per sphere (median of repeats) and the total of what the query returned
@@ -71,7 +73,8 @@ std::pair<double, std::uint64_t> time_packets(const std::vector<Sphere>& spheres
   std::uint64_t hits = 0;
   for (int k = 0; k < repeats; ++k) {
     const auto t0 = clock_type::now();
-    hits = kernels.count_packet_hits(bvh, bounds.data(), x.data(), y.data(), z.data(), r.data(), spheres.size(), test, nullptr);
+    hits = kernels.count_packet_hits(bvh, bounds.data(), x.data(), y.data(), z.data(), r.data(), spheres.size(), test,
+                                     nullptr);
     ns.push_back(std::chrono::duration<double, std::nano>(clock_type::now() - t0).count() / double(spheres.size()));
   }
   std::sort(ns.begin(), ns.end());
@@ -129,8 +132,9 @@ int query_command(const QueryOptions& o) {
   for (const Aabb& b : bounds) grow(terrain_box, b);
   const std::vector<Sphere> in_morton_order = morton_sorted(spheres, terrain_box);
 
-  std::printf("hail-bench query: %zu spheres (r 0.5) against terrain-rain's %zu triangles, leaf size %d, median of %d\n",
-              spheres.size(), bounds.size(), leaf, repeats);
+  std::printf(
+      "hail-bench query: %zu spheres (r 0.5) against terrain-rain's %zu triangles, leaf size %d, median of %d\n",
+      spheres.size(), bounds.size(), leaf, repeats);
   std::printf("  machine %s, SIMD %s; %zu BVH nodes; packet width %zu (lanes per node test)\n", cpu_model().c_str(),
               simd_description().c_str(), bvh.nodes.size(), simd_kernels().width);
   std::printf("  %-28s %-8s %12s %14s %12s %12s\n", "method", "order", "ns/query", "queries/s", "hits", "nodes/query");
@@ -164,12 +168,14 @@ int query_command(const QueryOptions& o) {
       std::vector<float> x, y, z, r;
       for (const Sphere& s : order) x.push_back(s.x), y.push_back(s.y), z.push_back(s.z), r.push_back(s.r);
       std::uint64_t nodes = 0;
-      (void)simd_kernels().count_packet_hits(bvh, bvh_bounds.data(), x.data(), y.data(), z.data(), r.data(), order.size(),
-                                             PacketLeafTest::LeafCandidates, &nodes);
+      (void)simd_kernels().count_packet_hits(bvh, bvh_bounds.data(), x.data(), y.data(), z.data(), r.data(),
+                                             order.size(), PacketLeafTest::LeafCandidates, &nodes);
       return double(nodes) / double(order.size());
     }
     NodeVisitCount visits;
-    for (const Sphere& s : order) query_sphere(bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
+    for (const Sphere& s : order)
+      query_sphere(
+          bvh, s.x, s.y, s.z, s.r, [](std::uint32_t) {}, visits);
     return double(visits.visited) / double(order.size());
   };
 
@@ -180,11 +186,14 @@ int query_command(const QueryOptions& o) {
     double nodes;  // < 0: not a BVH walk
   };
   std::vector<Row> rows;
-  const std::pair<const char*, const std::vector<Sphere>*> orders[] = {{"random", &spheres}, {"morton", &in_morton_order}};
+  const std::pair<const char*, const std::vector<Sphere>*> orders[] = {{"random", &spheres},
+                                                                       {"morton", &in_morton_order}};
   for (const auto& [order_name, order] : orders) {
-    rows.push_back({"bvh stackless", order_name, time_queries(*order, repeats, stackless), nodes_per_query(*order, false)});
+    rows.push_back(
+        {"bvh stackless", order_name, time_queries(*order, repeats, stackless), nodes_per_query(*order, false)});
     rows.push_back({"bvh fixed stack", order_name, time_queries(*order, repeats, stack), rows.back().nodes});
-    rows.push_back({"bvh packet", order_name, time_packets(*order, repeats, bvh, bvh_bounds, PacketLeafTest::LeafCandidates),
+    rows.push_back({"bvh packet", order_name,
+                    time_packets(*order, repeats, bvh, bvh_bounds, PacketLeafTest::LeafCandidates),
                     nodes_per_query(*order, true)});
     rows.push_back({"bvh packet, SIMD leaf boxes", order_name,
                     time_packets(*order, repeats, bvh, bvh_bounds, PacketLeafTest::LeafBoxes), rows.back().nodes});
@@ -213,9 +222,10 @@ int query_command(const QueryOptions& o) {
   for (std::size_t o = 0; o < 2; ++o) {
     const Row* first = &rows[kRowsPerOrder * o];
     const double grid_ns = first[4].result.first;
-    std::printf("  %s order, time / grid: stackless %.2f, fixed stack %.2f, packet %.2f, packet with SIMD leaf boxes %.2f\n",
-                first->order, first[0].result.first / grid_ns, first[1].result.first / grid_ns,
-                first[2].result.first / grid_ns, first[3].result.first / grid_ns);
+    std::printf(
+        "  %s order, time / grid: stackless %.2f, fixed stack %.2f, packet %.2f, packet with SIMD leaf boxes %.2f\n",
+        first->order, first[0].result.first / grid_ns, first[1].result.first / grid_ns, first[2].result.first / grid_ns,
+        first[3].result.first / grid_ns);
   }
   std::printf("  hits agree across methods and orders: %s\n", agree ? "yes" : "NO");
   return agree ? 0 : 1;
@@ -233,8 +243,9 @@ int bvh_build_command(const std::vector<std::string>& args) {
 
 int bvh_build_command(const BvhBuildCommandOptions& o) {
   const int max_side = o.max_side;
-  std::printf("hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
-              Terrain::kDefaultLeafSize);
+  std::printf(
+      "hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
+      Terrain::kDefaultLeafSize);
   std::printf("  %-12s %12s %12s %12s %12s\n", "vertices", "triangles", "nodes", "median s", "binned SAH s");
   for (int side : {256, 1024, 4096}) {
     if (side > max_side) {

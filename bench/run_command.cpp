@@ -1,20 +1,20 @@
 #include "run_command.h"
 
 #include <algorithm>
-#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 
-#include "cli.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/memory_use.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/scene_file.h"
 #include "bench/scenes/scene_run.h"
+#include "cli.h"
 
 namespace hail::bench {
 namespace {
@@ -25,8 +25,10 @@ using CommandOptions = RunCommandOptions;
 
 /// The sphere-pair searches by their names on the command line.
 const std::map<std::string, PairSearch>& pair_search_names() {
-  static const std::map<std::string, PairSearch> names{{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
-                                                       {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
+  static const std::map<std::string, PairSearch> names{{"auto", PairSearch::Automatic},
+                                                       {"brute", PairSearch::BruteForce},
+                                                       {"grid", PairSearch::Grid},
+                                                       {"sweep", PairSearch::SweepAndPrune},
                                                        {"bvh", PairSearch::Bvh}};
   return names;
 }
@@ -35,8 +37,10 @@ const std::map<std::string, PairSearch>& pair_search_names() {
 
 void add_run_options(CLI::App& app, RunCommandOptions& o) {
   SceneParams& p = o.params;
-  app.description("step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
-  app.add_option("scene", o.scene, "a built-in scene (hail-bench --help lists them)")->check(CLI::IsMember(scene_names()));
+  app.description(
+      "step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
+  app.add_option("scene", o.scene, "a built-in scene (hail-bench --help lists them)")
+      ->check(CLI::IsMember(scene_names()));
   app.add_option("--scene", o.scene_file, "a scene file (docs/scene_format.md); flags given override its values")
       ->type_name("FILE.json");
   add_count(app, "--spheres", p.spheres, 1, 100'000'000, "sphere count");
@@ -59,8 +63,10 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   app.add_option_function<std::string>(
          "--warm-start",
          [&p](const std::string& v) {
-           if (v == "on" || v == "off") p.warm_start = v == "on";
-           else p.warm_start_factor = static_cast<float>(std::stod(v));
+           if (v == "on" || v == "off")
+             p.warm_start = v == "on";
+           else
+             p.warm_start_factor = static_cast<float>(std::stod(v));
          },
          "warm starting; a factor in [0, 1] turns it on with that factor")
       ->check(CLI::Validator(
@@ -84,7 +90,8 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
          "continuous collision; both: alternate runs with it on and off, one table")
       ->check(CLI::IsMember({"on", "off", "both"}));
   app.add_option_function<std::string>(
-         "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; }, "off: spheres never spin (WorldSettings::rotation)")
+         "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; },
+         "off: spheres never spin (WorldSettings::rotation)")
       ->check(CLI::IsMember({"on", "off"}));
   add_number(app, "--origin", o.origin, -1e7, 1e7,
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
@@ -92,26 +99,31 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
   add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both)");
   app.add_option("--json", o.json_path, "every figure of the (last) run as JSON")->type_name("FILE");
-  app.add_option("--trace", o.trace_path, "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
+  app.add_option("--trace", o.trace_path,
+                 "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
       ->type_name("FILE");
   app.add_option("--dump-state", o.dump_state_path, "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
       ->type_name("FILE.csv");
   add_count(app, "--dump-every", o.dump_every, 1, 100'000'000,
-            "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, before .csv)");
+            "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, "
+            "before .csv)");
   add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
-             "GB; a sphere count over it is refused before anything is built (default -1: 80% of the memory available; 0: none)");
+             "GB; a sphere count over it is refused before anything is built (default -1: 80% of the memory available; "
+             "0: none)");
   app.add_flag("--quiet", o.quiet,
                "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
                "progress lines on stderr; with --ccd both, the table");
   // The checks between flags, once every flag is read.
   app.callback([&app, &o] {
-    if (o.home_after > 0 && o.origin == 0.0) usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
-    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs", "--ccd",
-                             "--rotation", "--warm-start"})
+    if (o.home_after > 0 && o.origin == 0.0)
+      usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
+    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
+                             "--ccd", "--rotation", "--warm-start"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
     o.scene_named = app.count("scene") > 0;
     if (o.dump_every > 0 && o.dump_state_path.empty())
-      usage_error("--dump-every " + std::to_string(o.dump_every) + " needs --dump-state FILE.csv (the files are named after it)");
+      usage_error("--dump-every " + std::to_string(o.dump_every) +
+                  " needs --dump-state FILE.csv (the files are named after it)");
     if (o.scene_named && !o.scene_file.empty())
       usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   });
@@ -141,7 +153,6 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   return v;
 }
 
-
 /// The files a scene file reads: itself and, where it names one, its heightmap (relative to its
 /// folder), so that no output overwrites them. A file that does not parse is left for the scene
 /// loader to report.
@@ -153,16 +164,21 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
   if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object()) {
     const nlohmann::json& terrain = doc["terrain"];
     if (terrain.contains("heightmap") && terrain["heightmap"].is_string())
-      inputs.push_back((std::filesystem::path(scene_file).parent_path() / terrain["heightmap"].get<std::string>()).string());
+      inputs.push_back(
+          (std::filesystem::path(scene_file).parent_path() / terrain["heightmap"].get<std::string>()).string());
   }
   return inputs;
 }
 
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
-  RunOptions run_options{.steps = o.steps, .trace_path = last ? o.trace_path : "", .progress = !o.quiet,
-                         .progress_label = "", .dump_state_path = last ? o.dump_state_path : "",
-                         .dump_every = last ? o.dump_every : 0, .after_step = {}};
+  RunOptions run_options{.steps = o.steps,
+                         .trace_path = last ? o.trace_path : "",
+                         .progress = !o.quiet,
+                         .progress_label = "",
+                         .dump_state_path = last ? o.dump_state_path : "",
+                         .dump_every = last ? o.dump_every : 0,
+                         .after_step = {}};
   const float d = static_cast<float>(o.origin);
   if (o.home_after > 0)
     run_options.after_step = [&](Scene& scene, int step) {
@@ -174,11 +190,13 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
   };
   if (o.scene_file.empty()) {
     const SceneEntry& entry = find_scene(o.scene);
-    return run_scene(entry.name, [&] { return moved(entry.build(params)); }, run_options);
+    return run_scene(
+        entry.name, [&] { return moved(entry.build(params)); }, run_options);
   }
   CommandOptions file_options = o;
   file_options.params = params;
-  return run_scene(o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
+  return run_scene(
+      o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
 }
 
 double median_of(std::vector<double> v) {
@@ -192,33 +210,42 @@ void print_report(const RunResult& r) {
   const PhaseTimes& p = r.phase_ms;
   std::printf("hail-bench run %s  (%s)\n", r.scene.c_str(), r.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s\n", cpu_model().c_str(), r.threads, simd_description().c_str());
-  std::printf("  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps, continuous collision %s\n",
-              r.spheres, r.steps, r.dt, r.reorder_interval, r.continuous_collision ? "on" : "off");
+  std::printf(
+      "  scene     %zu spheres, %d steps of dt = %.6g s, Morton re-sort every %d steps, continuous collision %s\n",
+      r.spheres, r.steps, r.dt, r.reorder_interval, r.continuous_collision ? "on" : "off");
   std::printf("  time      %.3f ms/step mean, %.3f median (steps %d..%d), total %.3f s, set-up %.3f s\n", r.mean_ms,
               r.median_ms, r.warmup, r.steps - 1, r.total_s, r.setup_s);
-  std::printf("  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  sweep %.3f  integrate %.3f  depenetrate %.3f ms\n",
-              p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.sweep, p.integrate, p.depenetrate);
+  std::printf(
+      "  phases    reorder %.3f  predict %.3f  detect-terrain %.3f  detect-pairs %.3f  solve %.3f  sweep %.3f  "
+      "integrate %.3f  depenetrate %.3f ms\n",
+      p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.sweep, p.integrate, p.depenetrate);
   std::printf("  parts     %s\n", describe_parts(r).c_str());
-  std::printf("  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f collision passes that applied an impulse\n",
-              r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
-  std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n", r.tile_contacts,
-              r.shared_contacts);
+  std::printf(
+      "  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "
+      "collision passes that applied an impulse\n",
+      r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
+  std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n",
+              r.tile_contacts, r.shared_contacts);
   if (r.continuous_collision)
-    std::printf("  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "
-                "%zu times a sphere reached the impact cap\n",
-                r.swept, r.swept_meeting_spheres, r.sweep_events, r.sweep_capped);
+    std::printf(
+        "  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "
+        "%zu times a sphere reached the impact cap\n",
+        r.swept, r.swept_meeting_spheres, r.sweep_events, r.sweep_capped);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
-  std::printf("  worst     penetration any timed step started from: %.4g m (spheres) %.4g m (ground and planes); "
-              "a step's deepest, mean: %.4g / %.4g m\n",
-              e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
-              e.mean_step_static_penetration);
+  std::printf(
+      "  worst     penetration any timed step started from: %.4g m (spheres) %.4g m (ground and planes); "
+      "a step's deepest, mean: %.4g / %.4g m\n",
+      e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
+      e.mean_step_static_penetration);
   if (r.tunnelling_checked)
-    std::printf("  tunnel    %zu spheres tunnelled, %zu sphere-steps with the centre below the terrain or behind a plane, "
-                "deepest %.4g m (checked after every step)\n",
-                r.tunnelling.spheres, r.tunnelling.events, r.tunnelling.worst_depth);
-  std::printf("  energy    kinetic %.6g J (start %.6g J, drift %+.3e; peak %.6g J after step %d), momentum drift %.3e kg m/s\n",
-              e.kinetic_energy, r.energy_start, r.energy_drift, r.energy_peak, r.energy_peak_step, r.momentum_drift);
+    std::printf(
+        "  tunnel    %zu spheres tunnelled, %zu sphere-steps with the centre below the terrain or behind a plane, "
+        "deepest %.4g m (checked after every step)\n",
+        r.tunnelling.spheres, r.tunnelling.events, r.tunnelling.worst_depth);
+  std::printf(
+      "  energy    kinetic %.6g J (start %.6g J, drift %+.3e; peak %.6g J after step %d), momentum drift %.3e kg m/s\n",
+      e.kinetic_energy, r.energy_start, r.energy_drift, r.energy_peak, r.energy_peak_step, r.momentum_drift);
   if (r.heap_measured)
     std::printf("  memory    heap %s after set-up, %s at the end (terrain %s; %.0f bytes per sphere besides)\n",
                 format_bytes(double(r.heap_after_setup)).c_str(), format_bytes(double(r.heap_at_end)).c_str(),
@@ -231,8 +258,9 @@ void print_report(const RunResult& r) {
 std::string summary_line(const RunResult& r) {
   const ErrorFigures& e = r.errors;
   char line[512];
-  std::snprintf(line, sizeof line, "%s: %zu spheres, %d steps, %.3f ms/step, worst penetration %.4g m, ", r.scene.c_str(),
-                r.spheres, r.steps, r.mean_ms, std::max(e.worst_sphere_penetration, e.worst_static_penetration));
+  std::snprintf(line, sizeof line, "%s: %zu spheres, %d steps, %.3f ms/step, worst penetration %.4g m, ",
+                r.scene.c_str(), r.spheres, r.steps, r.mean_ms,
+                std::max(e.worst_sphere_penetration, e.worst_static_penetration));
   std::string text = line;
   if (r.tunnelling_checked)
     std::snprintf(line, sizeof line, "tunnelled %zu (%zu sphere-steps), ", r.tunnelling.spheres, r.tunnelling.events);
@@ -273,8 +301,8 @@ int report_both(const CommandOptions& o, const RunCommandResult& result) {
   std::printf("hail-bench run %s --ccd both  (%s)\n", a.scene.c_str(), a.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s; %zu spheres, %d steps of dt = %.6g s; %d runs each, ABBA order\n",
               cpu_model().c_str(), a.threads, simd_description().c_str(), a.spheres, a.steps, a.dt, repeat);
-  std::printf("  %-4s %10s %10s %9s %9s %10s %10s %9s %9s %9s %5s  %s\n", "ccd", "ms/step", "(runs)", "swept", "impacts",
-              "pen. sph", "pen. gnd", "tunnelled", "ever", "fell off", "NaN", "hash");
+  std::printf("  %-4s %10s %10s %9s %9s %10s %10s %9s %9s %9s %5s  %s\n", "ccd", "ms/step", "(runs)", "swept",
+              "impacts", "pen. sph", "pen. gnd", "tunnelled", "ever", "fell off", "NaN", "hash");
   for (const auto* runs : {&on, &off}) {
     const RunResult& r = runs->back();
     const std::vector<double> m = medians(*runs);
@@ -309,12 +337,14 @@ int report_both(const CommandOptions& o, const RunCommandResult& result) {
 /// kBytesPerSphereGuide a sphere (a scene file's own counts are checked by its reader, through
 /// SceneOverrides::memory_limit): the kernel's OOM kill would otherwise end the run after minutes of set-up.
 void check_memory(const CommandOptions& o) {
-  const bool spheres_known = o.scene_file.empty() || std::find(o.given.begin(), o.given.end(), "--spheres") != o.given.end();
+  const bool spheres_known =
+      o.scene_file.empty() || std::find(o.given.begin(), o.given.end(), "--spheres") != o.given.end();
   const double limit = memory_limit_bytes(o.memory_limit_gb);
   const double estimate = kBytesPerSphereGuide * double(o.params.spheres);
   if (!spheres_known || limit <= 0.0 || estimate <= limit) return;
   usage_error("--spheres " + std::to_string(o.params.spheres) + " needs about " + format_bytes(estimate) + " (" +
-              std::to_string(static_cast<int>(kBytesPerSphereGuide)) + " bytes a sphere, the most measured: docs/benchmarks.md, Memory), over the memory limit of " +
+              std::to_string(static_cast<int>(kBytesPerSphereGuide)) +
+              " bytes a sphere, the most measured: docs/benchmarks.md, Memory), over the memory limit of " +
               describe_memory_limit(o.memory_limit_gb, limit) + "; --memory-limit GB sets it, 0 turns the check off");
 }
 
@@ -350,8 +380,10 @@ int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
   const std::vector<RunResult>& runs = result.runs;
   const int repeat = static_cast<int>(runs.size());
   const RunResult& r = runs.back();
-  if (o.quiet) std::printf("%s\n", summary_line(r).c_str());
-  else print_report(r);
+  if (o.quiet)
+    std::printf("%s\n", summary_line(r).c_str());
+  else
+    print_report(r);
   if (repeat > 1 && !o.quiet) {
     std::vector<double> m;
     std::string all;
@@ -369,7 +401,8 @@ int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
                   step_dump_path(o.dump_state_path, 0).c_str());
   }
   if (!o.trace_path.empty() && !o.quiet)
-    std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n", o.trace_path.c_str());
+    std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n",
+                o.trace_path.c_str());
   if (!o.json_path.empty()) {
     write_file_atomically(o.json_path, [&](std::ostream& file) { file << to_json(r).dump(2) << "\n"; });
   }

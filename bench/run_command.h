@@ -25,11 +25,11 @@ struct RunCommandOptions {
   int dump_every = 0;           // --dump-every K (0: the final state only)
   bool scene_named = false;
   std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
-  bool ccd_both = false;  // --ccd both: alternate runs with continuous collision on and off
-  int repeat = 0;         // --repeat N (0: 1, or 3 with --ccd both)
-  double memory_limit_gb = -1.0;  // --memory-limit GB (< 0: 80% of the memory available; 0: none)
-  double origin = 0.0;            // --origin D: the scene moved by (D, 0, D) m (bench/scenes/scene_origin.cpp)
-  int home_after = 0;             // --home-after K: after step K, shift the scene back by (D, 0, D)
+  bool ccd_both = false;           // --ccd both: alternate runs with continuous collision on and off
+  int repeat = 0;                  // --repeat N (0: 1, or 3 with --ccd both)
+  double memory_limit_gb = -1.0;   // --memory-limit GB (< 0: 80% of the memory available; 0: none)
+  double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (bench/scenes/scene_origin.cpp)
+  int home_after = 0;              // --home-after K: after step K, shift the scene back by (D, 0, D)
 };
 
 /// Declares run's flags on `app`, writing `o`; the checks between flags run once `app` is parsed.

@@ -14,7 +14,8 @@ ProgramOutcome run_program(const std::vector<std::string>& argv, const std::stri
   ProgramOutcome outcome;
   if (argv.empty()) return outcome.error = "no program named", outcome;
   std::vector<char*> c_argv;
-  for (const std::string& a : argv) c_argv.push_back(const_cast<char*>(a.c_str()));  // posix_spawn's signature; not written
+  for (const std::string& a : argv)
+    c_argv.push_back(const_cast<char*>(a.c_str()));  // posix_spawn's signature; not written
   c_argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -26,7 +27,8 @@ ProgramOutcome run_program(const std::vector<std::string>& argv, const std::stri
   if (spawn_error != 0) return outcome.error = argv[0] + ": " + std::strerror(spawn_error), outcome;
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return outcome.error = std::string("waiting for ") + argv[0] + ": " + std::strerror(errno), outcome;
+    if (errno != EINTR)
+      return outcome.error = std::string("waiting for ") + argv[0] + ": " + std::strerror(errno), outcome;
   outcome.started = true;
   outcome.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return outcome;

@@ -6,12 +6,12 @@
 #include <stdexcept>
 #include <thread>
 
-#include "cli.h"
-#include "gnuplot.h"
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/memory_use.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/scene_run.h"
+#include "cli.h"
+#include "gnuplot.h"
 
 namespace hail::bench {
 namespace {
@@ -89,11 +89,12 @@ int scale_command(const ScaleOptions& o) {
   // written, not with the kernel's OOM kill.
   const double limit_bytes = memory_limit_bytes(o.memory_limit_gb);
   std::printf("  memory limit %s", describe_memory_limit(o.memory_limit_gb, limit_bytes).c_str());
-  if (limit_bytes > 0.0) std::printf("; each count must fit it at %.1fx the largest bytes per sphere so far", kMemoryHeadroom);
+  if (limit_bytes > 0.0)
+    std::printf("; each count must fit it at %.1fx the largest bytes per sphere so far", kMemoryHeadroom);
   std::printf("\n");
   std::printf("  %9s %3s %10s %10s %8s %8s | %7s %7s %7s %7s %7s %7s %7s | %9s %9s %6s %7s %4s %s\n", "spheres", "thr",
-              "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr", "depen", "pen.sph",
-              "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");
+              "ms/step", "ns/sph-st", "median", "speedup", "reorder", "terrain", "pairs", "solve", "sweep", "integr",
+              "depen", "pen.sph", "pen.grnd", "tunnel", "felloff", "NaN", "hash, heap at the end (bytes per sphere)");
 
   // Written row by row (flushed and checked after each, so that a full disk stops the runs
   // early) into a temporary that replaces scale.csv when every row is in.
@@ -101,7 +102,8 @@ int scale_command(const ScaleOptions& o) {
   std::ostream& csv = csv_file.stream();
   csv << "spheres,threads,ms_per_step_mean,ms_per_step_median,ns_per_sphere_step,speedup,reorder_ms,predict_ms,"
          "detect_terrain_ms,detect_pairs_ms,solve_ms,sweep_ms,integrate_ms,depenetrate_ms,max_sphere_penetration,"
-         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_sphere,"
+         "max_terrain_penetration,tunnelled,fell_off,nan_count,kinetic_energy,state_hash,heap_at_end_bytes,bytes_per_"
+         "sphere,"
          "mean_step_sphere_penetration,mean_step_static_penetration\n";
   nlohmann::json runs = nlohmann::json::array();
   std::vector<std::vector<double>> ns_table(counts.size()), speedup_table(counts.size());  // [count][thread - 1]
@@ -112,10 +114,11 @@ int scale_command(const ScaleOptions& o) {
     const double estimate = terrain_bytes + kMemoryHeadroom * most_bytes_per_sphere * double(n);
     if (limit_bytes > 0.0 && estimate > limit_bytes) {
       char why[256];
-      std::snprintf(why, sizeof why,
-                    "stopping before %zu spheres: about %s estimated (%.0f bytes per sphere measured so far, x%.1f), over "
-                    "the memory limit of %s (--memory-limit GB; 0: none)",
-                    n, format_bytes(estimate).c_str(), most_bytes_per_sphere, kMemoryHeadroom, format_bytes(limit_bytes).c_str());
+      std::snprintf(
+          why, sizeof why,
+          "stopping before %zu spheres: about %s estimated (%.0f bytes per sphere measured so far, x%.1f), over "
+          "the memory limit of %s (--memory-limit GB; 0: none)",
+          n, format_bytes(estimate).c_str(), most_bytes_per_sphere, kMemoryHeadroom, format_bytes(limit_bytes).c_str());
       std::printf("  %s\n", why);
       std::fprintf(stderr, "hail-bench scale: %s\n", why);
       break;
@@ -140,18 +143,20 @@ int scale_command(const ScaleOptions& o) {
       const double speedup = one_thread_ms / r.mean_ms;
       const PhaseTimes& p = r.phase_ms;
       const ErrorFigures& e = r.errors;
-      std::printf("  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu %4zu %s %s (%.0f)\n",
-                  r.spheres, t, r.mean_ms, ns, r.median_ms, speedup, p.reorder, p.detect_terrain, p.detect_pairs, p.solve,
-                  p.sweep, p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off,
-                  e.nan_count, r.state_hash.c_str(), r.heap_measured ? format_bytes(double(r.heap_at_end)).c_str() : "n/a",
-                  r.bytes_per_sphere());
+      std::printf(
+          "  %9zu %3d %10.3f %10.1f %8.3f %8.2f | %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f %7.2f | %9.4f %9.4f %6zu %7zu "
+          "%4zu %s %s (%.0f)\n",
+          r.spheres, t, r.mean_ms, ns, r.median_ms, speedup, p.reorder, p.detect_terrain, p.detect_pairs, p.solve,
+          p.sweep, p.integrate, p.depenetrate, e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled,
+          e.fell_off, e.nan_count, r.state_hash.c_str(),
+          r.heap_measured ? format_bytes(double(r.heap_at_end)).c_str() : "n/a", r.bytes_per_sphere());
       std::fflush(stdout);
       csv << r.spheres << ',' << t << ',' << r.mean_ms << ',' << r.median_ms << ',' << ns << ',' << speedup << ','
           << p.reorder << ',' << p.predict << ',' << p.detect_terrain << ',' << p.detect_pairs << ',' << p.solve << ','
-          << p.sweep << ',' << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ',' << e.max_terrain_penetration
-          << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ',' << e.kinetic_energy << ','
-          << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << ',' << e.mean_step_sphere_penetration
-          << ',' << e.mean_step_static_penetration << '\n';
+          << p.sweep << ',' << p.integrate << ',' << p.depenetrate << ',' << e.max_sphere_penetration << ','
+          << e.max_terrain_penetration << ',' << e.tunnelled << ',' << e.fell_off << ',' << e.nan_count << ','
+          << e.kinetic_energy << ',' << r.state_hash << ',' << r.heap_at_end << ',' << r.bytes_per_sphere() << ','
+          << e.mean_step_sphere_penetration << ',' << e.mean_step_static_penetration << '\n';
       csv_file.flush();
       const std::size_t row = static_cast<std::size_t>(&n - counts.data());
       ns_table[row].push_back(ns);
@@ -166,7 +171,8 @@ int scale_command(const ScaleOptions& o) {
   write_file_atomically(o.out_dir + "/scale.json", [&](std::ostream& out) {
     out << nlohmann::json{{"scene", o.scene}, {"memory_limit_bytes", limit_bytes}, {"runs", runs}}.dump(2) << "\n";
   });
-  std::printf("  same state hash on every thread count: %s; NaN-free: %s\n", deterministic ? "yes" : "NO", finite ? "yes" : "NO");
+  std::printf("  same state hash on every thread count: %s; NaN-free: %s\n", deterministic ? "yes" : "NO",
+              finite ? "yes" : "NO");
 
   if (!o.no_plot) {
     write_file_atomically(o.out_dir + "/scale.gp", [](std::ostream& gp) { gp << kGnuplotScript; });
@@ -184,7 +190,8 @@ int scale_command(const ScaleOptions& o) {
       speedup_dat << '\n';
       for (int t = 1; t <= o.max_threads; ++t) {
         speedup_dat << t;
-        for (std::size_t c = 0; c < counts.size(); ++c) speedup_dat << ' ' << speedup_table[c][static_cast<std::size_t>(t - 1)];
+        for (std::size_t c = 0; c < counts.size(); ++c)
+          speedup_dat << ' ' << speedup_table[c][static_cast<std::size_t>(t - 1)];
         speedup_dat << '\n';
       }
     });

@@ -36,8 +36,8 @@ constexpr float kMaxPenetration = 0.05f;  // m: fail above this (hail's own figu
 hail::Heightmap make_heightmap(int argc, char** argv) {
   if (argc > 1) {
     // 16-bit PGM samples to metres: terrain-rain-dem's scale (the DEM's metres divided by 80).
-    const hail::HeightmapParams params{.cell_x = 1.0f, .cell_z = 1.0f, .height_scale = 0.00016021973f,
-                                       .height_offset = 2.95f};
+    const hail::HeightmapParams params{
+        .cell_x = 1.0f, .cell_z = 1.0f, .height_scale = 0.00016021973f, .height_offset = 2.95f};
     return hail::Heightmap::load_pgm(argv[1], params);
   }
   // 129 x 129 vertices, 0.5 m apart, centred on the origin: a bowl with bumps, so nothing rolls off.
@@ -71,7 +71,10 @@ int run(int argc, char** argv) {
       const float x = cx + (static_cast<float>(i) - 0.5f * (kSide - 1)) * kSpacing;
       const float z = cz + (static_cast<float>(k) - 0.5f * (kSide - 1)) * kSpacing;
       ids.push_back(world.add_sphere({.position = {x, map.max_height() + 2.0f + 0.05f * static_cast<float>(i), z},
-                                      .radius = kRadius, .mass = 1.0f, .restitution = 0.3f, .friction = 0.6f}));
+                                      .radius = kRadius,
+                                      .mass = 1.0f,
+                                      .restitution = 0.3f,
+                                      .friction = 0.6f}));
     }
 
   // Step, and read each step's contacts in one pass: no callback inside the solver's loops.
@@ -116,8 +119,8 @@ int run(int argc, char** argv) {
       touched(i.a, i.b, i.feature);
     }
     if (step % 60 == 0)
-      std::printf("t = %.1f s: %zu/%zu spheres have touched down, %zu contacts this step, KE %.1f J\n", t,
-                  touchdowns, ids.size(), world.last_contacts().size(), world.kinetic_energy());
+      std::printf("t = %.1f s: %zu/%zu spheres have touched down, %zu contacts this step, KE %.1f J\n", t, touchdowns,
+                  ids.size(), world.last_contacts().size(), world.kinetic_energy());
   }
 
   // 4. Where they landed, through the same spans (slots may have moved: look them up again).
@@ -138,20 +141,23 @@ int run(int argc, char** argv) {
     clearance_sum += ground->t - r;
     max_raycast_error = std::max(max_raycast_error, std::abs(ground->point.y() - map.surface_height(p.x(), p.z())));
     if (n < 4)
-      std::printf("sphere %zu landed at (%.2f, %.2f, %.2f) m, %.3f m above the ground (slope normal y %.2f), "
-                  "touched down at %.2f s\n",
-                  n, p.x(), p.y(), p.z(), ground->t - r, ground->normal.y(), touched_down_at[ids[n].index]);
+      std::printf(
+          "sphere %zu landed at (%.2f, %.2f, %.2f) m, %.3f m above the ground (slope normal y %.2f), "
+          "touched down at %.2f s\n",
+          n, p.x(), p.y(), p.z(), ground->t - r, ground->normal.y(), touched_down_at[ids[n].index]);
   }
   const double mean_clearance = on_terrain ? clearance_sum / static_cast<double>(on_terrain) : 0.0;
-  std::printf("landed: %zu spheres, %zu over the terrain, centres at y %.2f..%.2f m\n", ids.size(), on_terrain,
-              lowest, highest);
-  std::printf("errors: max penetration %.4f m, mean clearance under centre %.4f m, raycast vs heightmap %.2e m, "
-              "NaN %zu\n",
-              max_penetration, mean_clearance, max_raycast_error, world.nan_count());
-  std::printf("sounds: %zu touch-downs, %zu first clacks, %zu bounces (loudest %.2f N s); %.3f ms/step on %d threads; "
-              "state hash %016llx\n",
-              touchdowns, clacks, bounces, loudest, step_ms / kSteps, world.thread_count(),
-              static_cast<unsigned long long>(world.state_hash()));
+  std::printf("landed: %zu spheres, %zu over the terrain, centres at y %.2f..%.2f m\n", ids.size(), on_terrain, lowest,
+              highest);
+  std::printf(
+      "errors: max penetration %.4f m, mean clearance under centre %.4f m, raycast vs heightmap %.2e m, "
+      "NaN %zu\n",
+      max_penetration, mean_clearance, max_raycast_error, world.nan_count());
+  std::printf(
+      "sounds: %zu touch-downs, %zu first clacks, %zu bounces (loudest %.2f N s); %.3f ms/step on %d threads; "
+      "state hash %016llx\n",
+      touchdowns, clacks, bounces, loudest, step_ms / kSteps, world.thread_count(),
+      static_cast<unsigned long long>(world.state_hash()));
 
   bool ok = true;
   auto require = [&](bool condition, const char* what) {

@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v clang-format >/dev/null || { echo "format: clang-format not found (sudo apt-get install clang-format)" >&2; exit 2; }
 # tests/layering/ holds fixtures for the layer check, never compiled.
-mapfile -t files < <(git ls-files '*.h' '*.cpp' '*.h.in' | grep -v '^tests/layering/')
+mapfile -t files < <(git ls-files '*.h' '*.cpp' | grep -v '^tests/layering/')
 if [ "${1:-}" = "--check" ]; then
   differ=0
   for f in "${files[@]}"; do

@@ -5,21 +5,22 @@
 namespace hail {
 namespace {
 constexpr std::uint32_t kFreeSlot = 0xFFFFFFFFu;
-const SphereRecord kPaddingRecord{kPaddingPosition, kPaddingPosition, kPaddingPosition, 0, 0, 0, 0, 0, 0,
-                                  0.0f, 0.0f, 0.0f, 0.0f, 0.0f, kSphereFlagNone};
+const SphereRecord kPaddingRecord{
+    kPaddingPosition, kPaddingPosition, kPaddingPosition, 0, 0, 0, 0, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,
+    kSphereFlagNone};
 }  // namespace
 
 void SphereSoA::resize_arrays(std::size_t n) {
-  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia,
-                  &restitution, &friction})
+  for (auto* a :
+       {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction})
     a->resize(n);
   flags.resize(n);
 }
 
 void SphereSoA::reserve(std::size_t n) {
   const std::size_t padded = padded_size_for(n);
-  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia,
-                  &restitution, &friction})
+  for (auto* a :
+       {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction})
     a->reserve(padded);
   flags.reserve(padded);
   slot_to_id_.reserve(n);
@@ -28,9 +29,15 @@ void SphereSoA::reserve(std::size_t n) {
 }
 
 void SphereSoA::write_slot(std::size_t s, const SphereRecord& r) {
-  px[s] = r.px; py[s] = r.py; pz[s] = r.pz;
-  vx[s] = r.vx; vy[s] = r.vy; vz[s] = r.vz;
-  wx[s] = r.wx; wy[s] = r.wy; wz[s] = r.wz;
+  px[s] = r.px;
+  py[s] = r.py;
+  pz[s] = r.pz;
+  vx[s] = r.vx;
+  vy[s] = r.vy;
+  vz[s] = r.vz;
+  wx[s] = r.wx;
+  wy[s] = r.wy;
+  wz[s] = r.wz;
   radius[s] = r.radius;
   inv_mass[s] = r.inv_mass;
   inv_inertia[s] = r.inv_inertia;
@@ -40,8 +47,8 @@ void SphereSoA::write_slot(std::size_t s, const SphereRecord& r) {
 }
 
 SphereRecord SphereSoA::read_slot(std::size_t s) const {
-  return {px[s], py[s], pz[s], vx[s], vy[s], vz[s], wx[s], wy[s], wz[s], radius[s],
-          inv_mass[s], inv_inertia[s], restitution[s], friction[s], flags[s]};
+  return {px[s], py[s],     pz[s],       vx[s],          vy[s],          vz[s],       wx[s],   wy[s],
+          wz[s], radius[s], inv_mass[s], inv_inertia[s], restitution[s], friction[s], flags[s]};
 }
 
 void SphereSoA::set_padding(std::size_t first) {

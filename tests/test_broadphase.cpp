@@ -14,10 +14,10 @@
 #include <tbb/parallel_for.h>
 
 #include "catch.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
-#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "simd_paths.h"
 
@@ -30,12 +30,18 @@ enum class Cloud { EqualRadii, MixedWithGiants, Coincident, FlatLayer, KnifeEdge
 
 const char* name_of(Cloud c) {
   switch (c) {
-    case Cloud::EqualRadii: return "equal radii";
-    case Cloud::MixedWithGiants: return "radii 1:20 with giants";
-    case Cloud::Coincident: return "coincident";
-    case Cloud::FlatLayer: return "flat layer";
-    case Cloud::KnifeEdge: return "knife edge";
-    case Cloud::Sprawling: return "sprawling";
+    case Cloud::EqualRadii:
+      return "equal radii";
+    case Cloud::MixedWithGiants:
+      return "radii 1:20 with giants";
+    case Cloud::Coincident:
+      return "coincident";
+    case Cloud::FlatLayer:
+      return "flat layer";
+    case Cloud::KnifeEdge:
+      return "knife edge";
+    case Cloud::Sprawling:
+      return "sprawling";
   }
   return "?";
 }
@@ -120,11 +126,21 @@ void check_all_searches_agree(const SphereSoA& s, float margin, const std::vecto
   sweep.build(s, margin);
   bvh.build(s, margin);
   std::vector<std::uint32_t> row;
-  auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { hail::find_sphere_pairs_simd(s, a, b, margin, out); };
-  auto by_grid = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs(s, a, b, margin, out, row); };
-  auto by_grid_scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs_scalar(s, a, b, margin, out, row); };
-  auto by_sweep = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { sweep.find_pairs(s, a, b, margin, out, row); };
-  auto by_bvh = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { bvh.find_pairs(s, a, b, margin, out, row); };
+  auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    hail::find_sphere_pairs_simd(s, a, b, margin, out);
+  };
+  auto by_grid = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    grid.find_pairs(s, a, b, margin, out, row);
+  };
+  auto by_grid_scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    grid.find_pairs_scalar(s, a, b, margin, out, row);
+  };
+  auto by_sweep = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    sweep.find_pairs(s, a, b, margin, out, row);
+  };
+  auto by_bvh = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    bvh.find_pairs(s, a, b, margin, out, row);
+  };
   for (const std::size_t block : {s.size() + 1, std::size_t{64}}) {
     INFO("rows in blocks of " << block << " (sweep axis " << sweep.axis() << ", " << sweep.class_count()
                               << " radius classes)");
@@ -272,7 +288,8 @@ TEST_CASE("Pair searches give the same pairs when row blocks run in parallel", "
   CHECK(parallel(bvh) == reference);
 }
 
-TEST_CASE("The grid with per-pair margins returns brute force's pairs after the per-pair filter", "[pairs][broadphase]") {
+TEST_CASE("The grid with per-pair margins returns brute force's pairs after the per-pair filter",
+          "[pairs][broadphase]") {
   // The filter of kernel/world/step_pipeline.cpp (keep_pairs_within_their_margin), applied here to
   // brute force's pairs; the grid applies it inside the search, scalar and on every SIMD path.
   const Cloud kind = GENERATE(Cloud::EqualRadii, Cloud::MixedWithGiants, Cloud::KnifeEdge, Cloud::Sprawling);
@@ -284,8 +301,10 @@ TEST_CASE("The grid with per-pair margins returns brute force's pairs after the 
   for (std::size_t i = 0; i < s.size(); ++i) {
     // At rest, slow, fast (beyond the step's margin), and a NaN (the step's margin).
     const std::uint32_t pick = rng() % 8;
-    travel[i] = pick == 0 ? 0.0f : pick == 7 ? 1.0f : pick == 6 && i % 5 == 0 ? std::numeric_limits<float>::quiet_NaN()
-                                                                              : 0.1f * unit(rng);
+    travel[i] = pick == 0                 ? 0.0f
+                : pick == 7               ? 1.0f
+                : pick == 6 && i % 5 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                          : 0.1f * unit(rng);
   }
   std::vector<SpherePair> reference;
   hail::find_sphere_pairs_scalar(s, 0, s.size(), margin, reference);
@@ -301,12 +320,16 @@ TEST_CASE("The grid with per-pair margins returns brute force's pairs after the 
   hail::SphereGrid grid;
   grid.build(s, margin, {travel.data(), factor});
   std::vector<std::uint32_t> row;
-  auto scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { grid.find_pairs_scalar(s, a, b, margin, out, row); };
+  auto scalar = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+    grid.find_pairs_scalar(s, a, b, margin, out, row);
+  };
   CHECK(in_blocks(s, 64, scalar) == reference);
   for (const hail::SimdPath path : hail::testing::supported_paths()) {
     INFO("path " << hail::simd_path_name(path));
     const hail::SimdKernels& k = hail::simd_kernels(path);
-    auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) { k.grid_find_pairs(grid.view(), s, a, b, margin, out, row); };
+    auto simd = [&](std::size_t a, std::size_t b, std::vector<SpherePair>& out) {
+      k.grid_find_pairs(grid.view(), s, a, b, margin, out, row);
+    };
     CHECK(in_blocks(s, 64, simd) == reference);
     CHECK(in_blocks(s, s.size() + 1, simd) == reference);
   }

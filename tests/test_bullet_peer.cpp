@@ -41,15 +41,16 @@ struct Random {
 float other_split_height(const Heightmap& map, float x, float z) {
   const HeightmapParams& p = map.params();
   const float u = (x - p.origin_x) / p.cell_x, v = (z - p.origin_z) / p.cell_z;
-  const auto i = std::min<std::uint32_t>(std::uint32_t(u), map.cols() - 2), j = std::min<std::uint32_t>(std::uint32_t(v), map.rows() - 2);
+  const auto i = std::min<std::uint32_t>(std::uint32_t(u), map.cols() - 2),
+             j = std::min<std::uint32_t>(std::uint32_t(v), map.rows() - 2);
   const float fx = u - float(i), fz = v - float(j);
   const float h00 = map.h(i, j), h10 = map.h(i + 1, j), h01 = map.h(i, j + 1), h11 = map.h(i + 1, j + 1);
   return fx >= fz ? h00 + fx * (h10 - h00) + fz * (h11 - h10) : h00 + fz * (h01 - h00) + fx * (h11 - h01);
 }
 
 struct RayCheck {
-  double worst = 0.0;          ///< max |Bullet hit - hail surface|
-  double other_split = 0.0;    ///< max |other split - hail surface| at the same points
+  double worst = 0.0;        ///< max |Bullet hit - hail surface|
+  double other_split = 0.0;  ///< max |other split - hail surface| at the same points
   int misses = 0;
 };
 
@@ -94,7 +95,8 @@ std::set<const btCollisionShape*> sphere_shapes(btDiscreteDynamicsWorld& world) 
 }  // namespace
 
 TEST_CASE("bullet peer: the heightfield lies on hail's terrain-rain surface (vertical ray casts)", "[bullet]") {
-  auto map = std::make_shared<const Heightmap>(Heightmap::from_function(256, 256, {}, hail::bench::terrain_rain_height));
+  auto map =
+      std::make_shared<const Heightmap>(Heightmap::from_function(256, 256, {}, hail::bench::terrain_rain_height));
   const RayCheck check = cast_rays(map, 4000);
   CHECK(check.misses == 0);
   CHECK(check.worst < 1e-4);
@@ -130,8 +132,8 @@ namespace {
 std::vector<float> drop(float sphere_restitution, float plane_restitution, bool sleeping, int steps) {
   PeerScene scene;
   scene.planes.push_back({.normal = {0, 1, 0}, .offset = 0.0f, .restitution = plane_restitution, .friction = 0.5f});
-  scene.spheres.push_back({.position = {0, 5.5f, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = sphere_restitution,
-                           .friction = 0.5f});
+  scene.spheres.push_back(
+      {.position = {0, 5.5f, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = sphere_restitution, .friction = 0.5f});
   auto engine = hail::bench::make_bullet_engine(scene, {.sleeping = sleeping});
   std::vector<PeerState> state;
   std::vector<float> vy;
@@ -164,7 +166,8 @@ TEST_CASE("bullet peer: a dropped sphere comes to rest on a plane, sleeping on a
   for (const bool sleeping : {true, false}) {
     PeerScene scene;
     scene.planes.push_back({.normal = {0, 1, 0}, .offset = 0.0f, .restitution = 0.5f, .friction = 0.5f});
-    scene.spheres.push_back({.position = {0, 5.5f, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f});
+    scene.spheres.push_back(
+        {.position = {0, 5.5f, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f});
     auto engine = hail::bench::make_bullet_engine(scene, {.sleeping = sleeping});
     for (int k = 0; k < 600; ++k) engine->step(1.0f / 60.0f);
     std::vector<PeerState> state;
@@ -184,8 +187,12 @@ TEST_CASE("bullet peer: friction combines by the geometric mean (case B, slide t
   // product rule (mu = 0.09) it would still slide at 1 s, at 4.1 m/s.
   PeerScene scene;
   scene.planes.push_back({.normal = {0, 1, 0}, .offset = 0.0f, .restitution = 0.0f, .friction = 0.3f});
-  scene.spheres.push_back({.position = {0, 0.5f, 0}, .velocity = {5, 0, 0}, .radius = 0.5f, .mass = 1.0f,
-                           .restitution = 0.0f, .friction = 0.3f});
+  scene.spheres.push_back({.position = {0, 0.5f, 0},
+                           .velocity = {5, 0, 0},
+                           .radius = 0.5f,
+                           .mass = 1.0f,
+                           .restitution = 0.0f,
+                           .friction = 0.3f});
   auto engine = hail::bench::make_bullet_engine(scene, {});
   for (int k = 0; k < 60; ++k) engine->step(1.0f / 60.0f);
   std::vector<PeerState> state;
@@ -198,8 +205,10 @@ TEST_CASE("bullet peer: spheres come back in scene order, one shape per radius, 
   PeerScene scene;
   scene.gravity = {0, 0, 0};
   for (int k = 0; k < 12; ++k)
-    scene.spheres.push_back({.position = {float(3 * k), 1.0f, -float(k)}, .velocity = {0, 0, float(k)},
-                             .radius = k % 2 ? 0.25f : 0.5f, .mass = k == 5 ? 0.0f : 1.0f});
+    scene.spheres.push_back({.position = {float(3 * k), 1.0f, -float(k)},
+                             .velocity = {0, 0, float(k)},
+                             .radius = k % 2 ? 0.25f : 0.5f,
+                             .mass = k == 5 ? 0.0f : 1.0f});
   CalculateCombinedCallback restitution_before = gCalculateCombinedRestitutionCallback;
   CalculateCombinedCallback friction_before = gCalculateCombinedFrictionCallback;
   {
@@ -214,7 +223,8 @@ TEST_CASE("bullet peer: spheres come back in scene order, one shape per radius, 
     }
     // One internal step per frame, whatever dt (no fixed-step accumulator, no substeps).
     int ticks = 0;
-    world.setInternalTickCallback([](btDynamicsWorld* w, btScalar) { ++*static_cast<int*>(w->getWorldUserInfo()); }, &ticks);
+    world.setInternalTickCallback([](btDynamicsWorld* w, btScalar) { ++*static_cast<int*>(w->getWorldUserInfo()); },
+                                  &ticks);
     for (const float dt : {1.0f / 60.0f, 1.0f / 240.0f, 0.1f}) engine->step(dt);
     CHECK(ticks == 3);
     world.setInternalTickCallback(nullptr);

@@ -4,23 +4,23 @@
 // determinism; and its argument checks.
 
 #include <algorithm>
-#include <numeric>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "catch.h"
-#include "sample_count.h"
-#include "kernel/bvh/bvh_packet_walk.h"
 #include "hail/errors.h"
+#include "kernel/bvh/bvh_packet_walk.h"
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/geometry/morton.h"
 #include "kernel/geometry/ray_triangle.h"
+#include "sample_count.h"
 
 using namespace hail;
 
@@ -45,7 +45,8 @@ Aabb bounds_of(const Triangle& t) {
 
 /// Two triangles per cell of a (cells_x + 1) x (cells_z + 1) vertex grid of spacing `cell`,
 /// heights from `height(i, j)` at vertex (i, j): the shape of a heightmap's triangles.
-PrimitiveSet grid(std::string name, int cells_x, int cells_z, float cell, const std::function<float(int, int)>& height) {
+PrimitiveSet grid(std::string name, int cells_x, int cells_z, float cell,
+                  const std::function<float(int, int)>& height) {
   PrimitiveSet set{std::move(name), {}, {}};
   for (int j = 0; j < cells_z; ++j)
     for (int i = 0; i < cells_x; ++i) {
@@ -87,8 +88,9 @@ std::vector<PrimitiveSet> primitive_sets() {
   sets.push_back(grid("single cell", 1, 1, 2.0f, [](int i, int j) { return 0.3f * i + 0.1f * j; }));
   sets.push_back(grid("1x2 cells", 1, 2, 1.0f, [](int i, int j) { return 0.5f * float(i * j); }));
   sets.push_back(grid("cliff", 30, 20, 1.0f, [](int i, int) { return i <= 15 ? 0.0f : 100.0f; }));
-  sets.push_back(grid("1e4 m range", 32, 32, 10.0f,
-                      [](int i, int j) { return 1.0e4f * std::sin(0.7f * i) * std::cos(0.4f * j) + (i == 5 ? 1.0e4f : 0.0f); }));
+  sets.push_back(grid("1e4 m range", 32, 32, 10.0f, [](int i, int j) {
+    return 1.0e4f * std::sin(0.7f * i) * std::cos(0.4f * j) + (i == 5 ? 1.0e4f : 0.0f);
+  }));
   sets.push_back(grid("rolling", 50, 50, 0.5f, [](int i, int j) { return std::sin(0.3f * i) + 0.2f * j; }));
   return sets;
 }
@@ -114,7 +116,8 @@ std::vector<Sphere> random_spheres(const PrimitiveSet& set, int count, std::uint
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Sphere> spheres(count);
   for (Sphere& s : spheres) {
-    for (int a = 0; a < 3; ++a) s.c[a] = all.min[a] - 0.1f * diagonal + (all.max[a] - all.min[a] + 0.2f * diagonal) * u(rng);
+    for (int a = 0; a < 3; ++a)
+      s.c[a] = all.min[a] - 0.1f * diagonal + (all.max[a] - all.min[a] + 0.2f * diagonal) * u(rng);
     const float pick = u(rng);
     s.r = pick < 0.05f ? 0.0f : pick > 0.99f ? 2.0f * diagonal : diagonal * std::pow(10.0f, -3.0f + 2.7f * u(rng));
   }
@@ -218,7 +221,8 @@ const char* split_name(BvhSplit split) {
 std::size_t load_packet(SpherePacket& packet, const std::vector<Sphere>& spheres, std::size_t first) {
   packet.clear();
   const std::size_t last = std::min(spheres.size(), first + kSpherePacketWidth);
-  for (std::size_t q = first; q < last; ++q) packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
+  for (std::size_t q = first; q < last; ++q)
+    packet.add(spheres[q].c[0], spheres[q].c[1], spheres[q].c[2], spheres[q].r);
   return last;
 }
 
@@ -262,12 +266,14 @@ TEST_CASE("Sphere and box queries return exactly the brute-force primitive sets"
           stackless.clear();
           stack.clear();
           std::uint64_t visits = 0;
-          query_sphere(bvh, s.c[0], s.c[1], s.c[2], s.r, [&](std::uint32_t k) { stackless.push_back(k); },
-                       OnceCheck{&stamp, 2 * q, &visits, &twice});
+          query_sphere(
+              bvh, s.c[0], s.c[1], s.c[2], s.r, [&](std::uint32_t k) { stackless.push_back(k); },
+              OnceCheck{&stamp, 2 * q, &visits, &twice});
           most_visits = std::max(most_visits, visits);
           visits = 0;
-          query_sphere_stack(bvh, s.c[0], s.c[1], s.c[2], s.r, [&](std::uint32_t k) { stack.push_back(k); },
-                             OnceCheck{&stamp, 2 * q + 1, &visits, &twice});
+          query_sphere_stack(
+              bvh, s.c[0], s.c[1], s.c[2], s.r, [&](std::uint32_t k) { stack.push_back(k); },
+              OnceCheck{&stamp, 2 * q + 1, &visits, &twice});
           most_visits = std::max(most_visits, visits);
           // Both walks enter the same leaves in the same (depth-first) order.
           if (stack != stackless) ++order_mismatches;
@@ -345,13 +351,14 @@ TEST_CASE("The ray query finds the brute-force nearest triangle", "[bvh]") {
           const RayHit want = brute_force_ray(static_cast<std::uint32_t>(set.triangles.size()), ray.t_max,
                                               [&](std::uint32_t p) { return intersect(ray, p); });
           NodeVisitCount visits;
-          const RayHit got = query_ray(bvh, ray.o, ray.d, ray.t_max,
-                                       [&](std::uint32_t k) { return intersect(ray, bvh.primitive_order[k]); }, visits);
+          const RayHit got = query_ray(
+              bvh, ray.o, ray.d, ray.t_max, [&](std::uint32_t k) { return intersect(ray, bvh.primitive_order[k]); },
+              visits);
           hits += want.primitive != kNoPrimitive;
           // Same distance; a different primitive only where both are hit at it (a shared edge).
-          const bool same = got.t == want.t && (got.primitive == kNoPrimitive) == (want.primitive == kNoPrimitive) &&
-                            (got.primitive == kNoPrimitive ||
-                             intersect(ray, bvh.primitive_order[got.primitive]) == want.t);
+          const bool same =
+              got.t == want.t && (got.primitive == kNoPrimitive) == (want.primitive == kNoPrimitive) &&
+              (got.primitive == kNoPrimitive || intersect(ray, bvh.primitive_order[got.primitive]) == want.t);
           if (!same || visits.visited > bvh.nodes.size()) ++mismatches;
         }
         CHECK(mismatches == 0);
@@ -471,9 +478,9 @@ TEST_CASE("Möller-Trumbore: hits inside and on edges, misses outside, parallel 
   const float down[3] = {0, -1, 0}, up[3] = {0, 1, 0}, along[3] = {1, 0, 0};
   const float above[3] = {0.25f, 2, 0.25f}, edge[3] = {0.5f, 2, 0.5f}, outside[3] = {0.75f, 2, 0.75f};
   CHECK(ray_triangle(above, down, a, b, c) == 2.0f);
-  CHECK(ray_triangle(edge, down, a, b, c) == 2.0f);       // on the hypotenuse: inclusive
+  CHECK(ray_triangle(edge, down, a, b, c) == 2.0f);  // on the hypotenuse: inclusive
   CHECK(ray_triangle(outside, down, a, b, c) == kRayMiss);
-  CHECK(ray_triangle(above, up, a, b, c) == kRayMiss);     // behind the origin
+  CHECK(ray_triangle(above, up, a, b, c) == kRayMiss);  // behind the origin
   const float in_plane[3] = {-1, 0, 0.25f};
   CHECK(ray_triangle(in_plane, along, a, b, c) == kRayMiss);  // parallel
   const float scaled[3] = {0, -4, 0};
@@ -499,8 +506,9 @@ TEST_CASE("Packet walks give each lane exactly its single-sphere walk, in order"
         const std::size_t last = load_packet(packet, spheres, first);
         for (auto& v : per_lane) v.clear();
         for (auto& v : per_lane_exact) v.clear();
-        query_sphere_packet(bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { per_lane[lane].push_back(k); },
-                            OnceCheck{&stamp, packet_index, &visits, &twice});
+        query_sphere_packet(
+            bvh, packet, [&](std::uint32_t lane, std::uint32_t k) { per_lane[lane].push_back(k); },
+            OnceCheck{&stamp, packet_index, &visits, &twice});
         query_sphere_packet_exact(bvh, bvh_bounds, packet,
                                   [&](std::uint32_t lane, std::uint32_t k) { per_lane_exact[lane].push_back(k); });
         for (std::size_t q = first; q < kSpherePacketWidth + first; ++q) {
@@ -544,7 +552,8 @@ TEST_CASE("The packet walk in stretches gives query_sphere_packet_exact's pairs 
         for (std::size_t first = 0; first < spheres.size(); first += kSpherePacketWidth, ++packets) {
           load_packet(packet, spheres, first);
           std::vector<std::pair<std::uint32_t, std::uint32_t>> whole, stretched, buffer;
-          query_sphere_packet_exact(bvh, bvh_bounds, packet, [&](std::uint32_t lane, std::uint32_t k) { whole.emplace_back(lane, k); });
+          query_sphere_packet_exact(bvh, bvh_bounds, packet,
+                                    [&](std::uint32_t lane, std::uint32_t k) { whole.emplace_back(lane, k); });
           PacketWalkExact walk(bvh, bvh_bounds, packet);
           while (!walk.done()) {
             walk.run([&](std::uint32_t lane, std::uint32_t k) { buffer.emplace_back(lane, k); },
@@ -572,7 +581,8 @@ TEST_CASE("Morton codes interleave x, y, z on cubic cells and clamp what lies ou
   CHECK(morton_code_3d(box, 1, 0, 0) == 0b100u);
   CHECK(morton_code_3d(box, 0, 1, 0) == 0b010u);
   CHECK(morton_code_3d(box, 0, 0, 1) == 0b001u);
-  CHECK(morton_code_3d(box, 1023, 10, 1023) == ((spread_bits_3d(1023) << 2) | (spread_bits_3d(10) << 1) | spread_bits_3d(1023)));
+  CHECK(morton_code_3d(box, 1023, 10, 1023) ==
+        ((spread_bits_3d(1023) << 2) | (spread_bits_3d(10) << 1) | spread_bits_3d(1023)));
   CHECK(morton_code_3d(box, -5, -5, -5) == 0u);
   CHECK(morton_code_3d(box, std::nanf(""), 0, 0) == 0u);
   CHECK(morton_code_3d(box, 1e30f, 0, 0) == morton_code_3d(box, 1023, 0, 0));

@@ -52,7 +52,8 @@ std::filesystem::path fresh_dir(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("A count must be a whole number in its range; the message names the flag, the range and the text", "[bench][cli]") {
+TEST_CASE("A count must be a whole number in its range; the message names the flag, the range and the text",
+          "[bench][cli]") {
   CHECK(bench::parse_count("--steps", "600", 1, 1000) == 600);
   CHECK(bench::parse_count("--spheres", "1e6", 1, 100'000'000) == 1'000'000);  // exponent form, a whole number
   CHECK(bench::parse_count("--threads", "0", 0, 64) == 0);
@@ -106,9 +107,11 @@ std::string demo_error(const std::vector<std::string>& args) {
 
 }  // namespace
 
-TEST_CASE("The shared conventions: unknown flags, missing values, --flag=value, a positional, the last flag wins, --help", "[bench][cli]") {
-  const std::optional<DemoOptions> o =
-      bench::parse_command("demo", add_demo_options, {"rain", "--steps=12", "--quiet", "--json", "x.json", "--dt", "0.1", "--dt", "0.25"});
+TEST_CASE(
+    "The shared conventions: unknown flags, missing values, --flag=value, a positional, the last flag wins, --help",
+    "[bench][cli]") {
+  const std::optional<DemoOptions> o = bench::parse_command(
+      "demo", add_demo_options, {"rain", "--steps=12", "--quiet", "--json", "x.json", "--dt", "0.1", "--dt", "0.25"});
   REQUIRE(o);
   CHECK(o->scene == "rain");
   CHECK(o->steps == 12);
@@ -116,13 +119,15 @@ TEST_CASE("The shared conventions: unknown flags, missing values, --flag=value, 
   CHECK(o->json == "x.json");
   CHECK(o->dt == 0.25);  // the last of a repeated flag wins, as before CLI11
   CHECK(bench::parse_command("demo", add_demo_options, {"--steps", "1e3"})->steps == 1000);
-  CHECK(demo_error({"--stpes", "3"}) == "The following argument was not expected: --stpes (see hail-bench demo --help)");
+  CHECK(demo_error({"--stpes", "3"}) ==
+        "The following argument was not expected: --stpes (see hail-bench demo --help)");
   CHECK(contains(demo_error({"--steps"}), "--steps"));
   CHECK(contains(demo_error({"--steps", "2.7"}), "--steps: must be a whole number in [1, 1000], got '2.7'"));
   CHECK(contains(demo_error({"--dt", "0"}), "--dt: must be a number in (0, 1], got '0'"));
   CHECK(contains(demo_error({"--dt", "nan"}), "--dt: must be a number in (0, 1], got 'nan'"));
   CHECK(contains(demo_error({"a", "b"}), "not expected: b"));
-  CHECK_FALSE(bench::parse_command("demo", add_demo_options, {"--steps", "9", "--help"}));  // --help: usage printed, nothing run
+  CHECK_FALSE(bench::parse_command("demo", add_demo_options,
+                                   {"--steps", "9", "--help"}));  // --help: usage printed, nothing run
   CLI::App app("a test command", "hail-bench demo");
   DemoOptions options;
   add_demo_options(app, options);
@@ -135,9 +140,9 @@ TEST_CASE("The shared conventions: unknown flags, missing values, --flag=value, 
 TEST_CASE("Every hail-bench command parses with CLI11: unknown flags and bad counts are refused", "[bench][cli]") {
   // query, pairs and bvh-build once ignored unknown flags and reported a bad number as "stoi".
   const std::pair<const char*, Command> commands[] = {
-      {"run", bench::run_command},         {"accuracy", bench::accuracy_command}, {"compare", bench::compare_command},
-      {"stress", bench::stress_command},   {"scale", bench::scale_command},       {"query", bench::query_command},
-      {"pairs", bench::pairs_command},     {"bvh-build", bench::bvh_build_command}};
+      {"run", bench::run_command},       {"accuracy", bench::accuracy_command},  {"compare", bench::compare_command},
+      {"stress", bench::stress_command}, {"scale", bench::scale_command},        {"query", bench::query_command},
+      {"pairs", bench::pairs_command},   {"bvh-build", bench::bvh_build_command}};
   for (const auto& [name, command] : commands) {
     INFO(name);
     CHECK(refusal(command, {"--bogus-flag"}) ==
@@ -152,14 +157,19 @@ TEST_CASE("Every hail-bench command parses with CLI11: unknown flags and bad cou
   CHECK(refusal(bench::run_command, {"--steps", "1e10"}) ==
         "--steps: must be a whole number in [1, 100000000], got '1e10' (see hail-bench run --help)");
   CHECK(contains(refusal(bench::run_command, {"--steps", "2.7"}), "got '2.7'"));
-  CHECK(contains(refusal(bench::run_command, {"--threads", "-1"}), "--threads: must be a whole number in [0, 4096], got '-1'"));
-  CHECK(contains(refusal(bench::run_command, {"--pairs", "octree"}), "--pairs: octree not in {auto,brute,grid,sweep,bvh}"));
-  CHECK(contains(refusal(bench::run_command, {"--warm-start", "2"}), "--warm-start: must be on, off or a factor in [0, 1]"));
-  CHECK(contains(refusal(bench::run_command, {"--tile", "3"}), "--tile: must be 0 (no solver tiles) or a whole number"));
+  CHECK(contains(refusal(bench::run_command, {"--threads", "-1"}),
+                 "--threads: must be a whole number in [0, 4096], got '-1'"));
+  CHECK(contains(refusal(bench::run_command, {"--pairs", "octree"}),
+                 "--pairs: octree not in {auto,brute,grid,sweep,bvh}"));
+  CHECK(contains(refusal(bench::run_command, {"--warm-start", "2"}),
+                 "--warm-start: must be on, off or a factor in [0, 1]"));
+  CHECK(
+      contains(refusal(bench::run_command, {"--tile", "3"}), "--tile: must be 0 (no solver tiles) or a whole number"));
   CHECK(contains(refusal(bench::scale_command, {"--min", "64", "--max", "8"}), "--min (64) must not exceed --max (8)"));
   CHECK(contains(refusal(bench::compare_command, {"--repeat", "0"}), "--repeat: must be a whole number in [1, 1000]"));
   CHECK(contains(refusal(bench::run_command, {"no-such-scene"}), "scene: no-such-scene not in {"));
-  CHECK(contains(refusal(bench::run_command, {"--spheres", "0"}), "--spheres: must be a whole number in [1, 100000000], got '0'"));
+  CHECK(contains(refusal(bench::run_command, {"--spheres", "0"}),
+                 "--spheres: must be a whole number in [1, 100000000], got '0'"));
   CHECK(contains(refusal(bench::run_command, {"--ccd", "maybe"}), "--ccd: maybe not in {on,off,both}"));
   CHECK(contains(refusal(bench::run_command, {"--dt", "0"}), "--dt: must be a number in (0, 10], got '0'"));
   // A misspelt stress case is refused naming the cases there are (it printed the table's header first).
@@ -173,7 +183,8 @@ TEST_CASE("hail-bench accuracy refuses a repeat count that rounds to 0 (it crash
         "--repeats: must be a whole number in [1, 1000], got '0.5' (see hail-bench accuracy --help)");
   CHECK(contains(refusal(bench::accuracy_command, {"--repeats", "0"}), "[1, 1000], got '0'"));
   CHECK(contains(refusal(bench::accuracy_command, {"--spheres", "0.5"}), "--spheres: must be a whole number"));
-  CHECK(contains(refusal(bench::accuracy_command, {"--dt", "1/0"}), "--dt 1/N: must be a number in [1, 1e+09], got '0'"));
+  CHECK(
+      contains(refusal(bench::accuracy_command, {"--dt", "1/0"}), "--dt 1/N: must be a number in [1, 1e+09], got '0'"));
 }
 
 TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, the others stand", "[bench][cli]") {
@@ -201,7 +212,8 @@ namespace {
 
 /// What `command(args)` writes on file descriptor `fd` (1: stdout, where printf writes; 2: stderr),
 /// and its status.
-std::pair<int, std::string> output_of(int fd, Command command, const std::vector<std::string>& args, const std::string& capture) {
+std::pair<int, std::string> output_of(int fd, Command command, const std::vector<std::string>& args,
+                                      const std::string& capture) {
   std::fflush(stdout);
   std::fflush(stderr);
   const int saved = ::dup(fd);
@@ -228,7 +240,8 @@ std::pair<int, std::string> output_of(int fd, Command command, const std::vector
   return {status, std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>())};
 }
 
-std::pair<int, std::string> stdout_of(Command command, const std::vector<std::string>& args, const std::string& capture) {
+std::pair<int, std::string> stdout_of(Command command, const std::vector<std::string>& args,
+                                      const std::string& capture) {
   return output_of(1, command, args, capture);
 }
 
@@ -246,7 +259,8 @@ TEST_CASE("hail-bench run --quiet prints one summary line; --dump-every needs --
   INFO(quiet);
   CHECK(std::count(quiet.begin(), quiet.end(), '\n') == 1);
   CHECK(quiet.rfind(scene + ": 2 spheres, 4 steps, ", 0) == 0);
-  for (const char* part : {" ms/step, worst penetration ", " m, tunnelled 0 (0 sphere-steps), NaN 0, hash "}) CHECK(contains(quiet, part));
+  for (const char* part : {" ms/step, worst penetration ", " m, tunnelled 0 (0 sphere-steps), NaN 0, hash "})
+    CHECK(contains(quiet, part));
   const auto [full_status, full] = stdout_of(bench::run_command, {"--scene", scene, "--threads", "1"}, capture);
   CHECK(full_status == 0);
   CHECK(std::count(full.begin(), full.end(), '\n') > 5);
@@ -255,24 +269,26 @@ TEST_CASE("hail-bench run --quiet prints one summary line; --dump-every needs --
 
   CHECK(refusal(bench::run_command, {"--scene", scene, "--dump-every", "10"}) ==
         "--dump-every 10 needs --dump-state FILE.csv (the files are named after it)");
-  CHECK(contains(refusal(bench::run_command, {"--dump-every", "0"}), "--dump-every: must be a whole number in [1, 100000000]"));
+  CHECK(contains(refusal(bench::run_command, {"--dump-every", "0"}),
+                 "--dump-every: must be a whole number in [1, 100000000]"));
   // A folder that cannot take the files is refused before the run.
-  CHECK(contains(refusal(bench::run_command, {"--scene", scene, "--dump-state", (dir / "no-such-folder" / "s.csv").string(),
-                                              "--dump-every", "2"}),
+  CHECK(contains(refusal(bench::run_command, {"--scene", scene, "--dump-state",
+                                              (dir / "no-such-folder" / "s.csv").string(), "--dump-every", "2"}),
                  "does not exist"));
   std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("hail-bench run --origin D moves the scene out, --home-after K brings it back", "[bench][cli][far_origin]") {
-  CHECK(contains(refusal(bench::run_command, {"terrain-rain", "--home-after", "3"}), "--home-after K needs --origin D"));
+  CHECK(
+      contains(refusal(bench::run_command, {"terrain-rain", "--home-after", "3"}), "--home-after K needs --origin D"));
   CHECK(contains(refusal(bench::run_command, {"terrain-rain", "--origin", "1e9"}), "--origin"));
   const auto dir = std::filesystem::temp_directory_path() / "hail-test-cli-args-origin";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   auto first_row = [&](std::vector<std::string> extra) {
     const std::string csv = (dir / "state.csv").string();
-    std::vector<std::string> args{"terrain-rain", "--spheres", "16", "--steps", "2", "--threads", "1", "--quiet",
-                                  "--dump-state", csv};
+    std::vector<std::string> args{"terrain-rain", "--spheres", "16",      "--steps",      "2",
+                                  "--threads",    "1",         "--quiet", "--dump-state", csv};
     args.insert(args.end(), extra.begin(), extra.end());
     REQUIRE(bench::run_command(args) == 0);
     std::ifstream in(csv);
@@ -281,7 +297,8 @@ TEST_CASE("hail-bench run --origin D moves the scene out, --home-after K brings 
     std::getline(in, row);
     return row;  // id,x,y,z,...: the first sphere, in free fall for these 2 steps
   };
-  const std::string home = first_row({}), out = first_row({"--origin", "1024"}), back = first_row({"--origin", "1024", "--home-after", "1"});
+  const std::string home = first_row({}), out = first_row({"--origin", "1024"}),
+                    back = first_row({"--origin", "1024", "--home-after", "1"});
   auto x_of = [](const std::string& row) { return std::stod(row.substr(row.find(',') + 1)); };
   CHECK(x_of(out) == x_of(home) + 1024.0);  // x 115.5 + 1024: exact, and a falling sphere keeps its x
   CHECK(x_of(back) == x_of(home));
@@ -301,8 +318,8 @@ TEST_CASE("hail-bench (the whole command line): every command refuses an unknown
     // bvh-build once ignored them), before running anything.
     const auto [status, error] = output_of(2, bench::hail_bench, {command, "--bogus-flag"}, capture);
     CHECK(status == 2);
-    CHECK(error == "hail-bench: The following argument was not expected: --bogus-flag (see hail-bench " + std::string(command) +
-                       " --help)\n");
+    CHECK(error == "hail-bench: The following argument was not expected: --bogus-flag (see hail-bench " +
+                       std::string(command) + " --help)\n");
     // Each has its own --help: its usage on stdout, status 0, nothing run.
     const auto [command_help_status, command_help] = stdout_of(bench::hail_bench, {command, "--help"}, capture);
     CHECK(command_help_status == 0);

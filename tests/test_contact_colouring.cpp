@@ -156,8 +156,8 @@ TEST_CASE("A sphere with more contacts than parallel colours overflows into a se
 TEST_CASE("SlotDivider divides every slot exactly as the division does", "[colouring]") {
   std::mt19937 rng(5);
   std::uniform_int_distribution<std::uint32_t> any_slot;
-  for (const std::uint32_t d : {1u, 2u, 3u, 5u, 7u, 64u, 100u, 641u, 2047u, 2048u, 2049u, 65535u, 1u << 20, (1u << 31) - 1u,
-                                1u << 31, 0xFFFFFFFFu}) {
+  for (const std::uint32_t d : {1u, 2u, 3u, 5u, 7u, 64u, 100u, 641u, 2047u, 2048u, 2049u, 65535u, 1u << 20,
+                                (1u << 31) - 1u, 1u << 31, 0xFFFFFFFFu}) {
     INFO("d = " << d);
     const hail::SlotDivider divide(d);
     std::size_t wrong = 0;
@@ -169,7 +169,8 @@ TEST_CASE("SlotDivider divides every slot exactly as the division does", "[colou
         const std::int64_t slot = static_cast<std::int64_t>(q * d) + e;
         if (slot >= 0 && slot <= 0xFFFFFFFFll) check(static_cast<std::uint32_t>(slot));
       }
-    for (std::uint32_t slot : {(1u << 31) - 3u, (1u << 31) - 2u, (1u << 31) - 1u, 1u << 31, 0xFFFFFFFEu, 0xFFFFFFFFu}) check(slot);
+    for (std::uint32_t slot : {(1u << 31) - 3u, (1u << 31) - 2u, (1u << 31) - 1u, 1u << 31, 0xFFFFFFFEu, 0xFFFFFFFFu})
+      check(slot);
     for (int k = 0; k < 100000; ++k) check(any_slot(rng) >> (k % 2));  // half of them below 2^31
     CHECK(wrong == 0);
   }
@@ -187,9 +188,9 @@ TEST_CASE("Speculative contacts closing by less than half their gap go last in t
     return c;
   };
   const std::vector<Contact> contacts = {
-      contact(0, 1, 0.02f, 0.3f),         // pressing (carried-over impulse): first
-      contact(2, 3, 0.02f, 0.0f),         // closing at 2 m/s, more than half of 0.02 m in 1/60 s: first
-      contact(4, 5, 0.02f, 0.0f),         // closing at 0.1 m/s: idle, last
+      contact(0, 1, 0.02f, 0.3f),             // pressing (carried-over impulse): first
+      contact(2, 3, 0.02f, 0.0f),             // closing at 2 m/s, more than half of 0.02 m in 1/60 s: first
+      contact(4, 5, 0.02f, 0.0f),             // closing at 0.1 m/s: idle, last
       contact(6, kStaticBody, 0.01f, 0.0f)};  // falling at 0.2 m/s onto the ground, below half of 0.6: idle
   CHECK_FALSE(starts_idle(contacts[0], &velocities));
   CHECK_FALSE(starts_idle(contacts[1], &velocities));
@@ -247,7 +248,8 @@ Detected detected_contacts(std::size_t spheres, std::size_t static_block, std::s
         const std::size_t b = a + static_cast<std::size_t>(unit(rng) < 0.9f ? near(rng) : 1 + near(rng) * 20);
         if (b < spheres) partners.insert(b);
       }
-      if (a == 7) for (std::size_t b = 8; b < std::min(spheres, std::size_t{90}); ++b) partners.insert(b);  // overflows
+      if (a == 7)
+        for (std::size_t b = 8; b < std::min(spheres, std::size_t{90}); ++b) partners.insert(b);  // overflows
       for (std::size_t b : partners) {
         Contact c{.a = static_cast<std::uint32_t>(a), .b = static_cast<std::uint32_t>(b)};
         state(c);

@@ -42,13 +42,15 @@ GroundImpulses ground_impulses(const World& world, std::uint32_t slot) {
 
 }  // namespace
 
-TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then rests with m g dt", "[contacts][impacts]") {
+TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then rests with m g dt",
+          "[contacts][impacts]") {
   // Planes make contacts only for touching spheres: a falling sphere meets the plane inside a
   // step, where the integrator bounces it at the exact time of impact (an Impact).
   const float m = 2.0f, e = 0.5f, h = 5.0f, r = 0.5f;
   World world({.threads = 1});
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = e, .friction = 0.5f});
-  const SphereId id = world.add_sphere({.position = {0, h + r, 0}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});
+  const SphereId id =
+      world.add_sphere({.position = {0, h + r, 0}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});
   int first_impact_step = -1;
   for (int step = 0; step < 120 && first_impact_step < 0; ++step) {
     const float vy_before = world.velocity(id).y();
@@ -63,7 +65,7 @@ TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then r
     CHECK(hit.ny == -1.0f);  // from the sphere into the plane
     CHECK(hit.time > 0.0f);
     CHECK(hit.time <= kDt);
-    CHECK(hit.py == Approx(0.0f).margin(1e-4));  // the contact point lies on the plane
+    CHECK(hit.py == Approx(0.0f).margin(1e-4));     // the contact point lies on the plane
     const float closing = -(vy_before - kG * kDt);  // the velocity the integrator moves with
     CHECK(hit.impulse == Approx(m * (1.0f + e) * closing).epsilon(1e-5));
     CHECK(hit.impulse == Approx(m * (1.0f + e) * std::sqrt(2.0f * kG * h)).margin(m * (1.0f + e) * kG * kDt));
@@ -91,11 +93,13 @@ TEST_CASE("A sphere dropped onto flat terrain reports the bounce and then the re
   // Terrain contacts are speculative: the step in which the sphere would pass the surface has a
   // contact whose collision pass bounces it, and that contact keeps the bounce.
   const float m = 2.0f, e = 0.5f, h = 5.0f, r = 0.5f;
-  auto terrain = std::make_shared<const Terrain>(Heightmap::from_function(
-      33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f}, [](float, float) { return 0.0f; }));
+  auto terrain = std::make_shared<const Terrain>(
+      Heightmap::from_function(33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f},
+                               [](float, float) { return 0.0f; }));
   World world({.threads = 1});
   world.set_terrain(terrain, e, 0.5f);
-  const SphereId id = world.add_sphere({.position = {0.3f, h + r, 0.2f}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});
+  const SphereId id =
+      world.add_sphere({.position = {0.3f, h + r, 0.2f}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});
   int bounces = 0;
   for (int step = 0; step < 120 && bounces == 0; ++step) {
     const float vy_before = world.velocity(id).y();
@@ -131,10 +135,18 @@ TEST_CASE("Two spheres meeting head-on report (1 + e) times the closing speed ov
     INFO("m2 = " << m2);
     World world({.gravity = {0, 0, 0}, .threads = 1});
     // 2 cm apart, closing at 2v: a speculative contact that closes within the step.
-    const SphereId a = world.add_sphere({.position = {-0.51f, 0, 0}, .velocity = {v, 0, 0}, .radius = 0.5f, .mass = 1.0f,
-                                         .restitution = 1.0f, .friction = 0.3f});
-    const SphereId b = world.add_sphere({.position = {0.51f, 0, 0}, .velocity = {-v, 0, 0}, .radius = 0.5f, .mass = m2,
-                                         .restitution = 1.0f, .friction = 0.3f});
+    const SphereId a = world.add_sphere({.position = {-0.51f, 0, 0},
+                                         .velocity = {v, 0, 0},
+                                         .radius = 0.5f,
+                                         .mass = 1.0f,
+                                         .restitution = 1.0f,
+                                         .friction = 0.3f});
+    const SphereId b = world.add_sphere({.position = {0.51f, 0, 0},
+                                         .velocity = {-v, 0, 0},
+                                         .radius = 0.5f,
+                                         .mass = m2,
+                                         .restitution = 1.0f,
+                                         .friction = 0.3f});
     world.step(kDt);
     REQUIRE(world.last_contacts().size() == 1);
     const Contact& c = world.last_contacts()[0];
@@ -154,12 +166,14 @@ TEST_CASE("Continuous collision reports its impacts: a 1,000 m/s sphere on terra
           "[impacts][ccd]") {
   const float e = 0.5f;
   SECTION("against terrain") {
-    auto terrain = std::make_shared<const Terrain>(Heightmap::from_function(
-        33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f}, [](float, float) { return 0.0f; }));
+    auto terrain = std::make_shared<const Terrain>(
+        Heightmap::from_function(33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f},
+                                 [](float, float) { return 0.0f; }));
     World world({.threads = 1});
     world.set_terrain(terrain, e, 0.5f);
     const float speed = 1000.0f, r = 0.1f, m = 3.0f;
-    world.add_sphere({.position = {0.3f, 10.0f, 0.2f}, .velocity = {0, -speed, 0}, .radius = r, .mass = m, .restitution = e});
+    world.add_sphere(
+        {.position = {0.3f, 10.0f, 0.2f}, .velocity = {0, -speed, 0}, .radius = r, .mass = m, .restitution = e});
     world.step(kDt);
     REQUIRE(world.last_step_stats().sweep.events >= 1);
     REQUIRE(world.last_impacts().size() == 1);
@@ -178,8 +192,10 @@ TEST_CASE("Continuous collision reports its impacts: a 1,000 m/s sphere on terra
   SECTION("two spheres") {
     World world({.gravity = {0, 0, 0}, .threads = 1});
     const float v = 2000.0f, r = 0.05f;
-    world.add_sphere({.position = {-20.0f, 0, 0}, .velocity = {v, 0, 0}, .radius = r, .mass = 1.0f, .restitution = 1.0f});
-    world.add_sphere({.position = {20.0f, 0, 0}, .velocity = {-v, 0, 0}, .radius = r, .mass = 1.0f, .restitution = 1.0f});
+    world.add_sphere(
+        {.position = {-20.0f, 0, 0}, .velocity = {v, 0, 0}, .radius = r, .mass = 1.0f, .restitution = 1.0f});
+    world.add_sphere(
+        {.position = {20.0f, 0, 0}, .velocity = {-v, 0, 0}, .radius = r, .mass = 1.0f, .restitution = 1.0f});
     world.step(kDt);
     REQUIRE(world.last_impacts().size() == 1);
     const Impact& hit = world.last_impacts()[0];

@@ -7,20 +7,20 @@
 // one; tests/test_simd_dispatch.cpp compares every path).
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <numeric>
-#include <span>
 #include <random>
+#include <span>
 #include <vector>
 
-#include "catch.h"
-#include "kernel/solver/contact_solve_simd.h"
-#include "hail/features.h"
-#include "simd_paths.h"
 #include "bench/scenes/solver_problems.h"
+#include "catch.h"
+#include "hail/features.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "simd_paths.h"
 
 using namespace hail;
 
@@ -92,8 +92,8 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   CHECK(same_bits(simd, scalar));  // velocities and every impulse, the bounce impulses included
   // Some contact bounced (so the comparison of bounce impulses is not of zeros alone), and a
   // contact's bounce is positive exactly when some pass applied an impulse to it.
-  CHECK(std::any_of(scalar.contacts.begin(), scalar.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }) ==
-        scalar_any);
+  CHECK(std::any_of(scalar.contacts.begin(), scalar.contacts.end(),
+                    [](const Contact& c) { return c.bounce_impulse > 0.0f; }) == scalar_any);
   for (const Contact& c : scalar.contacts) CHECK(c.bounce_impulse >= 0.0f);
   batches.warm_start(0, batches.batch_end(0), simd.bodies, work);
   warm_start_run_scalar(tail, simd.bodies, work);
@@ -115,7 +115,8 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   CHECK_FALSE(same_bits(simd, start));
   // The static body was never written.
   const SolverBody& fixed = simd.bodies.back();
-  CHECK((fixed.v[0] == 0.0f && fixed.v[1] == 0.0f && fixed.v[2] == 0.0f && fixed.w[0] == 0.0f && fixed.inv_mass == 0.0f));
+  CHECK(
+      (fixed.v[0] == 0.0f && fixed.v[1] == 0.0f && fixed.v[2] == 0.0f && fixed.w[0] == 0.0f && fixed.inv_mass == 0.0f));
 }
 
 TEST_CASE("Skipping unchanged batches keeps a Newton's cradle chain exact across colours", "[solver][simd]") {
@@ -157,11 +158,12 @@ TEST_CASE("Skipping unchanged batches keeps a Newton's cradle chain exact across
       for (std::size_t colour : {0, 1}) {
         simd_any |= batches.solve_collision(batches.batch_begin(colour), batches.batch_end(colour), simd.bodies,
                                             1.0f / 60.0f, 0.0f, pass);
-        simd_any |= solve_collision_run_scalar(std::span(simd.contacts).subspan(batches.tail_begin(colour),
-                                                                               colour_begin[colour + 1] - batches.tail_begin(colour)),
-                                               simd.bodies, 1.0f / 60.0f, 0.0f, pass);
-        scalar_any |= solve_collision_run_scalar(std::span(scalar.contacts).subspan(colour_begin[colour], W), scalar.bodies,
-                                                 1.0f / 60.0f, 0.0f, pass);
+        simd_any |= solve_collision_run_scalar(
+            std::span(simd.contacts)
+                .subspan(batches.tail_begin(colour), colour_begin[colour + 1] - batches.tail_begin(colour)),
+            simd.bodies, 1.0f / 60.0f, 0.0f, pass);
+        scalar_any |= solve_collision_run_scalar(std::span(scalar.contacts).subspan(colour_begin[colour], W),
+                                                 scalar.bodies, 1.0f / 60.0f, 0.0f, pass);
       }
       REQUIRE(simd_any == scalar_any);
       if (!simd_any) break;
@@ -250,7 +252,8 @@ TEST_CASE("Frictionless passes do no angular work and match the full rules to ro
     CHECK(linear.contacts[k].normal_impulse == scalar.contacts[k].normal_impulse);
     CHECK(linear.contacts[k].bounce_impulse == scalar.contacts[k].bounce_impulse);
   }
-  CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
+  CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(),
+                    [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
 #if HAIL_WITH_ROTATION
   Problem full = base;
   run_passes(full, false, kWithFriction);

@@ -3,9 +3,9 @@
 // brute force.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
-#include <array>
 #include <random>
 #include <span>
 #include <vector>
@@ -13,11 +13,11 @@
 #include <Eigen/Geometry>
 
 #include "catch.h"
-#include "kernel/ccd/path_box_scan.h"
-#include "kernel/geometry/swept_sphere.h"
 #include "hail/world.h"
 #include "kernel/ccd/continuous_collision.h"
+#include "kernel/ccd/path_box_scan.h"
 #include "kernel/geometry/sphere_triangle.h"
+#include "kernel/geometry/swept_sphere.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "pair_overlap.h"
 
@@ -145,9 +145,21 @@ TEST_CASE("The SIMD path-box scan visits exactly the scalar reference's spheres"
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-20.0f, 20.0f), speed(-300.0f, 300.0f), radius(0.05f, 1.0f);
   for (int k = 0; k < 1003; ++k)
-    s.add({.px = u(rng), .py = u(rng), .pz = u(rng), .vx = speed(rng), .vy = speed(rng), .vz = speed(rng),
-           .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = radius(rng), .inv_mass = 1.0f, .inv_inertia = 1.0f,
-           .restitution = 0.0f, .friction = 0.0f, .flags = 0});
+    s.add({.px = u(rng),
+           .py = u(rng),
+           .pz = u(rng),
+           .vx = speed(rng),
+           .vy = speed(rng),
+           .vz = speed(rng),
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = radius(rng),
+           .inv_mass = 1.0f,
+           .inv_inertia = 1.0f,
+           .restitution = 0.0f,
+           .friction = 0.0f,
+           .flags = 0});
   for (int trial = 0; trial < 50; ++trial) {
     PathBox box;
     for (int d = 0; d < 3; ++d) {
@@ -161,10 +173,14 @@ TEST_CASE("The SIMD path-box scan visits exactly the scalar reference's spheres"
   }
 }
 
-TEST_CASE("A sphere at 1,000 and 10,000 m/s onto terrain-rain rebounds at restitution x speed and stays above", "[ccd][terrain]") {
+TEST_CASE("A sphere at 1,000 and 10,000 m/s onto terrain-rain rebounds at restitution x speed and stays above",
+          "[ccd][terrain]") {
   // Cell (137, 125) is nearly level (normal y 0.99999): the rebound goes straight back up and
   // meets nothing else. Cell (100, 77) slopes by 33 degrees: the rebound runs downhill.
-  struct Spot { int i, j; float max_speed; };
+  struct Spot {
+    int i, j;
+    float max_speed;
+  };
   for (const Spot spot : {Spot{137, 125, 10000.0f}, Spot{100, 77, 1000.0f}}) {
     for (const float speed : {1000.0f, 10000.0f}) {
       if (speed > spot.max_speed) continue;  // at 10,000 m/s the downhill rebound hits the next hill in the same step
@@ -173,8 +189,12 @@ TEST_CASE("A sphere at 1,000 and 10,000 m/s onto terrain-rain rebounds at restit
         World world(settings_with(true));
         world.set_terrain(rain_terrain(), 0.5f, 0.5f);
         const float x = spot.i + 0.25f, z = spot.j + 0.25f, r = 0.1f;
-        const SphereId id = world.add_sphere({.position = {x, 40.0f, z}, .velocity = {0.0f, -speed, 0.0f}, .radius = r,
-                                              .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f});
+        const SphereId id = world.add_sphere({.position = {x, 40.0f, z},
+                                              .velocity = {0.0f, -speed, 0.0f},
+                                              .radius = r,
+                                              .mass = 1.0f,
+                                              .restitution = 0.5f,
+                                              .friction = 0.5f});
         const Vec3 n = rain_normal(spot.i, spot.j);
         const float ground = world.terrain()->heightmap().surface_height(x, z);
         bool bounced = false;
@@ -206,8 +226,8 @@ TEST_CASE("A sphere at 1,000 and 10,000 m/s onto terrain-rain rebounds at restit
 TEST_CASE("With continuous collision off, the 1,000 m/s sphere tunnels through terrain-rain", "[ccd][terrain]") {
   World world(settings_with(false));
   world.set_terrain(rain_terrain(), 0.5f, 0.5f);
-  const SphereId id = world.add_sphere({.position = {100.25f, 40.0f, 77.25f}, .velocity = {0.0f, -1000.0f, 0.0f},
-                                        .radius = 0.1f, .mass = 1.0f});
+  const SphereId id = world.add_sphere(
+      {.position = {100.25f, 40.0f, 77.25f}, .velocity = {0.0f, -1000.0f, 0.0f}, .radius = 0.1f, .mass = 1.0f});
   for (int step = 0; step < 5; ++step) world.step(1.0f / 60.0f);
   const Vec3 p = world.position(id);
   CHECK(p.y() < world.terrain()->heightmap().surface_height(p.x(), p.z()) - 10.0f);
@@ -217,8 +237,8 @@ TEST_CASE("With continuous collision off, the 1,000 m/s sphere tunnels through t
 TEST_CASE("Grazing shots: along a slope just clear of it, and between two spheres, hit nothing", "[ccd]") {
   // A 30-degree slope, y = tan(30) x; the shot runs parallel to it, 1 cm clear of contact.
   const float slope = std::tan(0.5235988f);
-  auto terrain = std::make_shared<const Terrain>(
-      Heightmap::from_function(64, 64, {}, [&](float x, float) { return slope * x; }));
+  auto terrain =
+      std::make_shared<const Terrain>(Heightmap::from_function(64, 64, {}, [&](float x, float) { return slope * x; }));
   WorldSettings settings = settings_with(true);
   settings.gravity = Vec3(0.0f, 0.0f, 0.0f);
   World world(settings);
@@ -230,8 +250,8 @@ TEST_CASE("Grazing shots: along a slope just clear of it, and between two sphere
   // Two spheres 0.3 m apart (surface to surface) across the path of a second shot of radius 0.1.
   const SphereId left = world.add_sphere({.position = {30.0f, 40.0f, 9.35f}, .radius = 0.5f, .mass = 1.0f});
   const SphereId right = world.add_sphere({.position = {30.0f, 40.0f, 10.65f}, .radius = 0.5f, .mass = 1.0f});
-  const SphereId threader = world.add_sphere({.position = {10.0f, 40.0f, 10.0f}, .velocity = {2000.0f, 0.0f, 0.0f},
-                                              .radius = 0.1f, .mass = 1.0f});
+  const SphereId threader = world.add_sphere(
+      {.position = {10.0f, 40.0f, 10.0f}, .velocity = {2000.0f, 0.0f, 0.0f}, .radius = 0.1f, .mass = 1.0f});
   world.step(1.0f / 60.0f);
   CHECK(world.last_step_stats().sweep.fast == 2);
   CHECK(world.last_step_stats().sweep.events == 0);
@@ -251,10 +271,18 @@ TEST_CASE("Two spheres crossing head-on at 2,000 m/s each collide as case C says
     settings.gravity = Vec3(0.0f, 0.0f, 0.0f);
     World world(settings);
     const float v = 2000.0f, m1 = 1.0f;
-    const SphereId a = world.add_sphere({.position = {-20.0f, 0.0f, 0.0f}, .velocity = {v, 0.0f, 0.0f}, .radius = 0.05f,
-                                         .mass = m1, .restitution = 1.0f, .friction = 0.0f});
-    const SphereId b = world.add_sphere({.position = {20.0f, 0.0f, 0.0f}, .velocity = {-v, 0.0f, 0.0f}, .radius = 0.05f,
-                                         .mass = m2, .restitution = 1.0f, .friction = 0.0f});
+    const SphereId a = world.add_sphere({.position = {-20.0f, 0.0f, 0.0f},
+                                         .velocity = {v, 0.0f, 0.0f},
+                                         .radius = 0.05f,
+                                         .mass = m1,
+                                         .restitution = 1.0f,
+                                         .friction = 0.0f});
+    const SphereId b = world.add_sphere({.position = {20.0f, 0.0f, 0.0f},
+                                         .velocity = {-v, 0.0f, 0.0f},
+                                         .radius = 0.05f,
+                                         .mass = m2,
+                                         .restitution = 1.0f,
+                                         .friction = 0.0f});
     const double p0 = world.linear_momentum().x();
     world.step(1.0f / 60.0f);
     CHECK(world.last_step_stats().sweep.events == 1);
@@ -271,7 +299,8 @@ TEST_CASE("Two spheres crossing head-on at 2,000 m/s each collide as case C says
   WorldSettings off = settings_with(false);
   off.gravity = Vec3(0.0f, 0.0f, 0.0f);
   World world(off);
-  const SphereId a = world.add_sphere({.position = {-20.0f, 0.0f, 0.0f}, .velocity = {2000.0f, 0.0f, 0.0f}, .radius = 0.05f});
+  const SphereId a =
+      world.add_sphere({.position = {-20.0f, 0.0f, 0.0f}, .velocity = {2000.0f, 0.0f, 0.0f}, .radius = 0.05f});
   world.add_sphere({.position = {20.0f, 0.0f, 0.0f}, .velocity = {-2000.0f, 0.0f, 0.0f}, .radius = 0.05f});
   world.step(1.0f / 60.0f);
   CHECK(world.velocity(a).x() == 2000.0f);
@@ -285,7 +314,8 @@ TEST_CASE("A fast sphere fired into a resting pile leaves no sphere of the pile 
   for (int y = 0; y < 3; ++y)
     for (int z = 0; z < 4; ++z)
       for (int x = 0; x < 4; ++x)
-        world.add_sphere({.position = {30.0f + x * 1.0f, 0.5f + y * 1.0f, 30.0f + z * 1.0f}, .radius = 0.5f, .mass = 1.0f});
+        world.add_sphere(
+            {.position = {30.0f + x * 1.0f, 0.5f + y * 1.0f, 30.0f + z * 1.0f}, .radius = 0.5f, .mass = 1.0f});
   for (int step = 0; step < 120; ++step) world.step(1.0f / 60.0f);
   REQUIRE(max_pair_overlap(world) < 0.025);  // settled: under 5% of the radius
   world.add_sphere({.position = {10.0f, 1.0f, 31.2f}, .velocity = {1000.0f, 0.0f, 0.0f}, .radius = 0.5f, .mass = 1.0f});
@@ -312,10 +342,15 @@ TEST_CASE("A sphere struck into a slow speed is swept against terrain but not ag
   World world(settings);
   world.set_terrain(flat, 0.5f, 0.0f);
   // 35 m/s travels 1.17 radii in a step (fast); B takes (1 + e) / 2 of it, 26 m/s, 0.88 radii (slow).
-  const SphereId a = world.add_sphere({.position = {28.8f, 0.5f, 30.0f}, .velocity = {35.0f, 0.0f, 0.0f}, .radius = 0.5f,
-                                       .mass = 1.0f, .friction = 0.0f});
-  const SphereId b = world.add_sphere({.position = {30.0f, 0.5f, 30.0f}, .radius = 0.5f, .mass = 1.0f, .friction = 0.0f});
-  const SphereId c = world.add_sphere({.position = {31.0f, 0.5f, 30.0f}, .radius = 0.5f, .mass = 1.0f, .friction = 0.0f});
+  const SphereId a = world.add_sphere({.position = {28.8f, 0.5f, 30.0f},
+                                       .velocity = {35.0f, 0.0f, 0.0f},
+                                       .radius = 0.5f,
+                                       .mass = 1.0f,
+                                       .friction = 0.0f});
+  const SphereId b =
+      world.add_sphere({.position = {30.0f, 0.5f, 30.0f}, .radius = 0.5f, .mass = 1.0f, .friction = 0.0f});
+  const SphereId c =
+      world.add_sphere({.position = {31.0f, 0.5f, 30.0f}, .radius = 0.5f, .mass = 1.0f, .friction = 0.0f});
   world.step(1.0f / 60.0f);
   const SweepStats& sweep = world.last_step_stats().sweep;
   CHECK(sweep.fast == 1);
@@ -333,7 +368,8 @@ TEST_CASE("A sphere struck into a slow speed is swept against terrain but not ag
   CHECK(world.nan_count() == 0);
 }
 
-TEST_CASE("Swept steps are bitwise the same on 1, 2 and 3 threads, and slow scenes do not change", "[ccd][determinism][threads]") {
+TEST_CASE("Swept steps are bitwise the same on 1, 2 and 3 threads, and slow scenes do not change",
+          "[ccd][determinism][threads]") {
   auto run = [](int threads, bool ccd, bool fire) {
     World world(settings_with(ccd, threads));
     world.set_terrain(rain_terrain(), 0.5f, 0.5f);
@@ -429,10 +465,21 @@ CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float
   for (int k = 0; k < 700; ++k) {
     const float speed = k % 2 ? 0.0f : low + span * u(rng);  // every other one fast, the rest at rest
     const float angle = 6.2831853f * u(rng);
-    s.add({.px = 100.0f + extent * u(rng), .py = 12.0f + 0.5f * extent * u(rng), .pz = 100.0f + extent * u(rng),
-           .vx = 0.5f * speed * std::cos(angle), .vy = -speed, .vz = 0.5f * speed * std::sin(angle), .wx = 0.0f,
-           .wy = 0.0f, .wz = 0.0f, .radius = 0.3f, .inv_mass = 1.0f, .inv_inertia = 1.0f / (0.4f * 0.09f),
-           .restitution = 0.5f, .friction = 0.5f, .flags = 0});
+    s.add({.px = 100.0f + extent * u(rng),
+           .py = 12.0f + 0.5f * extent * u(rng),
+           .pz = 100.0f + extent * u(rng),
+           .vx = 0.5f * speed * std::cos(angle),
+           .vy = -speed,
+           .vz = 0.5f * speed * std::sin(angle),
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = 0.3f,
+           .inv_mass = 1.0f,
+           .inv_inertia = 1.0f / (0.4f * 0.09f),
+           .restitution = 0.5f,
+           .friction = 0.5f,
+           .flags = 0});
   }
   std::vector<std::uint32_t> fast;
   for (std::uint32_t i = 0; i < s.size(); ++i)
@@ -445,7 +492,8 @@ CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float
   ccd.finish(s);
   CrowdSweep out;
   for (std::size_t i = 0; i < s.size(); ++i)
-    out.state.insert(out.state.end(), {s.px[i], s.py[i], s.pz[i], s.vx[i], s.vy[i], s.vz[i], s.wx[i], s.wy[i], s.wz[i]});
+    out.state.insert(out.state.end(),
+                     {s.px[i], s.py[i], s.pz[i], s.vx[i], s.vy[i], s.vz[i], s.wx[i], s.wy[i], s.wz[i]});
   out.events = ccd.stats().events;
   out.forward = impacts_forward_per_sphere(ccd.impacts(), s.size());
   return out;
@@ -453,7 +501,8 @@ CrowdSweep sweep_crowd(const Terrain& terrain, SweepCandidates candidates, float
 
 }  // namespace
 
-TEST_CASE("Sweep candidates from the path-box scan and from the path-box BVH give the same impacts", "[ccd][broadphase]") {
+TEST_CASE("Sweep candidates from the path-box scan and from the path-box BVH give the same impacts",
+          "[ccd][broadphase]") {
   const std::shared_ptr<const Terrain> terrain = rain_terrain();
   const auto scan = sweep_crowd(*terrain, SweepCandidates::Scan, 200.0f, 800.0f, 40.0f);
   const auto bvh = sweep_crowd(*terrain, SweepCandidates::Bvh, 200.0f, 800.0f, 40.0f);
@@ -519,7 +568,8 @@ TEST_CASE("The changed-path grid reports every current path whose box meets the 
       const float size = q % 10 == 0 ? 30.0f : 2.0f * u(rng);
       for (int d = 0; d < 3; ++d) lo[d] = 20.0f * u(rng) - 10.0f, hi[d] = lo[d] + size;
       std::vector<int> reported(motions, 0);
-      grid.query(lo, hi, [&](std::uint32_t m) { return version[m]; }, [&](std::uint32_t m) { ++reported[m]; });
+      grid.query(
+          lo, hi, [&](std::uint32_t m) { return version[m]; }, [&](std::uint32_t m) { ++reported[m]; });
       for (std::uint32_t m = 0; m < motions; ++m) {
         REQUIRE(reported[m] <= 1);
         if (version[m] == 0) {

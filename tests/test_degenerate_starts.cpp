@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "catch.h"
-#include "kernel/geometry/coincident_normal.h"
-#include "kernel/broadphase/sphere_pairs.h"
 #include "hail/world.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/geometry/coincident_normal.h"
 #include "pair_overlap.h"
 #include "simd_paths.h"
 
@@ -30,7 +30,8 @@ std::unique_ptr<World> heap_at_one_point(int count, bool on_ground, int threads 
   if (!on_ground) settings.gravity = Vec3::Zero();
   auto world = std::make_unique<World>(settings);
   if (on_ground) world->add_plane({.normal = {0, 1, 0}, .offset = 0});
-  for (int k = 0; k < count; ++k) world->add_sphere({.position = {1.0f, on_ground ? kRadius : 2.0f, -3.0f}, .radius = kRadius});
+  for (int k = 0; k < count; ++k)
+    world->add_sphere({.position = {1.0f, on_ground ? kRadius : 2.0f, -3.0f}, .radius = kRadius});
   return world;
 }
 
@@ -51,7 +52,8 @@ std::array<double, 3> extent_from(const World& world, const Vec3& start) {
 
 }  // namespace
 
-TEST_CASE("A coincident pair's normal is its own: unit, opposite from either side, kept when slots move", "[pairs][degenerate]") {
+TEST_CASE("A coincident pair's normal is its own: unit, opposite from either side, kept when slots move",
+          "[pairs][degenerate]") {
   for (std::uint32_t a = 0; a < 40; ++a)
     for (std::uint32_t b = 0; b < 40; ++b) {
       if (a == b) continue;
@@ -113,7 +115,7 @@ TEST_CASE("Spheres created at one point in zero gravity part within 20 steps", "
   const std::array<double, 3> e = extent_from(*world, {1.0f, 2.0f, -3.0f});
   INFO("extent from the start point: " << e[0] << ", " << e[1] << ", " << e[2]);
   if (count > 2) CHECK(std::min({e[0], e[1], e[2]}) > kRadius);  // a cloud, not a line
-  CHECK(world->kinetic_energy() == 0.0);  // depenetration moves positions and adds no speed
+  CHECK(world->kinetic_energy() == 0.0);                         // depenetration moves positions and adds no speed
 }
 
 TEST_CASE("Spheres created at one point on the ground spread out instead of standing as a column", "[degenerate]") {
@@ -136,7 +138,8 @@ TEST_CASE("Spheres created at one point on the ground spread out instead of stan
   CHECK(world->nan_count() == 0);
 }
 
-TEST_CASE("A heap started at one point gives the same state on every SIMD path and thread count", "[degenerate][determinism][threads]") {
+TEST_CASE("A heap started at one point gives the same state on every SIMD path and thread count",
+          "[degenerate][determinism][threads]") {
   std::uint64_t first = 0;
   for (SimdPath p : testing::supported_paths()) {
     const testing::ScopedSimdPath path(p);

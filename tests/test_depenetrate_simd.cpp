@@ -119,8 +119,13 @@ TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_ap
       const std::size_t n = simd.spheres.size();
       batches.fill(0, batches.batch_count(), simd.contacts, std::span<const float>(simd.spheres.radius.data(), n));
       REQUIRE(batches.tail_begin(0) == count);  // every contact batched, the last batch padded
-      DepenetrationArrays arrays{simd.spheres.px.data(), simd.spheres.py.data(), simd.spheres.pz.data(),
-                                 simd.spheres.inv_mass.data(), simd.moved.data(), static_cast<std::int32_t>(n), params};
+      DepenetrationArrays arrays{simd.spheres.px.data(),
+                                 simd.spheres.py.data(),
+                                 simd.spheres.pz.data(),
+                                 simd.spheres.inv_mass.data(),
+                                 simd.moved.data(),
+                                 static_cast<std::int32_t>(n),
+                                 params};
       const std::size_t pushed_before = pushed;
       for (std::uint32_t pass = 0; pass < 4; ++pass) {
         const std::uint32_t now = 2 * pass + 1, previous = pass == 0 ? 0 : now - 2;

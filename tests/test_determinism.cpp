@@ -9,7 +9,8 @@ namespace {
 
 /// A 2,000-sphere cloud over a floor: mixed radii, random velocities, falling into a pile.
 std::uint64_t run_cloud(int threads, int steps, hail::PairSearch search = hail::PairSearch::Automatic,
-                        float radius_spread = 0.1f, std::size_t tile_spheres = hail::WorldSettings{}.solver_tile_spheres) {
+                        float radius_spread = 0.1f,
+                        std::size_t tile_spheres = hail::WorldSettings{}.solver_tile_spheres) {
   hail::WorldSettings settings;
   settings.threads = threads;
   settings.pair_search = search;

@@ -21,9 +21,8 @@ namespace {
 /// Rolling hills on a 65 x 65-vertex map of 0.5 m cells, origin (-8, 1, -8).
 Terrain hills() {
   const HeightmapParams params{.cell_x = 0.5f, .cell_z = 0.5f, .origin_x = -8.0f, .origin_y = 1.0f, .origin_z = -8.0f};
-  return Terrain(Heightmap::from_function(65, 65, params, [](float x, float z) {
-    return 1.5f * std::sin(0.4f * x) * std::cos(0.3f * z) + 0.05f * x;
-  }));
+  return Terrain(Heightmap::from_function(
+      65, 65, params, [](float x, float z) { return 1.5f * std::sin(0.4f * x) * std::cos(0.3f * z) + 0.05f * x; }));
 }
 
 /// Nearest hit over every triangle: what raycast must return.
@@ -102,10 +101,10 @@ TEST_CASE("Terrain::raycast gives the brute-force nearest hit for rays in any di
 TEST_CASE("Terrain::raycast misses what it should and rejects bad rays", "[embedding][terrain]") {
   const Terrain terrain = hills();
   const Vec3 down(0, -1, 0);
-  CHECK_FALSE(terrain.raycast({100.0f, 10.0f, 0.0f}, down));               // outside the extent
-  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, Vec3(0, 1, 0)));        // pointing away
-  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, down, 1.0f));           // ends above the ground
-  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, down, 0.0f));           // empty range
+  CHECK_FALSE(terrain.raycast({100.0f, 10.0f, 0.0f}, down));         // outside the extent
+  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, Vec3(0, 1, 0)));  // pointing away
+  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, down, 1.0f));     // ends above the ground
+  CHECK_FALSE(terrain.raycast({0.0f, 10.0f, 0.0f}, down, 0.0f));     // empty range
   CHECK(terrain.raycast({0.0f, 10.0f, 0.0f}, down, 20.0f));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   CHECK_THROWS_AS(terrain.raycast({nan, 10.0f, 0.0f}, down), InvalidArgument);

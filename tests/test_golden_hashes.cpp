@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/scenes/scenes.h"
 #include "bench/scenes/scene_run.h"
+#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "simd_paths.h"
 
@@ -26,10 +26,8 @@ struct GoldenRun {
 // Small enough for the sanitizer stages (a few seconds in all), long enough that every scene's
 // spheres meet each other and the ground (terrain-rain's first layer falls from 13 m: it lands by step 100).
 constexpr GoldenRun kGoldenRuns[] = {
-    {"terrain-rain", 600, 150, 0x689b887950e09b5full},
-    {"terrain-rain-dem", 300, 150, 0xba15cb10ae15f3bfull},
-    {"bowl-pile", 400, 60, 0x212f7aeb8a75dda5ull},
-    {"bullets", 64, 30, 0x1b94ee13e51dcbcbull},
+    {"terrain-rain", 600, 150, 0x689b887950e09b5full}, {"terrain-rain-dem", 300, 150, 0xba15cb10ae15f3bfull},
+    {"bowl-pile", 400, 60, 0x212f7aeb8a75dda5ull},     {"bullets", 64, 30, 0x1b94ee13e51dcbcbull},
     {"implosion", 512, 60, 0xe6c85878f9a315b4ull},
 };
 
@@ -51,7 +49,8 @@ std::string hex(std::uint64_t h) {
 
 }  // namespace
 
-TEST_CASE("Every built-in scene ends in its golden state hash on 1-3 threads and every SIMD path", "[determinism][golden]") {
+TEST_CASE("Every built-in scene ends in its golden state hash on 1-3 threads and every SIMD path",
+          "[determinism][golden]") {
   for (const GoldenRun& run : kGoldenRuns) {
     for (hail::SimdPath path : hail::testing::supported_paths()) {
       hail::testing::ScopedSimdPath scoped(path);

@@ -1,9 +1,9 @@
 // Heightmaps: sampling, the real DEMs in data/, file round trips, every refused file, and the
 // per-triangle terrain data (layout, normals, planes, internal edges).
 
+#include <unistd.h>
 #include <algorithm>
 #include <array>
-#include <unistd.h>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -39,8 +39,8 @@ struct TempDir {
   TempDir() {
     static int serial = 0;
     const auto stamp = static_cast<long>(::getpid());
-    path = fs::temp_directory_path() /
-           ("hail-test-heightmap-" + std::to_string(stamp) + "-" + std::to_string(serial++));
+    path =
+        fs::temp_directory_path() / ("hail-test-heightmap-" + std::to_string(stamp) + "-" + std::to_string(serial++));
     fs::create_directories(path);
   }
   ~TempDir() {
@@ -49,7 +49,8 @@ struct TempDir {
   }
   std::string write(const std::string& name, const std::vector<unsigned char>& bytes) const {
     const std::string file = (path / name).string();
-    std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    std::ofstream(file, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
     return file;
   }
   std::string write(const std::string& name, const std::string& text) const {
@@ -309,8 +310,12 @@ TEST_CASE("PGM, PNG and raw files round-trip", "[heightmap]") {
     for (std::size_t k = 0; k < wide.size(); ++k) text += std::to_string(wide[k]) + (k % cols == cols - 1 ? "\n" : " ");
     check(Heightmap::load_pgm(dir.write("c.pgm", text), p), wide);
   }
-  SECTION("PNG 8-bit grey") { check(Heightmap::load_png(dir.write("d.png", make_png(cols, rows, 8, 0, narrow)), p), narrow); }
-  SECTION("PNG 16-bit grey") { check(Heightmap::load_png(dir.write("e.png", make_png(cols, rows, 16, 0, wide)), p), wide); }
+  SECTION("PNG 8-bit grey") {
+    check(Heightmap::load_png(dir.write("d.png", make_png(cols, rows, 8, 0, narrow)), p), narrow);
+  }
+  SECTION("PNG 16-bit grey") {
+    check(Heightmap::load_png(dir.write("e.png", make_png(cols, rows, 16, 0, wide)), p), wide);
+  }
   SECTION("raw float32 little-endian") {
     std::vector<unsigned char> bytes;
     for (std::uint16_t v : wide) {
@@ -539,7 +544,8 @@ TEST_CASE("HeightmapParams::max_vertices bounds every factory before allocating"
   // A file's header over the caller's limit: SizeLimitError, a FileError naming the file.
   const std::string pgm = dir.write("four.pgm", make_p5(4, 4, 255, sixteen));
   require_refused<hail::SizeLimitError>(pgm, [&] { (void)Heightmap::load_pgm(pgm, fifteen); });
-  CHECK_THROWS_WITH(Heightmap::load_pgm(pgm, fifteen), Catch::Contains("4 x 4 = 16 vertices exceeds HeightmapParams::max_vertices = 15"));
+  CHECK_THROWS_WITH(Heightmap::load_pgm(pgm, fifteen),
+                    Catch::Contains("4 x 4 = 16 vertices exceeds HeightmapParams::max_vertices = 15"));
   CHECK(Heightmap::load_pgm(pgm, exactly).cols() == 4);
   const std::string png = dir.write("four.png", make_png(4, 4, 8, 0, sixteen));
   require_refused<hail::SizeLimitError>(png, [&] { (void)Heightmap::load_png(png, fifteen); });
@@ -564,13 +570,15 @@ TEST_CASE("Terrain triangles follow the documented layout", "[heightmap]") {
   p.cell_z = 0.75f;
   p.origin_x = -2.0f;
   p.origin_z = 4.0f;
-  const Heightmap h = Heightmap::from_function(6, 4, p, [](float x, float z) { return std::sin(x) * 2.0f + 0.3f * z * z; });
+  const Heightmap h =
+      Heightmap::from_function(6, 4, p, [](float x, float z) { return std::sin(x) * 2.0f + 0.3f * z * z; });
   const hail::TerrainTriangles s = hail::build_terrain_triangles(h);
   REQUIRE(s.size() == 2 * 5 * 3);
   for (std::size_t t = 0; t < s.size(); ++t) {
     INFO("triangle " << t);
     const auto corners = layout_corners(h, t);
-    const float v[3][3] = {{s.v0x[t], s.v0y[t], s.v0z[t]}, {s.v1x[t], s.v1y[t], s.v1z[t]}, {s.v2x[t], s.v2y[t], s.v2z[t]}};
+    const float v[3][3] = {
+        {s.v0x[t], s.v0y[t], s.v0z[t]}, {s.v1x[t], s.v1y[t], s.v1z[t]}, {s.v2x[t], s.v2y[t], s.v2z[t]}};
     for (int k = 0; k < 3; ++k) {
       const hail::Vec3 expect = h.vertex(corners[k][0], corners[k][1]);
       for (int c = 0; c < 3; ++c) CHECK(v[k][c] == expect[c]);
@@ -579,7 +587,8 @@ TEST_CASE("Terrain triangles follow the documented layout", "[heightmap]") {
     const int diagonal = t % 2 == 0 ? 1 : 0;
     const auto a = corners[diagonal], b = corners[(diagonal + 1) % 3];
     CHECK(((a[0] == b[0] + 1 && a[1] + 1 == b[1]) || (b[0] == a[0] + 1 && b[1] + 1 == a[1])));
-    const float e[3][3] = {{s.e0x[t], s.e0y[t], s.e0z[t]}, {s.e1x[t], s.e1y[t], s.e1z[t]}, {s.e2x[t], s.e2y[t], s.e2z[t]}};
+    const float e[3][3] = {
+        {s.e0x[t], s.e0y[t], s.e0z[t]}, {s.e1x[t], s.e1y[t], s.e1z[t]}, {s.e2x[t], s.e2y[t], s.e2z[t]}};
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) CHECK(e[k][c] == v[(k + 1) % 3][c] - v[k][c]);
     const float n[3] = {s.nx[t], s.ny[t], s.nz[t]};
@@ -601,13 +610,15 @@ TEST_CASE("surface_height lies on the plane of the triangle under (x, z)", "[hei
   p.cell_z = 0.5f;
   p.origin_x = 3.0f;
   p.origin_z = -1.0f;
-  const Heightmap h = Heightmap::from_function(7, 9, p, [](float x, float z) { return std::sin(0.7f * x) * 3.0f + std::cos(2.0f * z); });
+  const Heightmap h = Heightmap::from_function(
+      7, 9, p, [](float x, float z) { return std::sin(0.7f * x) * 3.0f + std::cos(2.0f * z); });
   const hail::TerrainTriangles s = hail::build_terrain_triangles(h);
   for (int a = 0; a <= 60; ++a)
     for (int b = 0; b <= 40; ++b) {
       const float x = 3.0f + 12.0f * float(a) / 60.0f, z = -1.0f + 4.0f * float(b) / 40.0f;
       const float u = (x - 3.0f) / 2.0f, w = (z + 1.0f) / 0.5f;
-      const std::uint32_t i = std::min<std::uint32_t>(std::uint32_t(u), 5), j = std::min<std::uint32_t>(std::uint32_t(w), 7);
+      const std::uint32_t i = std::min<std::uint32_t>(std::uint32_t(u), 5),
+                          j = std::min<std::uint32_t>(std::uint32_t(w), 7);
       const std::size_t t = 2 * (j * 6 + i) + ((u - float(i)) + (w - float(j)) > 1.0f ? 1 : 0);
       const float plane = (s.d[t] - s.nx[t] * x - s.nz[t] * z) / s.ny[t];
       INFO("x " << x << " z " << z);
@@ -637,7 +648,8 @@ TEST_CASE("Internal edges: flat and gentle folds are internal, boundaries and ri
     return c[e][0] == 2 && c[(e + 1) % 3][0] == 2;  // both ends on the column x = 2
   };
   SECTION("sharp convex ridge: its edges are active, the planar slopes' edges internal") {
-    const Heightmap h = Heightmap::from_function(5, 4, {}, [](float x, float) { return 10.0f - 3.0f * std::fabs(x - 2.0f); });
+    const Heightmap h =
+        Heightmap::from_function(5, 4, {}, [](float x, float) { return 10.0f - 3.0f * std::fabs(x - 2.0f); });
     const hail::TerrainTriangles s = hail::build_terrain_triangles(h);
     int ridge_edges = 0;
     for (std::size_t t = 0; t < s.size(); ++t)
@@ -664,7 +676,8 @@ TEST_CASE("Internal edges: flat and gentle folds are internal, boundaries and ri
   SECTION("convex folds: 4 degrees internal, 6 degrees active") {
     for (const auto& [degrees, expect_internal] : {std::pair{4.0, true}, std::pair{6.0, false}}) {
       const float slope = static_cast<float>(std::tan(degrees * 3.14159265358979 / 180.0));
-      const Heightmap h = Heightmap::from_function(5, 3, {}, [slope](float x, float) { return x > 2.0f ? -slope * (x - 2.0f) : 0.0f; });
+      const Heightmap h =
+          Heightmap::from_function(5, 3, {}, [slope](float x, float) { return x > 2.0f ? -slope * (x - 2.0f) : 0.0f; });
       const hail::TerrainTriangles s = hail::build_terrain_triangles(h);
       for (std::size_t t = 0; t < s.size(); ++t)
         for (int e = 0; e < 3; ++e)

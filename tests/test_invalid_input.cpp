@@ -34,41 +34,77 @@ void populate(World& w) {
 TEST_CASE("add_sphere rejects every invalid value and leaves the world unchanged", "[invalid]") {
   World w(WorldSettings{.threads = 1});
   populate(w);
-  auto sphere = [](auto edit) { SphereDesc d{.position = {0, 5, 0}}; edit(d); return d; };
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.x() = kNaN; })); }, "position");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.y() = kInf; })); }, "position");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.velocity.z() = kNaN; })); }, "velocity");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.angular_velocity.x() = kInf; })); }, "angular_velocity");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 0; })); }, "radius");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = -1; })); }, "radius");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = kNaN; })); }, "radius");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = 0; })); }, "mass");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = -2; })); }, "mass");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = kInf; })); }, "mass");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = -0.1f; })); }, "restitution");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = 1.5f; })); }, "restitution");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = -0.5f; })); }, "friction");
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = kNaN; })); }, "friction");
+  auto sphere = [](auto edit) {
+    SphereDesc d{.position = {0, 5, 0}};
+    edit(d);
+    return d;
+  };
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.x() = kNaN; })); }, "position");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.position.y() = kInf; })); }, "position");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.velocity.z() = kNaN; })); }, "velocity");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.angular_velocity.x() = kInf; })); }, "angular_velocity");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 0; })); }, "radius");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = -1; })); }, "radius");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = kNaN; })); }, "radius");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = 0; })); }, "mass");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = -2; })); }, "mass");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = kInf; })); }, "mass");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = -0.1f; })); }, "restitution");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.restitution = 1.5f; })); }, "restitution");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = -0.5f; })); }, "friction");
+  expect_rejected(
+      w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.friction = kNaN; })); }, "friction");
   // An explicitly static sphere needs no mass.
   const auto before = w.sphere_count();
-  w.add_sphere(sphere([](SphereDesc& d) { d.mass = 0; d.is_static = true; }));
+  w.add_sphere(sphere([](SphereDesc& d) {
+    d.mass = 0;
+    d.is_static = true;
+  }));
   CHECK(w.sphere_count() == before + 1);
 }
 
 TEST_CASE("add_plane rejects every invalid value and leaves the world unchanged", "[invalid]") {
   World w(WorldSettings{.threads = 1});
   populate(w);
-  expect_rejected(w, [&] { w.add_plane({.normal = {0, 0, 0}}); }, "normal");
-  expect_rejected(w, [&] { w.add_plane({.normal = {0, kNaN, 0}}); }, "normal");
-  expect_rejected(w, [&] { w.add_plane({.offset = kInf}); }, "offset");
-  expect_rejected(w, [&] { w.add_plane({.restitution = 2}); }, "restitution");
-  expect_rejected(w, [&] { w.add_plane({.friction = -1}); }, "friction");
+  expect_rejected(
+      w,
+      [&] {
+        w.add_plane({.normal = {0, 0, 0}});
+      },
+      "normal");
+  expect_rejected(
+      w,
+      [&] {
+        w.add_plane({.normal = {0, kNaN, 0}});
+      },
+      "normal");
+  expect_rejected(
+      w, [&] { w.add_plane({.offset = kInf}); }, "offset");
+  expect_rejected(
+      w, [&] { w.add_plane({.restitution = 2}); }, "restitution");
+  expect_rejected(
+      w, [&] { w.add_plane({.friction = -1}); }, "friction");
 }
 
 TEST_CASE("step rejects dt <= 0 and non-finite dt", "[invalid]") {
   World w(WorldSettings{.threads = 1});
   populate(w);
-  for (float dt : {0.0f, -1.0f / 60, kNaN, kInf}) expect_rejected(w, [&] { w.step(dt); }, "dt");
+  for (float dt : {0.0f, -1.0f / 60, kNaN, kInf})
+    expect_rejected(
+        w, [&] { w.step(dt); }, "dt");
 }
 
 TEST_CASE("World settings are validated", "[invalid]") {
@@ -85,7 +121,11 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(WorldSettings{.time_scale = kInf}, "time_scale");
   rejected(WorldSettings{.threads = -2}, "threads");
   rejected(WorldSettings{.restitution_threshold = -1}, "restitution_threshold");
-  auto with = [](auto edit) { WorldSettings s; edit(s); return s; };
+  auto with = [](auto edit) {
+    WorldSettings s;
+    edit(s);
+    return s;
+  };
   rejected(with([](WorldSettings& s) { s.collision_iterations = -1; }), "collision_iterations");
   rejected(with([](WorldSettings& s) { s.resting_iterations = -1; }), "resting_iterations");
   rejected(with([](WorldSettings& s) { s.depenetration_iterations = -1; }), "depenetration_iterations");
@@ -111,7 +151,12 @@ TEST_CASE("World settings are validated", "[invalid]") {
 TEST_CASE("Without rotation add_sphere refuses a spinning sphere and leaves the world unchanged", "[invalid]") {
   World w(WorldSettings{.threads = 1, .rotation = false});
   populate(w);
-  expect_rejected(w, [&] { w.add_sphere({.position = {0, 5, 0}, .angular_velocity = {0, 0, 1}}); }, "angular_velocity");
+  expect_rejected(
+      w,
+      [&] {
+        w.add_sphere({.position = {0, 5, 0}, .angular_velocity = {0, 0, 1}});
+      },
+      "angular_velocity");
   // A static sphere never moves: what it was given is dropped, as with rotation on.
   const auto before = w.sphere_count();
   w.add_sphere({.position = {0, 5, 0}, .angular_velocity = {0, 0, 1}, .is_static = true});

@@ -28,7 +28,8 @@ std::vector<double> bounce_apexes(float dt, Integrator integrator, int count) {
   settings.integrator = integrator;
   World world(settings);
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.8f, .friction = 0});
-  const SphereId id = world.add_sphere({.position = {0, 10.5f, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
+  const SphereId id =
+      world.add_sphere({.position = {0, 10.5f, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
   // An apex is the highest sampled position of a rise (sampling misses the true top by at most
   // g (dt/2)^2 / 2: 0.3 mm at dt = 1/60, far below the tolerances).
   std::vector<double> apexes;
@@ -57,15 +58,25 @@ struct Cradle {
     settings.threads = 1;
     world = std::make_unique<World>(settings);
     for (int k = 0; k < 5; ++k)
-      row.push_back(world->add_sphere({.position = {float(k), 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0}));
-    striker = world->add_sphere({.position = {striker_x, 0, 0}, .velocity = {1, 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0});
+      row.push_back(world->add_sphere(
+          {.position = {float(k), 0, 0}, .radius = 0.5f, .mass = 1, .restitution = 1, .friction = 0}));
+    striker = world->add_sphere({.position = {striker_x, 0, 0},
+                                 .velocity = {1, 0, 0},
+                                 .radius = 0.5f,
+                                 .mass = 1,
+                                 .restitution = 1,
+                                 .friction = 0});
   }
 };
 
 }  // namespace
 
 TEST_CASE("A: bounce apexes follow 10 e^(2n)", "[known][bounce]") {
-  struct Run { float dt; Integrator integrator; double tolerance; };
+  struct Run {
+    float dt;
+    Integrator integrator;
+    double tolerance;
+  };
   // At dt = 1/60 only the uniform-acceleration integrator is asked for 2%: semi-implicit Euler
   // carries its own O(dt) energy error in free flight (apex +v dt/2: +1.7%, +2.2%, +4.0% here),
   // which no impact treatment can remove. hail-bench accuracy reports both.
@@ -101,7 +112,8 @@ TEST_CASE("B: a sliding sphere switches to rolling at 5/7 v0 at t*", "[known][fr
   const double t_star = 2 * v0 / (7 * mu * g);
   const double rolling = 5.0 / 7.0 * v0;
   const double speed = world.velocity(id).norm();
-  INFO("final speed " << speed << " (exact " << rolling << "), switch at " << switch_time << " s (exact " << t_star << ")");
+  INFO("final speed " << speed << " (exact " << rolling << "), switch at " << switch_time << " s (exact " << t_star
+                      << ")");
   CHECK(std::abs(speed - rolling) <= 0.01 * rolling);
   CHECK(std::abs(switch_time - t_star) <= 0.02);
   CHECK(std::abs(world.position(id).y() - 0.5) < 1e-3);
@@ -115,13 +127,19 @@ TEST_CASE("C: head-on collision gives the 1-D elastic formulas", "[known][sphere
   settings.gravity = Vec3::Zero();
   settings.threads = 1;
   World world(settings);
-  const SphereId a = world.add_sphere({.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = float(m1), .restitution = 1, .friction = 0});
-  const SphereId b = world.add_sphere({.position = {2, 0, 0}, .radius = 0.5f, .mass = float(m2), .restitution = 1, .friction = 0});
+  const SphereId a = world.add_sphere({.position = {-2, 0, 0},
+                                       .velocity = {10, 0, 0},
+                                       .radius = 0.5f,
+                                       .mass = float(m1),
+                                       .restitution = 1,
+                                       .friction = 0});
+  const SphereId b =
+      world.add_sphere({.position = {2, 0, 0}, .radius = 0.5f, .mass = float(m2), .restitution = 1, .friction = 0});
   const Eigen::Vector3d p0 = world.linear_momentum();
   for (int k = 0; k < 120; ++k) world.step(1.0f / 60);
   const double v1 = (m1 - m2) / (m1 + m2) * 10.0, v2 = 2 * m1 / (m1 + m2) * 10.0;
   INFO("m2 = " << m2 << ": v1' = " << world.velocity(a).x() << " (exact " << v1 << "), v2' = " << world.velocity(b).x()
-                << " (exact " << v2 << ")");
+               << " (exact " << v2 << ")");
   CHECK(std::abs(world.velocity(a).x() - v1) <= 1e-4 * std::abs(v1));
   CHECK(std::abs(world.velocity(b).x() - v2) <= 1e-4 * std::abs(v2));
   // Float rounding of the momentum sum: a few ulps of the largest term.
@@ -154,7 +172,8 @@ TEST_CASE("D: the cradle's pulse crosses the resting row in the step of the impa
     if (impact_step < 0 && world.velocity(cradle.striker).x() < 0.5f) impact_step = k;
     if (world.velocity(cradle.row[4]).x() > 0.5f) far_leaves = k;
   }
-  INFO("striker from x = " << striker_start << ": impact in step " << impact_step << ", far sphere leaves in step " << far_leaves);
+  INFO("striker from x = " << striker_start << ": impact in step " << impact_step << ", far sphere leaves in step "
+                           << far_leaves);
   REQUIRE(impact_step >= 0);
   CHECK(far_leaves == impact_step);
   CHECK(std::abs(world.velocity(cradle.row[4]).x() - 1.0) <= 1e-5);

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/memory_use.h"
 #include "bench/run_command.h"
+#include "bench/scenes/memory_use.h"
 #include "bench/scenes/scene_run.h"
 #include "bench/scenes/scenes.h"
 #include "catch.h"
@@ -55,7 +55,8 @@ TEST_CASE("A run reports the heap it holds: the terrain and more than each spher
   bench::RunOptions options;
   options.steps = 20;
   options.progress = false;
-  const bench::RunResult r = bench::run_scene(bench::find_scene("terrain-rain"), {.spheres = 2000, .threads = 1}, options);
+  const bench::RunResult r =
+      bench::run_scene(bench::find_scene("terrain-rain"), {.spheres = 2000, .threads = 1}, options);
   CHECK(r.heap_measured);
   CHECK(r.terrain_bytes > 0);
   CHECK(r.heap_after_setup >= r.terrain_bytes);

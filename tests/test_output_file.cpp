@@ -11,10 +11,10 @@
 #include "bench/accuracy_command.h"
 #include "bench/compare_command.h"
 #include "bench/gnuplot.h"
-#include "bench/scenes/output_file.h"
 #include "bench/run_command.h"
 #include "bench/run_program.h"
 #include "bench/scale_command.h"
+#include "bench/scenes/output_file.h"
 #include "bench/stress_command.h"
 #include "catch.h"
 
@@ -98,21 +98,24 @@ TEST_CASE("Writing to /dev/full fails with a message naming the path", "[bench][
     WARN("no /dev/full here");
     return;
   }
-  const std::string message =
-      message_of<std::runtime_error>([] { bench::write_file_atomically("/dev/full", [](std::ostream& out) { out << "x"; }); });
+  const std::string message = message_of<std::runtime_error>(
+      [] { bench::write_file_atomically("/dev/full", [](std::ostream& out) { out << "x"; }); });
   CHECK(contains(message, "cannot write /dev/full: "));
   CHECK(contains(message, "No space left on device"));
   CHECK(fs::is_character_file("/dev/full"));  // written in place, never renamed over
 }
 
-TEST_CASE("Output paths are checked before the run: missing folder, a folder, the same file as an input", "[bench][output]") {
+TEST_CASE("Output paths are checked before the run: missing folder, a folder, the same file as an input",
+          "[bench][output]") {
   const fs::path dir = fresh_dir("check");
   const std::string scene = small_scene(dir);
   const std::string nowhere = (dir / "no-such-folder" / "out.json").string();
   CHECK(message_of<std::invalid_argument>([&] { bench::check_output_paths({nowhere}); }) ==
         "cannot write " + nowhere + ": the folder " + (dir / "no-such-folder").string() + " does not exist");
-  CHECK(contains(message_of<std::invalid_argument>([&] { bench::check_output_paths({dir.string()}); }), "it is a folder"));
-  CHECK(contains(message_of<std::invalid_argument>([&] { bench::check_output_paths({scene + "/x.csv"}); }), "is not a folder"));
+  CHECK(contains(message_of<std::invalid_argument>([&] { bench::check_output_paths({dir.string()}); }),
+                 "it is a folder"));
+  CHECK(contains(message_of<std::invalid_argument>([&] { bench::check_output_paths({scene + "/x.csv"}); }),
+                 "is not a folder"));
   // The same file however it is spelled: another path to it, a hard link; existing or not.
   const std::string spelled_otherwise = (dir / "." / "scene.json").string();
   CHECK(contains(message_of<std::invalid_argument>([&] { bench::check_output_paths({spelled_otherwise}, {scene}); }),
@@ -127,41 +130,51 @@ TEST_CASE("Output paths are checked before the run: missing folder, a folder, th
   CHECK_NOTHROW(bench::check_output_paths({(dir / "new.json").string(), "", "/dev/null", "/dev/null"}, {scene}));
   CHECK_THROWS_AS(bench::prepare_output_dir(scene), std::invalid_argument);  // a file where the folder should be
   // accuracy and scale refuse such an --out before their runs (which take minutes at their defaults).
-  CHECK(contains(message_of<std::invalid_argument>([&] { bench::accuracy_command({"--out", scene}); }),
+  CHECK(contains(message_of<std::invalid_argument>([&] {
+                   bench::accuracy_command({"--out", scene});
+                 }),
                  "cannot create the output folder " + scene));
-  CHECK(contains(message_of<std::invalid_argument>([&] { bench::scale_command({"--out", scene}); }),
+  CHECK(contains(message_of<std::invalid_argument>([&] {
+                   bench::scale_command({"--out", scene});
+                 }),
                  "cannot create the output folder " + scene));
   CHECK_NOTHROW(bench::prepare_output_dir((dir / "made" / "here").string()));
   CHECK(fs::is_directory(dir / "made" / "here"));
   fs::remove_all(dir);
 }
 
-TEST_CASE("hail-bench run refuses, before running, an output that is the scene file or cannot be written", "[bench][output]") {
+TEST_CASE("hail-bench run refuses, before running, an output that is the scene file or cannot be written",
+          "[bench][output]") {
   const fs::path dir = fresh_dir("run");
   const std::string scene = small_scene(dir);
   const std::string scene_text = read_all(scene);
   // --dump-state once truncated the scene file it was asked to overwrite.
   for (const char* flag : {"--dump-state", "--json", "--trace"}) {
     INFO(flag);
-    CHECK(contains(message_of<std::invalid_argument>([&] { bench::run_command({"--scene", scene, flag, scene, "--quiet"}); }),
+    CHECK(contains(message_of<std::invalid_argument>([&] {
+                     bench::run_command({"--scene", scene, flag, scene, "--quiet"});
+                   }),
                    "it is the input " + scene));
     CHECK(read_all(scene) == scene_text);
   }
   // A folder that does not exist is refused before the run: 100,000 steps of 20,000 spheres
   // would take many minutes.
   const std::string nowhere = (dir / "missing" / "state.csv").string();
-  CHECK(contains(message_of<std::invalid_argument>([&] {
-                   bench::run_command({"terrain-rain", "--spheres", "20000", "--steps", "100000", "--dump-state", nowhere});
-                 }),
-                 "cannot write " + nowhere));
-  CHECK(contains(message_of<std::invalid_argument>([&] {
-                   bench::run_command({"--scene", scene, "--json", (dir / "same").string(), "--trace", (dir / "same").string()});
-                 }),
-                 "two outputs name the same file"));
+  CHECK(contains(
+      message_of<std::invalid_argument>([&] {
+        bench::run_command({"terrain-rain", "--spheres", "20000", "--steps", "100000", "--dump-state", nowhere});
+      }),
+      "cannot write " + nowhere));
+  CHECK(contains(
+      message_of<std::invalid_argument>([&] {
+        bench::run_command({"--scene", scene, "--json", (dir / "same").string(), "--trace", (dir / "same").string()});
+      }),
+      "two outputs name the same file"));
   fs::remove_all(dir);
 }
 
-TEST_CASE("A failed write of any hail-bench output ends in an error naming the path, the old file intact", "[bench][output]") {
+TEST_CASE("A failed write of any hail-bench output ends in an error naming the path, the old file intact",
+          "[bench][output]") {
   if (!fs::exists("/dev/full")) {
     WARN("no /dev/full here");
     return;
@@ -170,20 +183,24 @@ TEST_CASE("A failed write of any hail-bench output ends in an error naming the p
   const std::string scene = small_scene(dir);
   for (const char* flag : {"--json", "--trace", "--dump-state"}) {
     INFO(flag);
-    CHECK(contains(message_of<std::runtime_error>([&] { bench::run_command({"--scene", scene, "--quiet", flag, "/dev/full"}); }),
+    CHECK(contains(message_of<std::runtime_error>([&] {
+                     bench::run_command({"--scene", scene, "--quiet", flag, "/dev/full"});
+                   }),
                    "cannot write /dev/full"));
   }
+  CHECK(contains(
+      message_of<std::runtime_error>([&] {
+        bench::run_command({"--scene", scene, "--quiet", "--ccd", "both", "--repeat", "1", "--json", "/dev/full"});
+      }),
+      "cannot write /dev/full"));
   CHECK(contains(message_of<std::runtime_error>([&] {
-                   bench::run_command({"--scene", scene, "--quiet", "--ccd", "both", "--repeat", "1", "--json", "/dev/full"});
+                   bench::compare_command({"implosion", "--spheres", "8", "--steps", "2", "--repeat", "1", "--quiet",
+                                           "--json", "/dev/full"});
                  }),
                  "cannot write /dev/full"));
   CHECK(contains(message_of<std::runtime_error>([&] {
-                   bench::compare_command({"implosion", "--spheres", "8", "--steps", "2", "--repeat", "1", "--quiet", "--json",
-                                           "/dev/full"});
+                   bench::stress_command({"--case", "light-hit-by-heavy", "--json", "/dev/full"});
                  }),
-                 "cannot write /dev/full"));
-  CHECK(contains(message_of<std::runtime_error>(
-                     [&] { bench::stress_command({"--case", "light-hit-by-heavy", "--json", "/dev/full"}); }),
                  "cannot write /dev/full"));
   // And a run that succeeds writes its files whole.
   const fs::path state = dir / "state.csv";
@@ -193,7 +210,8 @@ TEST_CASE("A failed write of any hail-bench output ends in an error naming the p
   fs::remove_all(dir);
 }
 
-TEST_CASE("The plot step starts its program without a shell: quotes and ; in the folder name stay text", "[bench][output]") {
+TEST_CASE("The plot step starts its program without a shell: quotes and ; in the folder name stay text",
+          "[bench][output]") {
   const fs::path base = fresh_dir("spawn");
   // Passed through a shell (`cd 'DIR' && gnuplot ...`, as before), this name ran `touch .../pwned`.
   const fs::path weird = base / ("it's'; touch " + (base / "pwned").string() + "; echo '");

@@ -11,7 +11,6 @@
 
 namespace {
 
-
 void fill(hail::World& world) {
   world.add_plane({.normal = {0, 1, 0}, .offset = 0});
   std::mt19937 rng(3);
@@ -38,16 +37,16 @@ TEST_CASE("The phase trace has a well-formed slice per phase, step and working t
   std::set<std::tuple<std::uint64_t, hail::Phase, int>> unique;
   bool well_formed = true;
   for (const hail::TraceSlice& s : traced.trace().slices()) {
-    well_formed = well_formed && s.start_us <= s.end_us && s.thread >= 0 && s.thread < traced.thread_count() &&
-                  s.step < kSteps;
+    well_formed =
+        well_formed && s.start_us <= s.end_us && s.thread >= 0 && s.thread < traced.thread_count() && s.step < kSteps;
     seen.insert({s.step, s.phase});
     unique.insert({s.step, s.phase, s.thread});
   }
   CHECK(well_formed);
   CHECK(unique.size() == traced.trace().slices().size());  // one slice per (step, phase, thread)
   for (std::uint64_t step = 0; step < kSteps; ++step)
-    for (hail::Phase p : {hail::Phase::Predict, hail::Phase::DetectTerrain, hail::Phase::DetectPairs, hail::Phase::Solve,
-                          hail::Phase::Integrate, hail::Phase::Depenetrate}) {
+    for (hail::Phase p : {hail::Phase::Predict, hail::Phase::DetectTerrain, hail::Phase::DetectPairs,
+                          hail::Phase::Solve, hail::Phase::Integrate, hail::Phase::Depenetrate}) {
       INFO("step " << step << ", phase " << hail::phase_name(p));
       CHECK(seen.count({step, p}) == 1);
     }

@@ -77,7 +77,8 @@ TEST_CASE("Without rotation a sliding sphere slows at mu g to a stop and never s
   CHECK(std::abs(world.position(id).y() - 0.5) < 1e-3);
 }
 
-TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane impacts never spins", "[rotation][threads]") {
+TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane impacts never spins",
+          "[rotation][threads]") {
   World off({.threads = 2, .rotation = false});
   build_pile(off);
   StepParts any{};
@@ -116,8 +117,12 @@ TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off"
         for (int k = 0; k < 8; ++k) {
           const Vec3 p(1.5f * static_cast<float>(i) - 5.25f, 1.5f * static_cast<float>(j) - 5.25f,
                        1.5f * static_cast<float>(k) - 5.25f);
-          world.add_sphere({.position = p, .velocity = -5.0f * p.normalized(), .radius = 0.5f, .mass = 1.0f,
-                            .restitution = 1.0f, .friction = 0.0f});
+          world.add_sphere({.position = p,
+                            .velocity = -5.0f * p.normalized(),
+                            .radius = 0.5f,
+                            .mass = 1.0f,
+                            .restitution = 1.0f,
+                            .friction = 0.0f});
         }
     for (int step = 0; step < 120; ++step) {
       world.step(1.0f / 60.0f);
@@ -126,8 +131,10 @@ TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off"
     CHECK(all_angular_zero(world));
     return world.state_hash();
   };
-  if (HAIL_WITH_ROTATION) CHECK(run(true) == run(false));
-  else CHECK(run(false) != 0);
+  if (HAIL_WITH_ROTATION)
+    CHECK(run(true) == run(false));
+  else
+    CHECK(run(false) != 0);
 }
 
 TEST_CASE("A normal impulse never spins a sphere, though friction elsewhere turns the angular passes on",
@@ -141,9 +148,14 @@ TEST_CASE("A normal impulse never spins a sphere, though friction elsewhere turn
   World world({.threads = 1});
   world.add_plane({.normal = {0, 1, 0}, .offset = -100.0f, .restitution = 0.5f, .friction = 0.5f});
   const Vec3 d = Vec3(1.0f, 2.0f, 3.0f).normalized();
-  const SphereId hit = world.add_sphere({.position = {0, 0, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.7f, .friction = 0.0f});
-  const SphereId mover = world.add_sphere(
-      {.position = 3.0f * d, .velocity = -4.0f * d, .radius = 0.5f, .mass = 2.0f, .restitution = 0.7f, .friction = 0.0f});
+  const SphereId hit =
+      world.add_sphere({.position = {0, 0, 0}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.7f, .friction = 0.0f});
+  const SphereId mover = world.add_sphere({.position = 3.0f * d,
+                                           .velocity = -4.0f * d,
+                                           .radius = 0.5f,
+                                           .mass = 2.0f,
+                                           .restitution = 0.7f,
+                                           .friction = 0.0f});
   world.add_sphere({.position = {50, -99.5f, 0}, .radius = 0.5f, .mass = 1.0f, .friction = 0.5f});
   bool angular_passes = false;
   for (int step = 0; step < 60; ++step) {

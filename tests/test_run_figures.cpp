@@ -21,7 +21,8 @@ TEST_CASE("A run's penetration figures: the worst step, and the mean of each ste
   bench::RunOptions options;
   options.steps = 200;
   options.progress = false;
-  const bench::RunResult r = bench::run_scene(bench::find_scene("terrain-rain"), {.spheres = 1000, .threads = 1}, options);
+  const bench::RunResult r =
+      bench::run_scene(bench::find_scene("terrain-rain"), {.spheres = 1000, .threads = 1}, options);
   REQUIRE(r.warmup == 60);
   const bench::ErrorFigures& e = r.errors;
   CHECK(e.worst_sphere_penetration > 0.0);
@@ -64,7 +65,8 @@ bench::RunResult run_text(const std::string& body, int steps, int dump_every = 0
   options.progress = false;
   options.dump_state_path = dump_path;
   options.dump_every = dump_every;
-  return bench::run_scene("figures.json", [&] { return scene_from(body); }, options);
+  return bench::run_scene(
+      "figures.json", [&] { return scene_from(body); }, options);
 }
 
 std::string read_all(const std::string& path) {
@@ -76,7 +78,8 @@ std::string read_all(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("Tunnelling: a centre below the terrain inside its extent, or behind a plane, by how deep", "[bench][tunnelling]") {
+TEST_CASE("Tunnelling: a centre below the terrain inside its extent, or behind a plane, by how deep",
+          "[bench][tunnelling]") {
   // A flat 4 x 4 m terrain at y = 0 and the plane y = -5 (solid below). Nothing is stepped: the
   // counter reads the spheres where they were put.
   const bench::Scene scene = scene_from(R"("terrain": {"function": "flat", "size": [5, 5]},
@@ -84,7 +87,7 @@ TEST_CASE("Tunnelling: a centre below the terrain inside its extent, or behind a
       "spheres": [{"list": [{"position": [2, 1, 2]}, {"position": [2, -0.25, 2]}, {"position": [10, -1, 2]},
                             {"position": [10, -7, 2]}, {"position": [3, 0.25, 1]}]}])");
   const hail::World& world = *scene.world;
-  CHECK(bench::centre_depth(world, 2, 1, 2) == Approx(-1.0));      // above the ground
+  CHECK(bench::centre_depth(world, 2, 1, 2) == Approx(-1.0));       // above the ground
   CHECK(bench::centre_depth(world, 2, -0.25f, 2) == Approx(0.25));  // under the terrain
   CHECK(bench::centre_depth(world, 10, -1, 2) == Approx(-4.0));     // outside the extent: the plane alone
   CHECK(bench::centre_depth(world, 10, -7, 2) == Approx(2.0));      // behind the plane (normalised: offset -5)
@@ -106,7 +109,8 @@ TEST_CASE("Tunnelling: a centre below the terrain inside its extent, or behind a
   CHECK(none.figures().steps == 1);
 }
 
-TEST_CASE("Tunnelling is counted after every step of any run: a fast sphere through thin terrain without CCD", "[bench][tunnelling]") {
+TEST_CASE("Tunnelling is counted after every step of any run: a fast sphere through thin terrain without CCD",
+          "[bench][tunnelling]") {
   // 10 m a step towards a flat terrain 2 m below: without continuous collision nothing stops it
   // (no contact is found that far ahead), and it falls on under the surface.
   const auto body = [](bool ccd) {
@@ -155,7 +159,8 @@ TEST_CASE("A run's peak kinetic energy: the largest after any step, and when", "
   CHECK(j["kinetic_energy_peak_step"] == peak_step);
 }
 
-TEST_CASE("Run state dumps (--dump-every): the state at step 0 and every K steps, each file named by its step", "[bench][dump]") {
+TEST_CASE("Run state dumps (--dump-every): the state at step 0 and every K steps, each file named by its step",
+          "[bench][dump]") {
   CHECK(bench::step_dump_path("out/state.csv", 60) == "out/state-000060.csv");
   CHECK(bench::step_dump_path("state.csv", 0) == "state-000000.csv");
   CHECK(bench::step_dump_path("state", 1234567) == "state-1234567");

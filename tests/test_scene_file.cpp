@@ -95,8 +95,14 @@ TEST_CASE("scene files: command-line values override the file's", "[scene_file]"
   params.pair_search = hail::PairSearch::Grid;
   params.warm_start_factor = 0.8f;
   params.resting_iterations = 5;
-  const SceneOverrides overrides{.spheres = 1000, .threads = 1, .steps = 77, .dt = 1.0f / 120.0f, .reorder_interval = 4,
-                                 .resting_iterations = 5, .pair_search = hail::PairSearch::Grid, .warm_start = true,
+  const SceneOverrides overrides{.spheres = 1000,
+                                 .threads = 1,
+                                 .steps = 77,
+                                 .dt = 1.0f / 120.0f,
+                                 .reorder_interval = 4,
+                                 .resting_iterations = 5,
+                                 .pair_search = hail::PairSearch::Grid,
+                                 .warm_start = true,
                                  .warm_start_factor = 0.8f};
   Scene from_file = hail::bench::load_scene_file(kScenes + "terrain-rain.json", overrides);
   const hail::WorldSettings& s = from_file.world->settings();
@@ -135,7 +141,8 @@ TEST_CASE("scene files: a file with every kind of entry parses to what it says",
       {"lattice": {"count": 8, "layout": "cube", "spacing": 1, "centre": [10, 10, 10], "velocity": [0, 1, 0]}},
       {"random": {"count": 5, "seed": 3, "box_min": [-1, -1, -1], "box_max": [1, 1, 1], "radius": [0.1, 0.2], "speed": 2}}
     ]
-  })", "inline.json");
+  })",
+                                       "inline.json");
   const hail::World& world = *scene.world;
   CHECK(scene.description == "test scene");
   CHECK(scene.dt == 0.01f);
@@ -176,10 +183,10 @@ TEST_CASE("scene files: a file with every kind of entry parses to what it says",
   CHECK(world.angular_velocity(scene.ids[0]) == hail::Vec3(7, 8, 9));
   const hail::SphereSoA& soa = world.soa();
   const auto slot = [&](std::size_t k) { return static_cast<std::size_t>(world.slot_of(scene.ids[k])); };
-  CHECK(soa.radius[slot(0)] == 0.25f);          // the shared material
+  CHECK(soa.radius[slot(0)] == 0.25f);  // the shared material
   CHECK(soa.inv_mass[slot(0)] == 0.5f);
-  CHECK(soa.radius[slot(1)] == 1.0f);           // its own values
-  CHECK(soa.inv_mass[slot(1)] == 0.0f);         // static
+  CHECK(soa.radius[slot(1)] == 1.0f);                                   // its own values
+  CHECK(soa.inv_mass[slot(1)] == 0.0f);                                 // static
   CHECK(world.position(scene.ids[2]) == hail::Vec3(9.5f, 9.5f, 9.5f));  // cube of side 2 around (10, 10, 10)
   CHECK(world.position(scene.ids[9]) == hail::Vec3(10.5f, 10.5f, 10.5f));
   CHECK(world.velocity(scene.ids[9]) == hail::Vec3(0, 1, 0));
@@ -237,49 +244,77 @@ TEST_CASE("scene files: every kind of bad input names the file and the field", "
   const std::vector<Case> cases = {
       {scene_text(list_head + R"({"position": [0, 2, 0], "radius": -1}]}])"),
        "scene.json: spheres[0].list[1].radius: must be > 0, got -1"},
-      {scene_text(R"("gravty": [0, -9.81, 0])"), "scene.json: unknown key \"gravty\" at top level (did you mean \"gravity\"?)"},
-      {scene_text(R"("settings": {"warmstart": true})"), "scene.json: settings: unknown key \"warmstart\" (did you mean \"warm_start\"?)"},
+      {scene_text(R"("gravty": [0, -9.81, 0])"),
+       "scene.json: unknown key \"gravty\" at top level (did you mean \"gravity\"?)"},
+      {scene_text(R"("settings": {"warmstart": true})"),
+       "scene.json: settings: unknown key \"warmstart\" (did you mean \"warm_start\"?)"},
       {scene_text(R"("spheres": [{"list": [{"positon": [0, 0, 0]}]}])"), "spheres[0].list[0]: unknown key \"positon\""},
-      {scene_text(R"("spheres": [{"list": [{"radius": 1}]}])"), "scene.json: spheres[0].list[0]: missing required key \"position\""},
+      {scene_text(R"("spheres": [{"list": [{"radius": 1}]}])"),
+       "scene.json: spheres[0].list[0]: missing required key \"position\""},
       {scene_text(R"("dt": "fast")"), "scene.json: dt: must be a number, got string \"fast\""},
       {scene_text(R"("dt": 0)"), "scene.json: dt: must be > 0, got 0"},
       {scene_text(R"("dt": 1e300)"), "scene.json: dt: must be a finite number within float range"},
       {scene_text(R"("steps": 10.5)"), "scene.json: steps: must be an integer, got 10.5"},
       {scene_text(R"("gravity": [0, -9.81])"), "scene.json: gravity: must be an array of 3 numbers"},
       {scene_text(R"("gravity": [0, "down", 0])"), "scene.json: gravity[1]: must be a number, got string \"down\""},
-      {scene_text(R"("material": {"restitution": 1.5})"), "scene.json: material.restitution: must be in [0, 1], got 1.5"},
-      {scene_text(R"("settings": {"pair_search": "fast"})"), "scene.json: settings.pair_search: must be one of \"auto\", \"brute\", \"grid\", \"sweep\", \"bvh\", got \"fast\""},
+      {scene_text(R"("material": {"restitution": 1.5})"),
+       "scene.json: material.restitution: must be in [0, 1], got 1.5"},
+      {scene_text(R"("settings": {"pair_search": "fast"})"),
+       "scene.json: settings.pair_search: must be one of \"auto\", \"brute\", \"grid\", \"sweep\", \"bvh\", got "
+       "\"fast\""},
       {scene_text(R"("settings": {"integrator": "rk4"})"), "scene.json: settings.integrator: must be one of"},
       {scene_text(R"("settings": {"warm_start": 1})"), "scene.json: settings.warm_start: must be true or false, got 1"},
-      {scene_text(R"("settings": {"rotation": "off"})"), "scene.json: settings.rotation: must be true or false, got string \"off\""},
-      {scene_text(R"("settings": {"rotation": false}, "spheres": [{"list": [{"position": [0, 0, 0], "angular_velocity": [0, 1, 0]}]}])"),
+      {scene_text(R"("settings": {"rotation": "off"})"),
+       "scene.json: settings.rotation: must be true or false, got string \"off\""},
+      {scene_text(
+           R"("settings": {"rotation": false}, "spheres": [{"list": [{"position": [0, 0, 0], "angular_velocity": [0, 1, 0]}]}])"),
        "angular_velocity must be zero when WorldSettings::rotation is false"},
-      {scene_text(R"("settings": {"collision_iterations": -1})"), "scene.json: settings.collision_iterations: must be >= 0, got -1"},
-      {scene_text(R"("settings": {"fast_travel_fraction": 0})"), "scene.json: settings.fast_travel_fraction: must be in (0, 1], got 0"},
-      {scene_text(R"("settings": {"max_sweep_events": 0})"), "scene.json: settings.max_sweep_events: must be >= 1, got 0"},
-      {scene_text(R"("settings": {"depenetration": {"fraction": 2}})"), "scene.json: settings.depenetration.fraction: must be in [0, 1], got 2"},
-      {scene_text(R"("spheres": [{"lattice": {"count": -5, "spacing": 1}}])"), "scene.json: spheres[0].lattice.count: must be >= 0, got -5"},
-      {scene_text(R"("spheres": [{"lattice": {"spacing": 1}}])"), "scene.json: spheres[0].lattice: missing required key \"count\""},
-      {scene_text(R"("spheres": [{"lattice": {"count": 4, "y_from": "terrain-min"}}])"), "scene.json: spheres[0].lattice.y_from: needs a terrain"},
-      {scene_text(R"("spheres": [{"lattice": {"count": 4, "velocity": [1, 0, 0], "towards": {"speed": 1}}}])"), "scene.json: spheres[0].lattice: give \"velocity\" or \"towards\", not both"},
-      {scene_text(R"("spheres": [{"random": {"count": 4, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])"), "scene.json: spheres[0].random: missing required key \"seed\""},
-      {scene_text(R"("spheres": [{"random": {"count": 4, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "radius": [1, 0.5]}}])"), "scene.json: spheres[0].random.radius: min must be <= max"},
-      {scene_text(R"("spheres": [{"random": {"count": 4, "seed": 1, "box_min": [2, 0, 0], "box_max": [1, 1, 1]}}])"), "scene.json: spheres[0].random: box_min must be <= box_max"},
-      {scene_text(R"("spheres": [{"list": [], "lattice": {"count": 1}}])"), "scene.json: spheres[0]: must have exactly one of \"list\", \"lattice\" or \"random\""},
+      {scene_text(R"("settings": {"collision_iterations": -1})"),
+       "scene.json: settings.collision_iterations: must be >= 0, got -1"},
+      {scene_text(R"("settings": {"fast_travel_fraction": 0})"),
+       "scene.json: settings.fast_travel_fraction: must be in (0, 1], got 0"},
+      {scene_text(R"("settings": {"max_sweep_events": 0})"),
+       "scene.json: settings.max_sweep_events: must be >= 1, got 0"},
+      {scene_text(R"("settings": {"depenetration": {"fraction": 2}})"),
+       "scene.json: settings.depenetration.fraction: must be in [0, 1], got 2"},
+      {scene_text(R"("spheres": [{"lattice": {"count": -5, "spacing": 1}}])"),
+       "scene.json: spheres[0].lattice.count: must be >= 0, got -5"},
+      {scene_text(R"("spheres": [{"lattice": {"spacing": 1}}])"),
+       "scene.json: spheres[0].lattice: missing required key \"count\""},
+      {scene_text(R"("spheres": [{"lattice": {"count": 4, "y_from": "terrain-min"}}])"),
+       "scene.json: spheres[0].lattice.y_from: needs a terrain"},
+      {scene_text(R"("spheres": [{"lattice": {"count": 4, "velocity": [1, 0, 0], "towards": {"speed": 1}}}])"),
+       "scene.json: spheres[0].lattice: give \"velocity\" or \"towards\", not both"},
+      {scene_text(R"("spheres": [{"random": {"count": 4, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])"),
+       "scene.json: spheres[0].random: missing required key \"seed\""},
+      {scene_text(
+           R"("spheres": [{"random": {"count": 4, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "radius": [1, 0.5]}}])"),
+       "scene.json: spheres[0].random.radius: min must be <= max"},
+      {scene_text(R"("spheres": [{"random": {"count": 4, "seed": 1, "box_min": [2, 0, 0], "box_max": [1, 1, 1]}}])"),
+       "scene.json: spheres[0].random: box_min must be <= box_max"},
+      {scene_text(R"("spheres": [{"list": [], "lattice": {"count": 1}}])"),
+       "scene.json: spheres[0]: must have exactly one of \"list\", \"lattice\" or \"random\""},
       {scene_text(R"("spheres": {"list": []})"), "scene.json: spheres: must be an array of generators, got object"},
       {scene_text(R"("planes": [{"normal": [0, 0, 0]}])"), "scene.json: planes[0].normal: must not be zero"},
       {scene_text(R"("planes": [{"offset": 1}])"), "scene.json: planes[0]: missing required key \"normal\""},
-      {scene_text(R"("terrain": {"function": "sine"})"), "scene.json: terrain.function: must be one of \"terrain-rain\", \"bowl\", \"flat\", got \"sine\""},
-      {scene_text(R"("terrain": {"function": "flat", "heightmap": "a.pgm"})"), "scene.json: terrain: needs exactly one of \"function\" or \"heightmap\""},
-      {scene_text(R"("terrain": {"function": "flat", "size": [1, 4]})"), "scene.json: terrain.size[0]: must be >= 2, got 1"},
-      {scene_text(R"("terrain": {"function": "flat", "coefficient": 1})"), "scene.json: terrain.coefficient: applies to the \"bowl\" function only"},
+      {scene_text(R"("terrain": {"function": "sine"})"),
+       "scene.json: terrain.function: must be one of \"terrain-rain\", \"bowl\", \"flat\", got \"sine\""},
+      {scene_text(R"("terrain": {"function": "flat", "heightmap": "a.pgm"})"),
+       "scene.json: terrain: needs exactly one of \"function\" or \"heightmap\""},
+      {scene_text(R"("terrain": {"function": "flat", "size": [1, 4]})"),
+       "scene.json: terrain.size[0]: must be >= 2, got 1"},
+      {scene_text(R"("terrain": {"function": "flat", "coefficient": 1})"),
+       "scene.json: terrain.coefficient: applies to the \"bowl\" function only"},
       {scene_text(R"("terrain": {"heightmap": "a.dat"})"), "scene.json: terrain.heightmap: cannot tell the format"},
-      {scene_text(R"("terrain": {"heightmap": "a.f32", "format": "raw-f32"})"), "scene.json: terrain: missing required key \"size\""},
+      {scene_text(R"("terrain": {"heightmap": "a.f32", "format": "raw-f32"})"),
+       "scene.json: terrain: missing required key \"size\""},
       {R"({"version": 1})", "scene.json: missing \"format\": \"hail-scene\""},
       {R"({"format": "hail-scene"})", "scene.json: missing required key \"version\""},
-      {R"({"format": "hail-scene", "version": 2, "new_key": 1})", "scene.json: version: this hail-bench reads version 1, got 2"},
+      {R"({"format": "hail-scene", "version": 2, "new_key": 1})",
+       "scene.json: version: this hail-bench reads version 1, got 2"},
       {R"([1, 2])", "scene.json: must be an object, got array"},
-      {"{\"format\": \"hail-scene\",\n \"version\": 1,\n \"dt\": }", "scene.json: dt: [json.exception.parse_error.101] parse error at line 3, column 8"},
+      {"{\"format\": \"hail-scene\",\n \"version\": 1,\n \"dt\": }",
+       "scene.json: dt: [json.exception.parse_error.101] parse error at line 3, column 8"},
   };
   for (const Case& c : cases) {
     const std::string message = error_of(c.text);
@@ -306,8 +341,9 @@ TEST_CASE("scene files: missing file", "[scene_file]") {
 
 TEST_CASE("scene files: the random generator is deterministic and documented", "[scene_file]") {
   const auto random_scene = [](int seed) {
-    return scene_text(R"("gravity": [0, 0, 0], "spheres": [{"random": {"count": 300, "seed": )" + std::to_string(seed) +
-                      R"(, "box_min": [-10, 0, -10], "box_max": [10, 20, 10], "radius": [0.2, 0.6], "mass": [1, 3], "speed": [0, 4]}}])");
+    return scene_text(
+        R"("gravity": [0, 0, 0], "spheres": [{"random": {"count": 300, "seed": )" + std::to_string(seed) +
+        R"(, "box_min": [-10, 0, -10], "box_max": [10, 20, 10], "radius": [0.2, 0.6], "mass": [1, 3], "speed": [0, 4]}}])");
   };
   Scene a = parse_scene_text(random_scene(7), "a.json");
   Scene b = parse_scene_text(random_scene(7), "b.json");
@@ -362,9 +398,11 @@ TEST_CASE("scene files: --dump-state writes spheres in the order they were added
   for (int k = 0; k < 40; ++k)
     list += std::string(k ? ", " : "") + "{\"position\": [" + std::to_string(40 - k) + ", " + std::to_string(k % 3) +
             ", 0], \"velocity\": [0.5, 0, 0.25]}";
-  Scene scene = parse_scene_text(scene_text(R"("settings": {"reorder_interval": 1}, "planes": [{"normal": [0, 1, 0], "offset": -1}],
-                                                "spheres": [{"list": [)" + list + "]}]"),
-                                 "dump.json");
+  Scene scene = parse_scene_text(
+      scene_text(R"("settings": {"reorder_interval": 1}, "planes": [{"normal": [0, 1, 0], "offset": -1}],
+                                                "spheres": [{"list": [)" +
+                 list + "]}]"),
+      "dump.json");
   for (int k = 0; k < 10; ++k) scene.world->step(scene.dt);
   REQUIRE(scene.world->slot_of(scene.ids[0]) != 0);
 
@@ -397,7 +435,8 @@ TEST_CASE("scene files: --dump-state writes spheres in the order they were added
 TEST_CASE("scene files: nesting deeper than 64 levels is refused before anything recurses", "[scene_file]") {
   auto nested = [](int levels) { return std::string(levels, '[') + std::string(levels, ']'); };
   // The top-level object is one level: "dt" may hold 63 more (refused by the schema only).
-  CHECK(error_of(scene_text("\"dt\": " + nested(63))).find("scene.json: dt: must be a number, got array [[[[") != std::string::npos);
+  CHECK(error_of(scene_text("\"dt\": " + nested(63))).find("scene.json: dt: must be a number, got array [[[[") !=
+        std::string::npos);
   const std::string too_deep = error_of(scene_text("\"dt\": " + nested(64)));
   CHECK(too_deep.find("scene.json: dt[0][0]") == 0);
   CHECK(too_deep.find("arrays and objects nest deeper than 64 levels") != std::string::npos);
@@ -405,7 +444,8 @@ TEST_CASE("scene files: nesting deeper than 64 levels is refused before anything
   const std::string crash = error_of(scene_text("\"dt\": " + nested(60'000)));
   CHECK(crash.find("nest deeper than 64 levels") != std::string::npos);
   CHECK(crash.size() < 400);
-  CHECK(error_of(scene_text("\"spheres\": [{\"list\": [{\"position\": [0, 0, 0], \"velocity\": " + nested(60'000) + "}]}]"))
+  CHECK(error_of(
+            scene_text("\"spheres\": [{\"list\": [{\"position\": [0, 0, 0], \"velocity\": " + nested(60'000) + "}]}]"))
             .find("scene.json: spheres[0].list[0].velocity[0]") == 0);
 }
 
@@ -435,14 +475,19 @@ TEST_CASE("scene files: numbers beyond a double, or beyond the field's range, na
       {R"("dt": 1e999)", "scene.json: dt: must be a finite number (a double holds up to about 1.8e308)"},
       {R"("dt": -1e400)", "scene.json: dt: must be a finite number"},
       {R"("dt": 1e-400)", "scene.json: dt: must be > 0, got 0.0"},
-      {R"("spheres": [{"lattice": {"count": 1e400}}])", "scene.json: spheres[0].lattice.count: must be a finite number"},
-      {R"("spheres": [{"lattice": {"count": 2.5}}])", "scene.json: spheres[0].lattice.count: must be an integer, got 2.5"},
-      {R"("spheres": [{"lattice": {"count": 1e-400}}])", "scene.json: spheres[0].lattice.count: must be an integer, got 0.0"},
+      {R"("spheres": [{"lattice": {"count": 1e400}}])",
+       "scene.json: spheres[0].lattice.count: must be a finite number"},
+      {R"("spheres": [{"lattice": {"count": 2.5}}])",
+       "scene.json: spheres[0].lattice.count: must be an integer, got 2.5"},
+      {R"("spheres": [{"lattice": {"count": 1e-400}}])",
+       "scene.json: spheres[0].lattice.count: must be an integer, got 0.0"},
       {R"("spheres": [{"lattice": {"count": -1}}])", "scene.json: spheres[0].lattice.count: must be >= 0, got -1"},
       {R"("spheres": [{"lattice": {"count": 18446744073709551615}}])",
        "scene.json: spheres[0].lattice.count: must be <= 100000000, got 18446744073709551615"},
-      {R"("spheres": [{"lattice": {"count": 18446744073709551616}}])", "scene.json: spheres[0].lattice.count: must be an integer"},
-      {R"("spheres": [{"lattice": {"count": -9223372036854775809}}])", "scene.json: spheres[0].lattice.count: must be an integer"},
+      {R"("spheres": [{"lattice": {"count": 18446744073709551616}}])",
+       "scene.json: spheres[0].lattice.count: must be an integer"},
+      {R"("spheres": [{"lattice": {"count": -9223372036854775809}}])",
+       "scene.json: spheres[0].lattice.count: must be an integer"},
       {R"("steps": 99999999999)", "scene.json: steps: must be <= 2147483647, got 99999999999"},
       {R"("gravity": [0, 1e39, 0])", "scene.json: gravity[1]: must be a finite number within float range"},
       {R"("spheres": [{"random": {"count": 1, "seed": -1, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])",
@@ -460,12 +505,15 @@ TEST_CASE("scene files: numbers beyond a double, or beyond the field's range, na
 TEST_CASE("scene files: a key given twice in one object is refused by name and path", "[scene_file]") {
   CHECK(error_of(scene_text(R"("dt": 0.01, "dt": 0.02)")) ==
         "scene.json: duplicate key \"dt\" at top level (a key may be given once)");
-  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0], "radius": 1, "radius": 2}]}])")) ==
-        "scene.json: spheres[0].list[1]: duplicate key \"radius\" (a key may be given once)");
+  CHECK(
+      error_of(scene_text(
+          R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0], "radius": 1, "radius": 2}]}])")) ==
+      "scene.json: spheres[0].list[1]: duplicate key \"radius\" (a key may be given once)");
   CHECK(error_of(scene_text(R"("settings": {"depenetration": {"fraction": 0.5, "fraction": 0.5}})")) ==
         "scene.json: settings.depenetration: duplicate key \"fraction\" (a key may be given once)");
   // The same key in different objects is fine.
-  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0]}]}])")) == "(no error)");
+  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [0, 2, 0]}]}])")) ==
+        "(no error)");
 }
 
 TEST_CASE("scene files: terrain fields that would overflow a float are named", "[scene_file]") {
@@ -480,9 +528,11 @@ TEST_CASE("scene files: terrain fields that would overflow a float are named", "
        "scene.json: terrain.cell_size: times the 2 cells along z is beyond float range"},
       {R"("terrain": {"function": "flat", "cell_size": 1e36, "origin": [3e38, 0, 0]})",
        "scene.json: terrain.origin: plus the terrain's x extent is beyond float range"},
-      {R"("terrain": {"function": "bowl", "coefficient": 1e38})", "scene.json: terrain.coefficient: hail: Heightmap::from_function"},
+      {R"("terrain": {"function": "bowl", "coefficient": 1e38})",
+       "scene.json: terrain.coefficient: hail: Heightmap::from_function"},
       {R"("terrain": {"heightmap": "none.pgm", "height_scale": 1e35})",
-       "scene.json: terrain.height_scale: times the largest sample (65535), plus height_offset and origin.y, is beyond float range"},
+       "scene.json: terrain.height_scale: times the largest sample (65535), plus height_offset and origin.y, is beyond "
+       "float range"},
   };
   for (const Case& c : cases) {
     const std::string message = error_of(scene_text(c.body));
@@ -497,10 +547,12 @@ TEST_CASE("scene files: terrain fields that would overflow a float are named", "
     for (int k = 0; k < 600; ++k) pgm << "1 ";
   }
   try {
-    (void)parse_scene_text(scene_text(R"("terrain": {"heightmap": "map.pgm", "cell_size": 3e36})"), "scene.json", {}, dir.string());
+    (void)parse_scene_text(scene_text(R"("terrain": {"heightmap": "map.pgm", "cell_size": 3e36})"), "scene.json", {},
+                           dir.string());
     FAIL("no error");
   } catch (const std::invalid_argument& e) {
-    CHECK(std::string(e.what()).find("scene.json: terrain.cell_size: times the 299 cells along x is beyond float range") == 0);
+    CHECK(std::string(e.what()).find(
+              "scene.json: terrain.cell_size: times the 299 cells along x is beyond float range") == 0);
   }
   std::filesystem::remove_all(dir);
 }
@@ -512,27 +564,37 @@ TEST_CASE("scene files: sphere counts and terrain sizes are checked against the 
   const std::string many = error_of(scene_text(R"("spheres": [{"lattice": {"count": 100000000}}])"), limited);
   INFO(many);
   CHECK(many.find("scene.json: spheres: making 100000000 spheres needs about 210 GB (2100 bytes a sphere") == 0);
-  CHECK(many.find("over the memory limit of 1.00 GB (test); --memory-limit GB sets it, 0 turns the check off") != std::string::npos);
+  CHECK(many.find("over the memory limit of 1.00 GB (test); --memory-limit GB sets it, 0 turns the check off") !=
+        std::string::npos);
   // Every generator counts: two lattices each within the limit, together over it.
   const std::string two = error_of(
-      scene_text(R"("spheres": [{"lattice": {"count": 300000}}, {"random": {"count": 300000, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])"),
+      scene_text(
+          R"("spheres": [{"lattice": {"count": 300000}}, {"random": {"count": 300000, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1]}}])"),
       limited);
   CHECK(two.find("scene.json: spheres: making 600000 spheres needs about 1.26 GB") == 0);
   // --spheres replaces the count, and is checked the same way.
   SceneOverrides resized = limited;
   resized.spheres = 1'000'000;
-  CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 4}}])"), resized).find("making 1000000 spheres") != std::string::npos);
+  CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 4}}])"), resized).find("making 1000000 spheres") !=
+        std::string::npos);
   // Used to allocate for 12 s and die: a 65,536 x 4,096 terrain.
-  const std::string terrain = error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]})"), limited);
-  CHECK(terrain.find("scene.json: terrain.size: a 65536 x 4096 terrain needs about 161 GB (600 bytes a cell while it is built)") == 0);
+  const std::string terrain =
+      error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]})"), limited);
+  CHECK(
+      terrain.find(
+          "scene.json: terrain.size: a 65536 x 4096 terrain needs about 161 GB (600 bytes a cell while it is built)") ==
+      0);
   // Too many spheres are refused before the terrain is built (it alone would be refused too).
   CHECK(error_of(scene_text(R"("terrain": {"function": "flat", "size": [65536, 4096]},
-                             "spheres": [{"lattice": {"count": 100000000}}])"), limited)
+                             "spheres": [{"lattice": {"count": 100000000}}])"),
+                 limited)
             .find("scene.json: spheres: making 100000000 spheres") == 0);
   // The terrain counts against the spheres' share.
   const std::string both = error_of(scene_text(R"("terrain": {"function": "flat", "size": [1024, 1024]},
-                                                  "spheres": [{"lattice": {"count": 300000}}])"), limited);
-  CHECK(both.find("scene.json: spheres: making 300000 spheres needs about 1.26 GB (2100 bytes a sphere, the most measured: docs/benchmarks.md, Memory; the terrain 628 MB)") == 0);
+                                                  "spheres": [{"lattice": {"count": 300000}}])"),
+                                    limited);
+  CHECK(both.find("scene.json: spheres: making 300000 spheres needs about 1.26 GB (2100 bytes a sphere, the most "
+                  "measured: docs/benchmarks.md, Memory; the terrain 628 MB)") == 0);
   // Within the limit: built.
   CHECK(error_of(scene_text(R"("spheres": [{"lattice": {"count": 1000}}])"), limited) == "(no error)");
 
@@ -551,10 +613,13 @@ TEST_CASE("scene files: sphere counts and terrain sizes are checked against the 
     const std::string message = e.what();
     INFO(message);
     CHECK(message.find("scene.json: terrain.heightmap: hail: ") == 0);
-    CHECK(message.find("300 x 300 = 90000 vertices exceeds HeightmapParams::max_vertices = 16666") != std::string::npos);
-    CHECK(message.find("the memory limit of 10.0 MB (test) allows 16666 vertices; --memory-limit GB sets it") != std::string::npos);
+    CHECK(message.find("300 x 300 = 90000 vertices exceeds HeightmapParams::max_vertices = 16666") !=
+          std::string::npos);
+    CHECK(message.find("the memory limit of 10.0 MB (test) allows 16666 vertices; --memory-limit GB sets it") !=
+          std::string::npos);
   }
-  CHECK(parse_scene_text(scene_text(R"("terrain": {"heightmap": "big.pgm"})"), "scene.json", limited, dir.string()).has_terrain);
+  CHECK(parse_scene_text(scene_text(R"("terrain": {"heightmap": "big.pgm"})"), "scene.json", limited, dir.string())
+            .has_terrain);
   std::filesystem::remove_all(dir);
 }
 
@@ -592,7 +657,8 @@ float radius_of_sphere(const Scene& scene, std::size_t k) {
 
 }  // namespace
 
-TEST_CASE("scene files: a density instead of a mass makes each sphere's mass from its radius", "[scene_file][density]") {
+TEST_CASE("scene files: a density instead of a mass makes each sphere's mass from its radius",
+          "[scene_file][density]") {
   const Scene scene = parse_scene_text(scene_text(R"("material": {"radius": 0.5, "density": 1000},
       "spheres": [
         {"list": [{"position": [0, 0, 0]}, {"position": [3, 0, 0], "radius": 2}, {"position": [9, 0, 0], "mass": 7},
@@ -634,7 +700,8 @@ TEST_CASE("scene files: a density instead of a mass makes each sphere's mass fro
   CHECK(distinct_densities > 10);
 }
 
-TEST_CASE("scene files: mass and density together, or a density out of range, are refused by name", "[scene_file][density]") {
+TEST_CASE("scene files: mass and density together, or a density out of range, are refused by name",
+          "[scene_file][density]") {
   const std::string list_head = R"("spheres": [{"list": [)";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {scene_text(list_head + R"({"position": [0, 0, 0], "mass": 1, "density": 1000}]}])"),
@@ -642,29 +709,36 @@ TEST_CASE("scene files: mass and density together, or a density out of range, ar
       {scene_text(R"("material": {"mass": 1, "density": 1000})"), "scene.json: material: give \"mass\" or \"density\""},
       {scene_text(R"("spheres": [{"lattice": {"count": 2, "mass": 1, "density": 1}}])"),
        "scene.json: spheres[0].lattice: give \"mass\" or \"density\""},
-      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "mass": 1, "density": 1}}])"),
+      {scene_text(
+           R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "mass": 1, "density": 1}}])"),
        "scene.json: spheres[0].random: give \"mass\" or \"density\""},
-      {scene_text(list_head + R"({"position": [0, 0, 0], "density": 0}]}])"), "scene.json: spheres[0].list[0].density: must be > 0, got 0"},
-      {scene_text(list_head + R"({"position": [0, 0, 0], "density": -5}]}])"), "scene.json: spheres[0].list[0].density: must be > 0, got -5"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": 0}]}])"),
+       "scene.json: spheres[0].list[0].density: must be > 0, got 0"},
+      {scene_text(list_head + R"({"position": [0, 0, 0], "density": -5}]}])"),
+       "scene.json: spheres[0].list[0].density: must be > 0, got -5"},
       {scene_text(list_head + R"({"position": [0, 0, 0], "density": "heavy"}]}])"),
        "scene.json: spheres[0].list[0].density: must be a number, got string \"heavy\""},
       {scene_text(list_head + R"({"position": [0, 0, 0], "density": 1e39}]}])"),
        "scene.json: spheres[0].list[0].density: must be a finite number within float range"},
       {scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1000, "density": 1e6}]}])"),
-       "scene.json: spheres[0].list[0].density: density 1e+06 kg/m^3 and radius 1000 m give a mass of 4.18879e+15 kg, more than "
+       "scene.json: spheres[0].list[0].density: density 1e+06 kg/m^3 and radius 1000 m give a mass of 4.18879e+15 kg, "
+       "more than "
        "the World's limit of 1e12 kg (kMaxSphereMass)"},
       {scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1e-5, "density": 1e-3}]}])"),
        "give a mass of 4.18879e-18 kg, less than the World's limit of 1e-12 kg (kMinSphereMass)"},
       // Inherited from the material, the message names the sphere that makes it too heavy.
-      {scene_text(R"("material": {"density": 1e6}, "spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [9, 0, 0], "radius": 1000}]}])"),
+      {scene_text(
+           R"("material": {"density": 1e6}, "spheres": [{"list": [{"position": [0, 0, 0]}, {"position": [9, 0, 0], "radius": 1000}]}])"),
        "scene.json: spheres[0].list[1]: density 1e+06 kg/m^3 and radius 1000 m give a mass of"},
       // A random generator's extremes bound every sphere it draws: refused before any is made.
       {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1],
                                               "radius": [1, 1000], "density": [1, 1e6]}}])"),
        "scene.json: spheres[0].random.density: density 1e+06 kg/m^3 and radius 1000 m give a mass of"},
-      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "density": [2, 1]}}])"),
+      {scene_text(
+           R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "density": [2, 1]}}])"),
        "scene.json: spheres[0].random.density: min must be <= max"},
-      {scene_text(R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "radius_distribution": "log"}}])"),
+      {scene_text(
+           R"("spheres": [{"random": {"count": 2, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "radius_distribution": "log"}}])"),
        "scene.json: spheres[0].random.radius_distribution: must be one of \"uniform\", \"log-uniform\", got \"log\""},
       {scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0], "radius_distribution": "uniform"}]}])"),
        "scene.json: spheres[0].list[0]: unknown key \"radius_distribution\""},
@@ -675,7 +749,8 @@ TEST_CASE("scene files: mass and density together, or a density out of range, ar
     CHECK(message.find(expected) != std::string::npos);
   }
   // A static sphere has no mass: any density is accepted for it.
-  CHECK(error_of(scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1000, "density": 1e6, "static": true}]}])")) ==
+  CHECK(error_of(
+            scene_text(list_head + R"({"position": [0, 0, 0], "radius": 1000, "density": 1e6, "static": true}]}])")) ==
         "(no error)");
 }
 
@@ -713,16 +788,20 @@ TEST_CASE("scene files: log-uniform radii: every decade alike, drawn in the radi
 
   // One value: the draw is made (the sequence does not shift) and gives that value.
   const Scene one = parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 3, "seed": 11, "box_min": [0, 0, 0],
-      "box_max": [9, 9, 9], "radius": 0.3, "radius_distribution": "log-uniform"}}])"), "one.json");
-  const Scene uniform = parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 3, "seed": 11, "box_min": [0, 0, 0],
-      "box_max": [9, 9, 9], "radius": 0.3}}])"), "uniform.json");
+      "box_max": [9, 9, 9], "radius": 0.3, "radius_distribution": "log-uniform"}}])"),
+                                     "one.json");
+  const Scene uniform =
+      parse_scene_text(scene_text(R"("spheres": [{"random": {"count": 3, "seed": 11, "box_min": [0, 0, 0],
+      "box_max": [9, 9, 9], "radius": 0.3}}])"),
+                       "uniform.json");
   for (std::size_t k = 0; k < 3; ++k) {
     CHECK(radius_of_sphere(one, k) == 0.3f);
     CHECK(one.world->position(one.ids[k]) == uniform.world->position(uniform.ids[k]));
   }
 }
 
-TEST_CASE("scene files: wide-mix-rain: radii over two decades at one density, over terrain-rain's terrain", "[scene_file][density]") {
+TEST_CASE("scene files: wide-mix-rain: radii over two decades at one density, over terrain-rain's terrain",
+          "[scene_file][density]") {
   const Scene scene = hail::bench::load_scene_file(kScenes + "wide-mix-rain.json", {.spheres = 500});
   REQUIRE(scene.ids.size() == 500);
   CHECK(scene.has_terrain);
@@ -743,10 +822,10 @@ TEST_CASE("scene files: a function terrain keeps its shape when its origin moves
   // 1e5 m where floats are 7.8 mm apart, a ragged bowl.
   for (const char* function : {R"("terrain-rain")", R"("bowl", "coefficient": 0.002)"}) {
     auto heights_at = [&](const std::string& origin) {
-      const Scene scene = parse_scene_text(
-          scene_text(std::string(R"("terrain": {"function": )") + function + R"(, "size": [64, 48], "cell_size": [1, 0.5], "origin": )" +
-                     origin + "}"),
-          "scene.json");
+      const Scene scene =
+          parse_scene_text(scene_text(std::string(R"("terrain": {"function": )") + function +
+                                      R"(, "size": [64, 48], "cell_size": [1, 0.5], "origin": )" + origin + "}"),
+                           "scene.json");
       const hail::Heightmap& h = scene.world->terrain()->heightmap();
       return std::vector<float>(h.heights().begin(), h.heights().end());
     };
@@ -758,8 +837,10 @@ TEST_CASE("scene files: a function terrain keeps its shape when its origin moves
     CHECK(heights_at("[0, 2, 0]")[7] == home[7] + 2.0f);
   }
   const Scene far = parse_scene_text(
-      scene_text(R"("terrain": {"function": "terrain-rain", "size": [64, 48], "origin": [100000, 0, -100000]})"), "scene.json");
+      scene_text(R"("terrain": {"function": "terrain-rain", "size": [64, 48], "origin": [100000, 0, -100000]})"),
+      "scene.json");
   CHECK(far.min_x == 100000.0f);
   CHECK(far.max_z == -100000.0f + 47.0f);
-  CHECK(far.ground_height(100000.0f + 5.0f, -100000.0f + 7.0f) == Approx(hail::bench::terrain_rain_height(5.0f, 7.0f)).margin(1e-5));
+  CHECK(far.ground_height(100000.0f + 5.0f, -100000.0f + 7.0f) ==
+        Approx(hail::bench::terrain_rain_height(5.0f, 7.0f)).margin(1e-5));
 }

@@ -40,8 +40,10 @@ std::vector<SphereId> build(World& w, float far) {
   w.add_plane({.normal = {-1.0f, 0.0f, 0.0f}, .offset = -(far + 60.0f)});
   std::vector<SphereId> ids;
   for (int k = 0; k < 36; ++k)
-    ids.push_back(w.add_sphere({.position = {far + 10.25f + 4.0f * (k % 6), 4.5f + 0.25f * (k % 3), far + 10.5f + 4.0f * (k / 6)},
-                                .velocity = {3.0f, 0.0f, 0.5f}, .radius = 0.5f}));
+    ids.push_back(
+        w.add_sphere({.position = {far + 10.25f + 4.0f * (k % 6), 4.5f + 0.25f * (k % 3), far + 10.5f + 4.0f * (k / 6)},
+                      .velocity = {3.0f, 0.0f, 0.5f},
+                      .radius = 0.5f}));
   return ids;
 }
 
@@ -53,14 +55,16 @@ WorldSettings two_threads() {
 
 }  // namespace
 
-TEST_CASE("shift_origin moves spheres, planes and terrain together, exactly by whole metres home", "[shift_origin][far_origin]") {
+TEST_CASE("shift_origin moves spheres, planes and terrain together, exactly by whole metres home",
+          "[shift_origin][far_origin]") {
   constexpr float kFar = 4096.0f;
   World w(two_threads());
   const std::vector<SphereId> ids = build(w, kFar);
   for (int k = 0; k < 60; ++k) w.step(1.0f / 60.0f);
   std::vector<Vec3> before;
   for (SphereId id : ids) before.push_back(w.position(id));
-  const std::vector<float> heights(w.terrain()->heightmap().heights().begin(), w.terrain()->heightmap().heights().end());
+  const std::vector<float> heights(w.terrain()->heightmap().heights().begin(),
+                                   w.terrain()->heightmap().heights().end());
   const Terrain* shared = w.terrain();
   const std::uint32_t triangle_count = std::uint32_t(shared->triangles().size());
   const std::vector<std::uint32_t> bvh_order = shared->bvh().primitive_order;
@@ -109,7 +113,9 @@ TEST_CASE("shift_origin: stepping after the shift follows the unshifted world", 
   for (int k = 0; k < 90; ++k) {
     far.step(1.0f / 60.0f), home.step(1.0f / 60.0f);
     for (std::size_t i = 0; i < far_ids.size(); ++i)
-      worst = std::max(worst, (home.position(home_ids[i]) + Vec3(kFar, 0.0f, kFar) - far.position(far_ids[i])).cwiseAbs().maxCoeff());
+      worst = std::max(
+          worst,
+          (home.position(home_ids[i]) + Vec3(kFar, 0.0f, kFar) - far.position(far_ids[i])).cwiseAbs().maxCoeff());
   }
   INFO("largest difference " << worst << " m");
   CHECK(worst <= 0.15f);

@@ -8,9 +8,9 @@
 
 #include "catch.h"
 #include "hail/heightmap.h"
+#include "hail/world.h"
 #include "kernel/solver/shock_propagation.h"
 #include "kernel/terrain/terrain_parts.h"
-#include "hail/world.h"
 
 using namespace hail;
 
@@ -78,7 +78,8 @@ TEST_CASE("A 1 : 100 : 10,000 kg stack stands with shock propagation and sinks w
     const float masses[3] = {1.0f, 100.0f, 1e4f};
     SphereId bottom{};
     for (int k = 0; k < 3; ++k) {
-      const SphereId id = world.add_sphere({.position = {32.0f, 0.5f + k * 1.0f, 32.0f}, .radius = 0.5f, .mass = masses[k]});
+      const SphereId id =
+          world.add_sphere({.position = {32.0f, 0.5f + k * 1.0f, 32.0f}, .radius = 0.5f, .mass = masses[k]});
       if (k == 0) bottom = id;
     }
     float deepest = 0.0f;
@@ -102,7 +103,8 @@ TEST_CASE("Equal masses never run the shock pass", "[shock]") {
   World world;
   world.set_terrain(std::make_shared<const Terrain>(
       Heightmap::from_function(32, 32, HeightmapParams{}, [](float, float) { return 0.0f; })));
-  for (int k = 0; k < 5; ++k) world.add_sphere({.position = {16.0f, 0.5f + k * 1.0f, 16.0f}, .radius = 0.5f, .mass = 2.0f});
+  for (int k = 0; k < 5; ++k)
+    world.add_sphere({.position = {16.0f, 0.5f + k * 1.0f, 16.0f}, .radius = 0.5f, .mass = 2.0f});
   for (int step = 0; step < 30; ++step) {
     world.step(1.0f / 60.0f);
     CHECK_FALSE(world.last_step_stats().ran.shock);

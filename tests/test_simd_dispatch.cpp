@@ -13,19 +13,19 @@
 #include <span>
 #include <vector>
 
+#include "bench/scenes/solver_problems.h"
 #include "catch.h"
-#include "kernel/solver/contact_solve_simd.h"
 #include "hail/errors.h"
 #include "hail/features.h"
+#include "hail/world.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
+#include "kernel/broadphase/sphere_grid.h"
+#include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/ccd/path_box_scan.h"
 #include "kernel/dispatch/kernel_table.h"
-#include "kernel/broadphase/sphere_pairs.h"
-#include "kernel/broadphase/sphere_grid.h"
-#include "kernel/broadphase/sorted_axis_pairs.h"
+#include "kernel/solver/contact_solve_simd.h"
 #include "kernel/terrain/terrain_parts.h"
-#include "hail/world.h"
 #include "simd_paths.h"
-#include "bench/scenes/solver_problems.h"
 
 using namespace hail;
 using hail::bench::SolverProblem, hail::bench::random_contacts, hail::bench::same_bits;
@@ -34,7 +34,9 @@ using hail::testing::supported_paths;
 
 namespace {
 
-float hills(float x, float z) { return 3.0f * std::sin(0.15f * x) * std::cos(0.11f * z) + 1.5f * std::sin(0.4f * x + 0.3f * z); }
+float hills(float x, float z) {
+  return 3.0f * std::sin(0.15f * x) * std::cos(0.11f * z) + 1.5f * std::sin(0.4f * x + 0.3f * z);
+}
 
 /// n spheres in a box of side `side`, radii 0.2..0.7 (three sweep classes with `giants`),
 /// random velocities up to `speed`.
@@ -44,9 +46,21 @@ SphereSoA random_spheres(std::size_t n, float side, float speed, std::uint32_t s
   SphereSoA s;
   for (std::size_t k = 0; k < n; ++k) {
     const float r = giants && k % 50 == 0 ? 3.0f : 0.2f + 0.5f * u(rng);
-    s.add({.px = side * u(rng), .py = side * u(rng), .pz = side * u(rng), .vx = speed * v(rng), .vy = speed * v(rng),
-           .vz = speed * v(rng), .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = 1.0f, .inv_inertia = 1.0f,
-           .restitution = 0.5f, .friction = 0.5f, .flags = 0});
+    s.add({.px = side * u(rng),
+           .py = side * u(rng),
+           .pz = side * u(rng),
+           .vx = speed * v(rng),
+           .vy = speed * v(rng),
+           .vz = speed * v(rng),
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = r,
+           .inv_mass = 1.0f,
+           .inv_inertia = 1.0f,
+           .restitution = 0.5f,
+           .friction = 0.5f,
+           .flags = 0});
   }
   return s;
 }
@@ -187,13 +201,15 @@ TEST_CASE("Every SIMD path's contact passes equal the scalar rules bit for bit",
         }
         batches.store_impulses(simd.contacts);
         CHECK(same_bits(simd, scalar));  // the bounce impulses included
-        if (count >= 16)  // (3 random contacts need not bounce)
-          CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(), [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
+        if (count >= 16)                 // (3 random contacts need not bounce)
+          CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(),
+                            [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
       }
   }
 }
 
-TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single scalar walks", "[simd][dispatch][terrain]") {
+TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single scalar walks",
+          "[simd][dispatch][terrain]") {
   const Terrain terrain(Heightmap::from_function(40, 40, {}, hills), 4);
   // Spheres resting on, hovering over and sunk into the surface, some fast.
   std::mt19937 rng(5);
@@ -202,9 +218,21 @@ TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single 
   for (int k = 0; k < 301; ++k) {
     const float x = 1.0f + 37.0f * u(rng), z = 1.0f + 37.0f * u(rng), r = 0.2f + 0.6f * u(rng);
     const float fall = k % 23 == 0 ? -200.0f : -6.0f * u(rng);
-    s.add({.px = x, .py = hills(x, z) + r * (2.0f * u(rng) - 0.3f), .pz = z, .vx = 2.0f * u(rng), .vy = fall,
-           .vz = 0.0f, .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
-           .inv_inertia = 1.0f, .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+    s.add({.px = x,
+           .py = hills(x, z) + r * (2.0f * u(rng) - 0.3f),
+           .pz = z,
+           .vx = 2.0f * u(rng),
+           .vy = fall,
+           .vz = 0.0f,
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = r,
+           .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
+           .inv_inertia = 1.0f,
+           .restitution = 0.3f,
+           .friction = 0.7f,
+           .flags = 0});
   }
   // The packet queries also get two spheres with a NaN coordinate, mid-packet: they touch no
   // box, in the scalar test and in every lane of the packet test alike.
@@ -214,8 +242,9 @@ TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single 
   z[40] = std::numeric_limits<float>::quiet_NaN();
   std::uint64_t scalar_hits = 0;
   for (std::size_t i = 0; i < s.size(); ++i)
-    query_sphere(terrain.bvh(), x[i], y[i], z[i], r[i],
-                 [&](std::uint32_t k) { scalar_hits += sphere_overlaps(terrain.triangle_bounds()[k], x[i], y[i], z[i], r[i]); });
+    query_sphere(terrain.bvh(), x[i], y[i], z[i], r[i], [&](std::uint32_t k) {
+      scalar_hits += sphere_overlaps(terrain.triangle_bounds()[k], x[i], y[i], z[i], r[i]);
+    });
   REQUIRE(scalar_hits > 0);
   CHECK_FALSE(sphere_overlaps(terrain.triangle_bounds()[0], x[5], y[5], z[5], 1e30f));
   for (const bool sweep_fast : {false, true}) {
@@ -244,7 +273,8 @@ TEST_CASE("Every SIMD path's terrain contacts and packet walks equal the single 
   }
 }
 
-TEST_CASE("Every SIMD path's packet push-out moves spheres exactly as Terrain::push_out does one by one", "[simd][dispatch][terrain]") {
+TEST_CASE("Every SIMD path's packet push-out moves spheres exactly as Terrain::push_out does one by one",
+          "[simd][dispatch][terrain]") {
   for (const std::uint32_t leaf : {1u, 4u, 8u}) {
     const Terrain terrain(Heightmap::from_function(40, 40, {}, hills), leaf);
     // Spheres sunk into the surface by up to a radius and more, some above it, some off the
@@ -254,16 +284,29 @@ TEST_CASE("Every SIMD path's packet push-out moves spheres exactly as Terrain::p
     SphereSoA start;
     for (int k = 0; k < 203; ++k) {
       const float x = -2.0f + 43.0f * u(rng), z = -2.0f + 43.0f * u(rng), r = 0.2f + 0.6f * u(rng);
-      start.add({.px = x, .py = hills(x, z) + r * (1.5f - 3.0f * u(rng)), .pz = z, .vx = 0.0f, .vy = 0.0f, .vz = 0.0f,
-                 .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = 1.0f, .inv_inertia = 1.0f,
-                 .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+      start.add({.px = x,
+                 .py = hills(x, z) + r * (1.5f - 3.0f * u(rng)),
+                 .pz = z,
+                 .vx = 0.0f,
+                 .vy = 0.0f,
+                 .vz = 0.0f,
+                 .wx = 0.0f,
+                 .wy = 0.0f,
+                 .wz = 0.0f,
+                 .radius = r,
+                 .inv_mass = 1.0f,
+                 .inv_inertia = 1.0f,
+                 .restitution = 0.3f,
+                 .friction = 0.7f,
+                 .flags = 0});
     }
     // Every third sphere, so that the packets hold spheres that are not neighbours in the SoA.
     std::vector<std::uint32_t> slots;
     for (std::uint32_t i = 0; i < start.size(); i += 3) slots.push_back(i);
     SphereSoA reference = start;
     std::size_t reference_moved = 0;
-    for (std::uint32_t i : slots) reference_moved += terrain.push_out(reference.px[i], reference.py[i], reference.pz[i], reference.radius[i]);
+    for (std::uint32_t i : slots)
+      reference_moved += terrain.push_out(reference.px[i], reference.py[i], reference.pz[i], reference.radius[i]);
     REQUIRE(reference_moved > 10);
     REQUIRE(reference_moved < slots.size());
     for (SimdPath p : supported_paths()) {
@@ -277,7 +320,8 @@ TEST_CASE("Every SIMD path's packet push-out moves spheres exactly as Terrain::p
   }
 }
 
-TEST_CASE("Every SIMD path's batch closest points equal closest_point_on_triangle in every region", "[simd][dispatch][terrain]") {
+TEST_CASE("Every SIMD path's batch closest points equal closest_point_on_triangle in every region",
+          "[simd][dispatch][terrain]") {
   // Points around random triangles, some of them degenerate (a repeated vertex, three in a
   // line), and a few NaN points, so that each of the seven regions and the last resort (no
   // region test holds, as for a NaN: vertex a) come up.
@@ -341,7 +385,8 @@ TEST_CASE("Every SIMD path's path-box scan visits exactly the scalar reference's
   }
 }
 
-TEST_CASE("A small terrain scene has the same state hash on every SIMD path", "[simd][dispatch][determinism][threads]") {
+TEST_CASE("A small terrain scene has the same state hash on every SIMD path",
+          "[simd][dispatch][determinism][threads]") {
   // Brute force and sweep and prune (the two SIMD pair searches), contacts batched by the path's
   // width, the packet walk, the path-box scan of the fast spheres: bitwise the same state.
   for (const PairSearch search : {PairSearch::BruteForce, PairSearch::SweepAndPrune}) {
@@ -349,7 +394,8 @@ TEST_CASE("A small terrain scene has the same state hash on every SIMD path", "[
     for (SimdPath p : supported_paths()) {
       const ScopedSimdPath path(p);
       const std::uint64_t hash = small_scene_hash(search, 2);
-      INFO("path " << simd_path_name(p) << ", pair search " << static_cast<int>(search) << ", hash " << std::hex << hash);
+      INFO("path " << simd_path_name(p) << ", pair search " << static_cast<int>(search) << ", hash " << std::hex
+                   << hash);
       if (first == 0) first = hash;
       CHECK(hash == first);
     }

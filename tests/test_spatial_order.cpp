@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "catch.h"
-#include "kernel/geometry/morton.h"
-#include "kernel/broadphase/spatial_order.h"
 #include "hail/world.h"
+#include "kernel/broadphase/spatial_order.h"
+#include "kernel/geometry/morton.h"
 
 TEST_CASE("morton_slot_order is a permutation sorted by Morton code, ties by slot", "[soa][order]") {
   hail::SphereSoA s;
@@ -82,7 +82,8 @@ TEST_CASE("The re-sort's parts run over blocks in any order give morton_slot_ord
   CHECK(different == 0);
 }
 
-TEST_CASE("A world of several re-sort blocks re-sorts to the same state on 1, 2 and 3 threads", "[soa][order][determinism][threads]") {
+TEST_CASE("A world of several re-sort blocks re-sorts to the same state on 1, 2 and 3 threads",
+          "[soa][order][determinism][threads]") {
   // More spheres than one block of the parallel re-sort (16,384), re-sorted every step.
   auto run = [](int threads) {
     hail::WorldSettings settings;
@@ -97,7 +98,8 @@ TEST_CASE("A world of several re-sort blocks re-sorts to the same state on 1, 2 
     for (std::size_t slot = 0; slot < 8; ++slot) first_ids.push_back(world.soa().id_at(slot));
     for (int step = 0; step < 6; ++step) world.step(1.0f / 60.0f);
     std::size_t moved = 0;
-    for (std::size_t slot = 0; slot < first_ids.size(); ++slot) moved += world.slot_of(first_ids[slot]) != static_cast<std::int64_t>(slot);
+    for (std::size_t slot = 0; slot < first_ids.size(); ++slot)
+      moved += world.slot_of(first_ids[slot]) != static_cast<std::int64_t>(slot);
     CHECK(moved > 0);  // the slots really were re-sorted
     return world.state_hash();
   };
@@ -118,7 +120,8 @@ TEST_CASE("Handles keep naming their spheres across Morton re-sorts", "[soa][ord
   std::vector<float> radius;
   for (int k = 0; k < 500; ++k) {
     radius.push_back(0.2f + 0.0005f * float(k));  // distinct: the radius identifies the sphere
-    ids.push_back(world.add_sphere({.position = {u(rng), 1.0f + 0.5f * (u(rng) + 20.0f), u(rng)}, .radius = radius.back()}));
+    ids.push_back(
+        world.add_sphere({.position = {u(rng), 1.0f + 0.5f * (u(rng) + 20.0f), u(rng)}, .radius = radius.back()}));
   }
   const float x_before = world.position(ids[123]).x();
   for (int step = 0; step < 30; ++step) world.step(1.0f / 60.0f);

@@ -56,7 +56,8 @@ TEST_CASE("Coincident centres give a finite unit normal", "[pairs]") {
 TEST_CASE("Grid pair search returns exactly the brute-force pairs, in order", "[pairs][grid]") {
   const std::size_t n = GENERATE(1, 2, 17, 300, 3000);
   const float margin = GENERATE(0.0f, 0.25f);
-  hail::SphereSoA s = random_cloud(n, 1.0f + 0.5f * std::cbrt(static_cast<float>(n)), static_cast<std::uint32_t>(n + 11));
+  hail::SphereSoA s =
+      random_cloud(n, 1.0f + 0.5f * std::cbrt(static_cast<float>(n)), static_cast<std::uint32_t>(n + 11));
   // Mixed radii: one sphere ten times larger than the rest.
   if (n > 2) s.radius[1] = 3.0f;
   std::vector<hail::SpherePair> brute, grid;

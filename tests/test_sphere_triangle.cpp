@@ -15,14 +15,15 @@ const float Up[3] = {0, 1, 0};
 }  // namespace
 
 TEST_CASE("Closest point lands in the right region", "[sphere-triangle]") {
-  struct Case { float q[3]; TriangleRegion region; float p[3]; };
+  struct Case {
+    float q[3];
+    TriangleRegion region;
+    float p[3];
+  };
   const Case cases[] = {
-      {{0.25f, 2, 0.25f}, TriangleRegion::Face, {0.25f, 0, 0.25f}},
-      {{-1, 1, -1}, TriangleRegion::Vertex0, {0, 0, 0}},
-      {{2, 1, -0.5f}, TriangleRegion::Vertex1, {1, 0, 0}},
-      {{-0.5f, 0, 2}, TriangleRegion::Vertex2, {0, 0, 1}},
-      {{0.5f, 0, -1}, TriangleRegion::Edge0, {0.5f, 0, 0}},
-      {{1, 0, 1}, TriangleRegion::Edge1, {0.5f, 0, 0.5f}},
+      {{0.25f, 2, 0.25f}, TriangleRegion::Face, {0.25f, 0, 0.25f}}, {{-1, 1, -1}, TriangleRegion::Vertex0, {0, 0, 0}},
+      {{2, 1, -0.5f}, TriangleRegion::Vertex1, {1, 0, 0}},          {{-0.5f, 0, 2}, TriangleRegion::Vertex2, {0, 0, 1}},
+      {{0.5f, 0, -1}, TriangleRegion::Edge0, {0.5f, 0, 0}},         {{1, 0, 1}, TriangleRegion::Edge1, {0.5f, 0, 0.5f}},
       {{-1, 0, 0.5f}, TriangleRegion::Edge2, {0, 0, 0.5f}},
   };
   for (const Case& c : cases) {

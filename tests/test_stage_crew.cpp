@@ -7,8 +7,8 @@
 
 #include <oneapi/tbb/task_arena.h>
 
-#include "jobs/stage_crew.h"
 #include "catch.h"
+#include "jobs/stage_crew.h"
 
 namespace {
 

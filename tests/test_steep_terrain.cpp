@@ -11,13 +11,13 @@
 #include <random>
 #include <vector>
 
-#include "catch.h"
-#include "kernel/terrain/terrain_parts.h"
-#include "simd_paths.h"
 #include "bench/scenes/steep_heightmaps.h"
+#include "catch.h"
+#include "hail/world.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/sphere_triangle.h"
-#include "hail/world.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "simd_paths.h"
 
 using namespace hail;
 using hail::bench::SteepKind;
@@ -52,9 +52,21 @@ SphereSoA spheres_above(const Heightmap& h, std::uint32_t seed, int count) {
     const float z = e.min_z + 1.0f + (e.max_z - e.min_z - 2.0f) * u(rng);
     const float r = 0.1f + 0.9f * u(rng);
     const float y = h.surface_height(x, z) + 0.01f + 2.0f * r * u(rng);
-    s.add({.px = x, .py = y, .pz = z, .vx = 4.0f * (u(rng) - 0.5f), .vy = -20.0f * u(rng), .vz = 4.0f * (u(rng) - 0.5f),
-           .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = 1.0f, .inv_inertia = 1.0f,
-           .restitution = 0.3f, .friction = 0.5f, .flags = 0});
+    s.add({.px = x,
+           .py = y,
+           .pz = z,
+           .vx = 4.0f * (u(rng) - 0.5f),
+           .vy = -20.0f * u(rng),
+           .vz = 4.0f * (u(rng) - 0.5f),
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = r,
+           .inv_mass = 1.0f,
+           .inv_inertia = 1.0f,
+           .restitution = 0.3f,
+           .friction = 0.5f,
+           .flags = 0});
   }
   return s;
 }
@@ -141,16 +153,16 @@ TEST_CASE("Steep terrain: no step moves a sphere farther than its speed and its 
         // Integration moves it |v1| dt (a swept fast sphere: its path, at most its fastest speed
         // times dt); depenetration at most by the overlap it then really has.
         const Vec3 integrated = start[i] + v1 * dt;
-        const float overlap = std::max(0.0f, radius[i] - true_distance(*terrain, integrated.x(), integrated.y(),
-                                                                              integrated.z()));
+        const float overlap =
+            std::max(0.0f, radius[i] - true_distance(*terrain, integrated.x(), integrated.y(), integrated.z()));
         const double moved = (p1 - start[i]).norm();
         const double allowed = std::max(v1.norm(), speed_allowed) * dt + overlap + 1e-3 * radius[i];
         worst_excess = std::max(worst_excess, moved - allowed);
         ++moved_checked;
         if (moved > allowed) {
           INFO("map " << hail::bench::steep_kind_name(kind) << " seed " << seed << ": sphere at (" << start[i].x()
-                      << ", " << start[i].y() << ", " << start[i].z() << ") r " << radius[i] << " moved "
-                      << moved << " m, allowed " << allowed << " (overlap " << overlap << ")");
+                      << ", " << start[i].y() << ", " << start[i].z() << ") r " << radius[i] << " moved " << moved
+                      << " m, allowed " << allowed << " (overlap " << overlap << ")");
           CHECK(moved <= allowed);
         }
       }

@@ -32,26 +32,42 @@ TEST_CASE("Stress: radius 0.01 among radius 10", "[stress]") { run_stress_case("
 TEST_CASE("Stress: 1e4 m/s into terrain", "[stress]") { run_stress_case("speed-1e4-into-terrain"); }
 TEST_CASE("Stress: 1e4 m/s into a pile", "[stress]") { run_stress_case("speed-1e4-into-pile"); }
 TEST_CASE("Stress: dt from 1e-5 to 1/20", "[stress]") { run_stress_case("dt-1e-5-to-1/20"); }
-TEST_CASE("Stress: coincident centres, spheres on edges and vertices", "[stress]") { run_stress_case("coincident-and-on-edges"); }
+TEST_CASE("Stress: coincident centres, spheres on edges and vertices", "[stress]") {
+  run_stress_case("coincident-and-on-edges");
+}
 TEST_CASE("Stress: vertical cliff and one-vertex spikes", "[stress]") { run_stress_case("cliff-and-spikes"); }
-TEST_CASE("Stress: terrain-rain at the origin (the baseline of the far cases)", "[stress]") { run_stress_case("rain-at-origin"); }
+TEST_CASE("Stress: terrain-rain at the origin (the baseline of the far cases)", "[stress]") {
+  run_stress_case("rain-at-origin");
+}
 TEST_CASE("Stress: heights of 1e4 m", "[stress]") { run_stress_case("heights-1e4"); }
 TEST_CASE("Stress: 1e4 m from the origin", "[stress]") { run_stress_case("far-1e4"); }
 TEST_CASE("Stress: 1e5 m from the origin", "[stress]") { run_stress_case("far-1e5"); }
 TEST_CASE("Stress: restitution 0/1, friction 0/10, time scale 0/100", "[stress]") {
   run_stress_case("materials-and-time-scale");
 }
-TEST_CASE("Stress: 1.25e5 m from the origin (within kSphereRadiusResolution)", "[stress]") { run_stress_case("far-1.25e5"); }
-TEST_CASE("Stress: time scale 300 and 750 stable, 1e4 refused", "[stress]") { run_stress_case("time-scale-300-and-750"); }
+TEST_CASE("Stress: 1.25e5 m from the origin (within kSphereRadiusResolution)", "[stress]") {
+  run_stress_case("far-1.25e5");
+}
+TEST_CASE("Stress: time scale 300 and 750 stable, 1e4 refused", "[stress]") {
+  run_stress_case("time-scale-300-and-750");
+}
 TEST_CASE("Stress: radius 1e-4 and 1e4 spheres", "[stress]") { run_stress_case("radius-1e-4-and-1e4"); }
 TEST_CASE("Stress: 1,000 spheres at one point", "[stress]") { run_stress_case("coincident-1000"); }
 TEST_CASE("Stress: spheres starting inside the terrain", "[stress]") { run_stress_case("start-inside-terrain"); }
 TEST_CASE("Stress: spheres in a box of planes", "[stress]") { run_stress_case("plane-box"); }
 TEST_CASE("Stress: spheres added and removed between steps", "[stress]") { run_stress_case("add-and-remove"); }
-TEST_CASE("Stress: 500 spheres created at one point on the ground", "[stress]") { run_stress_case("coincident-500-on-ground"); }
+TEST_CASE("Stress: 500 spheres created at one point on the ground", "[stress]") {
+  run_stress_case("coincident-500-on-ground");
+}
 TEST_CASE("Stress: 1,024 spheres 1e4 m out, then shifted home (World::shift_origin)", "[stress][far_origin]") {
   run_stress_case("far-1e4-rain-shifted-home");
 }
-TEST_CASE("Stress: rain on steep real DEMs and generated cliffs, spikes, folds", "[stress][steep]") { run_stress_case("steep-terrain-rain"); }
-TEST_CASE("Stress: rain of radii 0.05-5 m at one density (mass ratio 1e6)", "[stress]") { run_stress_case("wide-mix-rain"); }
-TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") { run_stress_case("bowl-pile-10k-20s"); }
+TEST_CASE("Stress: rain on steep real DEMs and generated cliffs, spikes, folds", "[stress][steep]") {
+  run_stress_case("steep-terrain-rain");
+}
+TEST_CASE("Stress: rain of radii 0.05-5 m at one density (mass ratio 1e6)", "[stress]") {
+  run_stress_case("wide-mix-rain");
+}
+TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") {
+  run_stress_case("bowl-pile-10k-20s");
+}

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "catch.h"
-#include "sample_count.h"
 #include "hail/features.h"
-#include "kernel/terrain/terrain_parts.h"
 #include "hail/world.h"
+#include "kernel/terrain/terrain_parts.h"
+#include "sample_count.h"
 
 using namespace hail;
 
@@ -29,12 +29,15 @@ std::string write_file(const std::string& name, const std::string& bytes) {
 /// Whether triangle k's box touches the sphere: what both the walks (after their leaf
 /// candidates are filtered) and the brute-force scan decide.
 bool triangle_box_hit(const Terrain& t, std::uint32_t k, float x, float y, float z, float r) {
-    FlatNode box{};
-    const TerrainTriangles& s = t.triangles();
-    box.min[0] = std::min({s.v0x[k], s.v1x[k], s.v2x[k]}); box.max[0] = std::max({s.v0x[k], s.v1x[k], s.v2x[k]});
-    box.min[1] = std::min({s.v0y[k], s.v1y[k], s.v2y[k]}); box.max[1] = std::max({s.v0y[k], s.v1y[k], s.v2y[k]});
-    box.min[2] = std::min({s.v0z[k], s.v1z[k], s.v2z[k]}); box.max[2] = std::max({s.v0z[k], s.v1z[k], s.v2z[k]});
-    return sphere_overlaps(box, x, y, z, r);
+  FlatNode box{};
+  const TerrainTriangles& s = t.triangles();
+  box.min[0] = std::min({s.v0x[k], s.v1x[k], s.v2x[k]});
+  box.max[0] = std::max({s.v0x[k], s.v1x[k], s.v2x[k]});
+  box.min[1] = std::min({s.v0y[k], s.v1y[k], s.v2y[k]});
+  box.max[1] = std::max({s.v0y[k], s.v1y[k], s.v2y[k]});
+  box.min[2] = std::min({s.v0z[k], s.v1z[k], s.v2z[k]});
+  box.max[2] = std::max({s.v0z[k], s.v1z[k], s.v2z[k]});
+  return sphere_overlaps(box, x, y, z, r);
 }
 
 std::set<std::uint32_t> brute_force(const Terrain& t, float x, float y, float z, float r) {
@@ -47,14 +50,16 @@ std::set<std::uint32_t> brute_force(const Terrain& t, float x, float y, float z,
 }  // namespace
 
 TEST_CASE("The real DEMs load with their documented height range and non-square cells", "[heightmap]") {
-  HeightmapParams jacksboro{.cell_x = 74.573f, .cell_z = 92.475f, .height_scale = 0.0128175783932f, .height_offset = 236.0f};
+  HeightmapParams jacksboro{
+      .cell_x = 74.573f, .cell_z = 92.475f, .height_scale = 0.0128175783932f, .height_offset = 236.0f};
   const Heightmap a = Heightmap::load_pgm(data("jacksboro_srtm3_403x344.pgm"), jacksboro);
   CHECK(a.cols() == 403);
   CHECK(a.rows() == 344);
   CHECK(a.min_height() == Approx(236.0).margin(0.01));
   CHECK(a.max_height() == Approx(1076.0).margin(0.01));
   CHECK(a.max_z() == Approx(343 * 92.475).epsilon(1e-5));
-  HeightmapParams salish{.cell_x = 2438.758f, .cell_z = 2431.556f, .height_scale = 0.0555733577478f, .height_offset = -1437.0f};
+  HeightmapParams salish{
+      .cell_x = 2438.758f, .cell_z = 2431.556f, .height_scale = 0.0555733577478f, .height_offset = -1437.0f};
   const Heightmap b = Heightmap::load_pgm(data("salish_topobathy_120x91.pgm"), salish);
   CHECK(b.min_height() == Approx(-1437.0).margin(0.03));
   CHECK(b.max_height() == Approx(2205.0).margin(0.03));
@@ -65,7 +70,8 @@ TEST_CASE("The real DEMs load with their documented height range and non-square 
 TEST_CASE("P2 and 8-bit P5 load; every bad file is a FileError naming the file", "[heightmap]") {
   const Heightmap ascii = Heightmap::load_pgm(write_file("ok.pgm", "P2\n# comment\n3 2\n10\n0 1 2\n3 4 10\n"), {});
   CHECK(ascii.height(2, 1) == 10.0f);
-  const Heightmap binary = Heightmap::load_pgm(write_file("ok5.pgm", std::string("P5 2 2 255\n") + "\x01\x02\x03\xff"), {});
+  const Heightmap binary =
+      Heightmap::load_pgm(write_file("ok5.pgm", std::string("P5 2 2 255\n") + "\x01\x02\x03\xff"), {});
   CHECK(binary.height(1, 1) == 255.0f);
   const std::pair<const char*, std::string> bad[] = {
       {"magic.pgm", "P6\n2 2\n255\n\x01\x02\x03\x04"},
@@ -94,14 +100,21 @@ TEST_CASE("P2 and 8-bit P5 load; every bad file is a FileError naming the file",
 }
 
 TEST_CASE("Stackless and stack walks return exactly the brute-force triangle set", "[bvh]") {
-  struct Map { const char* name; std::uint32_t cols, rows; float (*h)(float, float); };
+  struct Map {
+    const char* name;
+    std::uint32_t cols, rows;
+    float (*h)(float, float);
+  };
   const Map maps[] = {
       {"flat", 33, 17, [](float, float) { return 0.0f; }},
       {"single cell", 2, 2, [](float x, float z) { return x * 0.3f + z; }},
       {"1x2 cells", 2, 3, [](float x, float) { return x; }},
       {"cliff", 20, 20, [](float x, float) { return x < 10 ? 0.0f : 50.0f; }},
       {"huge range", 30, 30, [](float x, float z) { return 1e4f * std::sin(x) * std::cos(z); }},
-      {"sines", 64, 64, [](float x, float z) { return 8 * std::sin(0.05f * x) * std::cos(0.07f * z) + 3 * std::sin(0.21f * x + 0.13f * z); }},
+      {"sines", 64, 64,
+       [](float x, float z) {
+         return 8 * std::sin(0.05f * x) * std::cos(0.07f * z) + 3 * std::sin(0.21f * x + 0.13f * z);
+       }},
   };
   std::mt19937 rng(42);
   for (const Map& m : maps) {
@@ -170,8 +183,10 @@ TEST_CASE("Internal edges: every shared edge of a flat map is internal, a sharp 
   const Terrain flat(Heightmap::from_function(6, 6, {}, [](float, float) { return 1.0f; }));
   const Terrain ridge(Heightmap::from_function(6, 6, {}, [](float x, float) { return x <= 2 ? x : 4 - x; }));
   int flat_internal = 0, ridge_internal = 0;
-  for (std::size_t k = 0; k < flat.triangles().size(); ++k) flat_internal += std::popcount(unsigned(flat.triangles().internal_edges[k]));
-  for (std::size_t k = 0; k < ridge.triangles().size(); ++k) ridge_internal += std::popcount(unsigned(ridge.triangles().internal_edges[k]));
+  for (std::size_t k = 0; k < flat.triangles().size(); ++k)
+    flat_internal += std::popcount(unsigned(flat.triangles().internal_edges[k]));
+  for (std::size_t k = 0; k < ridge.triangles().size(); ++k)
+    ridge_internal += std::popcount(unsigned(ridge.triangles().internal_edges[k]));
   // 5x5 cells: edges shared by two triangles = 25 diagonals + 2 * 20 grid edges = 65, counted from both sides.
   CHECK(flat_internal == 2 * 65);
   CHECK(ridge_internal < flat_internal);
@@ -179,14 +194,19 @@ TEST_CASE("Internal edges: every shared edge of a flat map is internal, a sharp 
 }
 
 #if HAIL_WITH_ROTATION  // rolling needs rotation (tests/test_rotation.cpp: without it)
-TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight path and rolls at 5/7 v0", "[terrain]") {
+TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight path and rolls at 5/7 v0",
+          "[terrain]") {
   auto world = std::make_unique<World>(WorldSettings{.threads = 1});
-  world->set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(101, 101, {.cell_x = 0.25f, .cell_z = 0.25f},
-                                                                              [](float, float) { return 0.0f; })),
+  world->set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(
+                         101, 101, {.cell_x = 0.25f, .cell_z = 0.25f}, [](float, float) { return 0.0f; })),
                      0.0f, 0.3f);
   const float v0 = 3.0f;
-  const SphereId id = world->add_sphere({.position = {2, 0.5f, 2.1f}, .velocity = {v0, 0, 0.3f * v0}, .radius = 0.5f,
-                                         .mass = 1, .restitution = 0, .friction = 0.3f});
+  const SphereId id = world->add_sphere({.position = {2, 0.5f, 2.1f},
+                                         .velocity = {v0, 0, 0.3f * v0},
+                                         .radius = 0.5f,
+                                         .mass = 1,
+                                         .restitution = 0,
+                                         .friction = 0.3f});
   double max_height_error = 0;
   for (int k = 0; k < 2000; ++k) {
     world->step(1.0f / 1000);
@@ -195,7 +215,7 @@ TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight
   const Vec3 v = world->velocity(id), p = world->position(id);
   const double speed0 = v0 * std::sqrt(1.09);
   CHECK(std::hypot(v.x(), v.z()) == Approx(5.0 / 7.0 * speed0).epsilon(0.01));
-  CHECK(std::abs(v.y()) < 1e-3);            // no bumps at triangle edges
+  CHECK(std::abs(v.y()) < 1e-3);  // no bumps at triangle edges
   CHECK(max_height_error < 2e-3);
   CHECK(v.z() / v.x() == Approx(0.3).epsilon(1e-3));  // straight path: direction unchanged
   CHECK((p.z() - 2.1) / (p.x() - 2.0) == Approx(0.3).epsilon(1e-3));
@@ -206,12 +226,16 @@ TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight
 TEST_CASE("A sphere rolls down a slope at 5/7 g sin(theta)", "[terrain]") {
   const float theta = 0.2f, g = 9.81f, r = 0.5f;
   auto world = std::make_unique<World>(WorldSettings{.threads = 1});
-  world->set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(
-                         200, 20, {.cell_x = 0.5f, .cell_z = 0.5f}, [&](float x, float) { return -std::tan(theta) * x; })),
-                     0.0f, 1.0f);
+  world->set_terrain(
+      std::make_shared<const Terrain>(Heightmap::from_function(200, 20, {.cell_x = 0.5f, .cell_z = 0.5f},
+                                                               [&](float x, float) { return -std::tan(theta) * x; })),
+      0.0f, 1.0f);
   const float x0 = 5, ground = -std::tan(theta) * x0;
-  const SphereId id = world->add_sphere({.position = {x0 + r * std::sin(theta), ground + r * std::cos(theta), 5}, .radius = r,
-                                         .mass = 1, .restitution = 0, .friction = 1.0f});
+  const SphereId id = world->add_sphere({.position = {x0 + r * std::sin(theta), ground + r * std::cos(theta), 5},
+                                         .radius = r,
+                                         .mass = 1,
+                                         .restitution = 0,
+                                         .friction = 1.0f});
   const float dt = 1.0f / 1000, t_end = 2.0f;
   for (int k = 0; k < int(t_end / dt); ++k) world->step(dt);
   const double along = world->velocity(id).norm();

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "catch.h"
-#include "kernel/solver/contact_cache.h"
 #include "hail/world.h"
+#include "kernel/solver/contact_cache.h"
 
 using namespace hail;
 
@@ -57,7 +57,7 @@ TEST_CASE("The contact cache finds last step's impulses by sphere and feature, a
 
   // Reverse the slots: every sphere moves, pairs may change which sphere comes first.
   const std::uint32_t reversed[4] = {3, 2, 1, 0};
-  s.permute(reversed);  // old slot 0 is now slot 3, 1 -> 2, 2 -> 1, 3 -> 0
+  s.permute(reversed);                  // old slot 0 is now slot 3, 1 -> 2, 2 -> 1, 3 -> 0
   ContactImpulseCache unmoved = cache;  // not told of the permutation: every slot has another sphere
   cache.remap_slots(reversed);
   std::vector<Contact> now;
@@ -66,10 +66,10 @@ TEST_CASE("The contact cache finds last step's impulses by sphere and feature, a
   now.push_back(g);
   g.a = 1, g.feature = 8;  // old sphere 2 on a feature it did not touch: no match
   now.push_back(g);
-  now.push_back(pair(0, 2, 0.0f));  // old spheres 3 and 1: stored as (1, 3)
-  now.push_back(pair(2, 3, 0.0f));  // old spheres 1 and 0: stored as (0, 1)
-  now.push_back(pair(0, 1, 0.0f));  // old spheres 3 and 2: never touched
-  for (Contact& c : now) c.normal_impulse = -1.0f;  // must be overwritten either way
+  now.push_back(pair(0, 2, 0.0f));                     // old spheres 3 and 1: stored as (1, 3)
+  now.push_back(pair(2, 3, 0.0f));                     // old spheres 1 and 0: stored as (0, 1)
+  now.push_back(pair(0, 1, 0.0f));                     // old spheres 3 and 2: never touched
+  for (Contact& c : now) c.normal_impulse = -1.0f;     // must be overwritten either way
   CHECK(unmoved.load(now, 2, 0, now.size(), s) == 0);  // nothing taken for the wrong sphere
   CHECK(std::all_of(now.begin(), now.end(), [](const Contact& c) { return c.normal_impulse == 0.0f; }));
   const std::size_t matched = cache.load(now, 2, 0, now.size(), s);
@@ -91,7 +91,7 @@ TEST_CASE("A tall column sinks far less into the floor with warm starting", "[wa
   const float without = column_sinking(false, 12, 240);
   const float with = column_sinking(true, 12, 240);
   INFO("deepest floor overlap without " << without << " m, with " << with << " m");
-  CHECK(with < 0.02f);         // under 4% of the radius
+  CHECK(with < 0.02f);           // under 4% of the radius
   CHECK(with < 0.5f * without);  // and at most half of what it is without
 }
 

@@ -28,7 +28,8 @@ TEST_CASE("substeps_needed counts in double and never overflows", "[invalid][lim
   CHECK(hail::substeps_needed(s, 1.0f / 60) == 1);
   CHECK(hail::substeps_needed(s, 0.1f) == 2);  // 0.1f is exactly twice 0.05f
   CHECK(hail::substeps_needed(s, 0.11f) == 3);
-  CHECK(hail::substeps_needed(s, 2e8f) == std::int64_t{3999999941});  // past INT_MAX (it wrapped to 1); 0.05f is a hair above 0.05
+  CHECK(hail::substeps_needed(s, 2e8f) ==
+        std::int64_t{3999999941});  // past INT_MAX (it wrapped to 1); 0.05f is a hair above 0.05
   CHECK(hail::substeps_needed(WorldSettings{.time_scale = 0}, 1.0f) == 0);
   WorldSettings extreme;
   extreme.time_scale = 3e38f;
@@ -36,7 +37,7 @@ TEST_CASE("substeps_needed counts in double and never overflows", "[invalid][lim
   CHECK(hail::substeps_needed(extreme, 3e38f) == std::numeric_limits<std::int64_t>::max());
   CHECK_THROWS_AS(hail::substeps_needed(s, kNaN), InvalidArgument);
   CHECK_THROWS_AS(hail::check_step(s, -1.0f), InvalidArgument);
-  CHECK_NOTHROW(hail::check_step(s, 12.0f));  // 240 substeps
+  CHECK_NOTHROW(hail::check_step(s, 12.0f));                     // 240 substeps
   CHECK_THROWS_AS(hail::check_step(s, 13.0f), InvalidArgument);  // 260
 }
 
@@ -87,28 +88,54 @@ TEST_CASE("add_plane normalises a normal whose norm overflows or underflows a fl
   expect_rejected(w, [&] { w.add_plane({.normal = {1e-30f, 0, 0}}); }, {"normal"});
 }
 
-TEST_CASE("add_sphere refuses radii, masses and speeds whose derived quantities leave float range", "[invalid][limits]") {
+TEST_CASE("add_sphere refuses radii, masses and speeds whose derived quantities leave float range",
+          "[invalid][limits]") {
   World w(WorldSettings{.threads = 1});
   w.add_plane({});
   w.add_sphere({.position = {0, 1, 0}, .velocity = {1, 0, 0}});
   w.step(1.0f / 60);
-  auto sphere = [](auto edit) { SphereDesc d{.position = {0, 5, 0}}; edit(d); return d; };
+  auto sphere = [](auto edit) {
+    SphereDesc d{.position = {0, 5, 0}};
+    edit(d);
+    return d;
+  };
   // Radius 1e20 or mass 3e38: an infinite inertia, and kinetic_energy() was NaN.
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 1e20f; })); }, {"radius", "kMaxSphereRadius"});
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 1e-30f; })); }, {"radius", "kMinSphereRadius"});
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 1e20f; })); },
+                  {"radius", "kMaxSphereRadius"});
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.radius = 1e-30f; })); },
+                  {"radius", "kMinSphereRadius"});
   expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = 3e38f; })); }, {"mass", "kMaxSphereMass"});
   expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.mass = 1e-30f; })); }, {"mass", "kMinSphereMass"});
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.velocity = {3e38f, 3e38f, 0}; })); }, {"velocity", "kMaxSphereSpeed"});
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.angular_velocity = {0, 1e30f, 0}; })); },
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) {
+                             d.velocity = {3e38f, 3e38f, 0};
+                           })); },
+                  {"velocity", "kMaxSphereSpeed"});
+  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) {
+                             d.angular_velocity = {0, 1e30f, 0};
+                           })); },
                   {"angular_velocity", "kMaxSphereSpin"});
   // A static sphere has no mass, velocity or spin to check: only its radius.
-  expect_rejected(w, [&] { w.add_sphere(sphere([](SphereDesc& d) { d.is_static = true; d.radius = 1e20f; })); }, {"radius"});
-  w.add_sphere(sphere([](SphereDesc& d) { d.is_static = true; d.mass = 3e38f; d.velocity = {3e38f, 0, 0}; }));
+  expect_rejected(w,
+                  [&] {
+                    w.add_sphere(sphere([](SphereDesc& d) {
+                      d.is_static = true;
+                      d.radius = 1e20f;
+                    }));
+                  },
+                  {"radius"});
+  w.add_sphere(sphere([](SphereDesc& d) {
+    d.is_static = true;
+    d.mass = 3e38f;
+    d.velocity = {3e38f, 0, 0};
+  }));
   // At the limits, everything stays finite.
   World edge(WorldSettings{.threads = 1});
   edge.add_plane({});
-  edge.add_sphere({.position = {3e6f, 1e6f, 0}, .velocity = {0, -1e6f, 0}, .angular_velocity = {1e6f, 0, 0},
-                   .radius = hail::kMaxSphereRadius, .mass = hail::kMaxSphereMass});
+  edge.add_sphere({.position = {3e6f, 1e6f, 0},
+                   .velocity = {0, -1e6f, 0},
+                   .angular_velocity = {1e6f, 0, 0},
+                   .radius = hail::kMaxSphereRadius,
+                   .mass = hail::kMaxSphereMass});
   // The smallest spheres near the origin, where a float resolves them (kSphereRadiusResolution).
   edge.add_sphere({.position = {0.2f, 0.21f, 0}, .radius = hail::kMinSphereRadius, .mass = hail::kMinSphereMass});
   edge.add_sphere({.position = {0.22f, 0.21f, 0}, .radius = hail::kMinSphereRadius, .mass = hail::kMaxSphereMass});
@@ -148,7 +175,8 @@ TEST_CASE("A sphere that starts inside the terrain is lifted out, as a plane pus
 }
 
 TEST_CASE("Spheres above the terrain, static spheres and spheres off its edge are not lifted", "[terrain][limits]") {
-  auto terrain = std::make_shared<const hail::Terrain>(hail::Heightmap::from_function(16, 16, {}, [](float, float) { return 0.0f; }));
+  auto terrain = std::make_shared<const hail::Terrain>(
+      hail::Heightmap::from_function(16, 16, {}, [](float, float) { return 0.0f; }));
   World w(WorldSettings{.threads = 1});
   w.set_terrain(terrain);
   const SphereId above = w.add_sphere({.position = {8, 0.5f, 8}});
@@ -194,7 +222,8 @@ TEST_CASE("Coincident spheres: contacts capped and reported, the step completes,
   CHECK(full->nan_count() == 0);
   // A world that stays within the cap reports nothing.
   World calm(WorldSettings{.threads = 1});
-  for (int k = 0; k < 200; ++k) calm.add_sphere({.position = {float(k % 10), 0.5f + float(k / 100), float(k / 10 % 10)}});
+  for (int k = 0; k < 200; ++k)
+    calm.add_sphere({.position = {float(k % 10), 0.5f + float(k / 100), float(k / 10 % 10)}});
   calm.step(1.0f / 60);
   CHECK_FALSE(calm.last_step_stats().sphere_contacts_capped);
   CHECK(calm.last_step_stats().sphere_contacts > 0);
@@ -210,7 +239,11 @@ TEST_CASE("add_sphere refuses a sphere too far out for a float to resolve its ra
   World w(WorldSettings{.threads = 1});
   w.add_sphere({.position = {0, 1, 0}});
   // Floats at 3e7 are 2 m apart: a radius 0.5 sphere there moves in steps of four radii.
-  expect_rejected(w, [&] { w.add_sphere({.position = {3e7f, 0, 0}, .radius = 0.5f}); }, {"position", "kSphereRadiusResolution"});
+  expect_rejected(w,
+                  [&] {
+                    w.add_sphere({.position = {3e7f, 0, 0}, .radius = 0.5f});
+                  },
+                  {"position", "kSphereRadiusResolution"});
   expect_rejected(w, [&] { w.add_sphere({.position = {0, 0, -1.4e5f}, .radius = 0.5f}); }, {"kSphereRadiusResolution"});
   expect_rejected(w, [&] { w.add_sphere({.position = {1, 0, 0}, .radius = 1e-6f}); }, {"kSphereRadiusResolution"});
   // Within: 1.3e5 m out at radius 0.5 (floats 1/128 m apart), 3e7 m out at radius 128.
@@ -224,7 +257,8 @@ TEST_CASE("set_terrain refuses a terrain too far out for a float to resolve its 
   auto flat = [](float origin, float cell, float height) {
     hail::HeightmapParams p;
     p.origin_x = origin, p.origin_z = origin, p.cell_x = cell, p.cell_z = cell;
-    return std::make_shared<const hail::Terrain>(hail::Heightmap::from_function(16, 16, p, [=](float, float) { return height; }));
+    return std::make_shared<const hail::Terrain>(
+        hail::Heightmap::from_function(16, 16, p, [=](float, float) { return height; }));
   };
   World w(WorldSettings{.threads = 1});
   w.add_sphere({.position = {8, 1, 8}});

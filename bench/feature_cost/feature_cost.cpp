@@ -22,20 +22,28 @@ using namespace hail;
 using namespace hail::bench;
 
 int usage(const char* why) {
-  std::fprintf(stderr,
-               "hail-feature-cost: %s\nusage: hail-feature-cost implosion|terrain-rain [--spheres N] [--steps S] [--threads T] "
-               "[--rotation on|off]\n",
-               why);
+  std::fprintf(
+      stderr,
+      "hail-feature-cost: %s\nusage: hail-feature-cost implosion|terrain-rain [--spheres N] [--steps S] [--threads T] "
+      "[--rotation on|off]\n",
+      why);
   return 2;
 }
 
 std::string parts_that_ran(const std::vector<StepParts>& steps) {
-  struct Part { const char* name; bool StepParts::*flag; };
-  const Part parts[] = {{"reorder", &StepParts::reorder}, {"detect-static", &StepParts::detect_static},
-                        {"detect-pairs", &StepParts::detect_pairs}, {"solve", &StepParts::solve},
-                        {"friction", &StepParts::friction}, {"rotation", &StepParts::rotation},
+  struct Part {
+    const char* name;
+    bool StepParts::*flag;
+  };
+  const Part parts[] = {{"reorder", &StepParts::reorder},
+                        {"detect-static", &StepParts::detect_static},
+                        {"detect-pairs", &StepParts::detect_pairs},
+                        {"solve", &StepParts::solve},
+                        {"friction", &StepParts::friction},
+                        {"rotation", &StepParts::rotation},
                         {"shock", &StepParts::shock},
-                        {"sweep", &StepParts::sweep}, {"depenetrate", &StepParts::depenetrate},
+                        {"sweep", &StepParts::sweep},
+                        {"depenetrate", &StepParts::depenetrate},
                         {"terrain-guard", &StepParts::terrain_guard}};
   std::string out;
   for (const Part& p : parts) {
@@ -64,10 +72,14 @@ int main(int argc, char** argv) {
     }
     const long value = std::strtol(argv[k + 1], nullptr, 10);
     if (value <= 0) return usage(("bad value for " + flag).c_str());
-    if (flag == "--spheres") params.spheres = static_cast<std::size_t>(value);
-    else if (flag == "--steps") steps = static_cast<int>(value);
-    else if (flag == "--threads") params.threads = static_cast<int>(value);
-    else return usage(("unknown option " + flag).c_str());
+    if (flag == "--spheres")
+      params.spheres = static_cast<std::size_t>(value);
+    else if (flag == "--steps")
+      steps = static_cast<int>(value);
+    else if (flag == "--threads")
+      params.threads = static_cast<int>(value);
+    else
+      return usage(("unknown option " + flag).c_str());
   }
   Scene scene;
   try {  // (a setting this build lacks, e.g. --rotation on without HAIL_WITH_ROTATION, is refused)
@@ -95,9 +107,11 @@ int main(int argc, char** argv) {
     ran.push_back(world.last_step_stats().ran);
   }
   std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  std::printf("features terrain=%d ccd=%d reference-walks=%d rotation=%d  %s %zu spheres%s  median %.4f ms/step  hash %016llx  ran %s\n",
-              HAIL_WITH_TERRAIN, HAIL_WITH_CONTINUOUS_COLLISION, HAIL_WITH_REFERENCE_WALKS, HAIL_WITH_ROTATION, scene_name.c_str(),
-              world.sphere_count(), world.settings().rotation ? "" : " (rotation off)", ms[ms.size() / 2], static_cast<unsigned long long>(world.state_hash()),
-              parts_that_ran(ran).c_str());
+  std::printf(
+      "features terrain=%d ccd=%d reference-walks=%d rotation=%d  %s %zu spheres%s  median %.4f ms/step  hash %016llx  "
+      "ran %s\n",
+      HAIL_WITH_TERRAIN, HAIL_WITH_CONTINUOUS_COLLISION, HAIL_WITH_REFERENCE_WALKS, HAIL_WITH_ROTATION,
+      scene_name.c_str(), world.sphere_count(), world.settings().rotation ? "" : " (rotation off)", ms[ms.size() / 2],
+      static_cast<unsigned long long>(world.state_hash()), parts_that_ran(ran).c_str());
   return 0;
 }

@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
-#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "micro_data.h"
 
 namespace hail::micro {

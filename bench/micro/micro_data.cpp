@@ -13,8 +13,8 @@
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/scenes.h"
 #include "hail/heightmap.h"
-#include "kernel/geometry/morton.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/morton.h"
 
 namespace hail::micro {
 namespace {

@@ -7,9 +7,9 @@
 #include <span>
 #include <vector>
 
+#include "hail/sphere_soa.h"
 #include "kernel/geometry/aabb.h"
 #include "kernel/terrain/terrain_parts.h"
-#include "hail/sphere_soa.h"
 
 namespace hail::micro {
 

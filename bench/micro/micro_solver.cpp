@@ -58,10 +58,30 @@ void solve(benchmark::State& state) {
   state.SetLabel("items = contacts");
 }
 
-BENCHMARK(solve<Pass::Resting, false>)->Name("solver/resting_pass/scalar")->ArgName("contacts")->Arg(4096)->Arg(32768)->UseManualTime();
-BENCHMARK(solve<Pass::Resting, true>)->Name("solver/resting_pass/simd")->ArgName("contacts")->Arg(4096)->Arg(32768)->UseManualTime();
-BENCHMARK(solve<Pass::Collision, false>)->Name("solver/collision_pass/scalar")->ArgName("contacts")->Arg(4096)->Arg(32768)->UseManualTime();
-BENCHMARK(solve<Pass::Collision, true>)->Name("solver/collision_pass/simd")->ArgName("contacts")->Arg(4096)->Arg(32768)->UseManualTime();
+BENCHMARK(solve<Pass::Resting, false>)
+    ->Name("solver/resting_pass/scalar")
+    ->ArgName("contacts")
+    ->Arg(4096)
+    ->Arg(32768)
+    ->UseManualTime();
+BENCHMARK(solve<Pass::Resting, true>)
+    ->Name("solver/resting_pass/simd")
+    ->ArgName("contacts")
+    ->Arg(4096)
+    ->Arg(32768)
+    ->UseManualTime();
+BENCHMARK(solve<Pass::Collision, false>)
+    ->Name("solver/collision_pass/scalar")
+    ->ArgName("contacts")
+    ->Arg(4096)
+    ->Arg(32768)
+    ->UseManualTime();
+BENCHMARK(solve<Pass::Collision, true>)
+    ->Name("solver/collision_pass/simd")
+    ->ArgName("contacts")
+    ->Arg(4096)
+    ->Arg(32768)
+    ->UseManualTime();
 
 }  // namespace
 }  // namespace hail::micro

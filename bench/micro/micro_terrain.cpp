@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "kernel/bvh/flat_bvh.h"
-#include "kernel/geometry/ray_triangle.h"
-#include "kernel/dispatch/kernel_table.h"
 #include "kernel/broadphase/spatial_order.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/ray_triangle.h"
 #include "kernel/geometry/swept_sphere.h"
 #include "micro_data.h"
 
@@ -37,7 +37,8 @@ void sphere_stackless(benchmark::State& state, Order order) {
   for (auto _ : state) {
     hits = 0;
     for (const Query& q : queries)
-      query_sphere(bvh, q.x, q.y, q.z, q.r, [&](std::uint32_t k) { hits += sphere_overlaps(bounds[k], q.x, q.y, q.z, q.r); });
+      query_sphere(bvh, q.x, q.y, q.z, q.r,
+                   [&](std::uint32_t k) { hits += sphere_overlaps(bounds[k], q.x, q.y, q.z, q.r); });
     benchmark::DoNotOptimize(hits);
   }
   finish(state, hits);
@@ -143,7 +144,8 @@ void find_contacts(benchmark::State& state, Order order) {
   const Terrain& terrain = rain_terrain();
   SphereSoA spheres;
   spheres.reserve(kQueries);
-  for (const Query& q : resting_queries(kQueries, Order::Random, 41)) add_sphere(spheres, q.x, q.y, q.z, q.r, q.vx, q.vy, q.vz);
+  for (const Query& q : resting_queries(kQueries, Order::Random, 41))
+    add_sphere(spheres, q.x, q.y, q.z, q.r, q.vx, q.vy, q.vz);
   if (order == Order::Morton) {
     std::vector<std::uint64_t> keys;
     std::vector<std::uint32_t> slots;
@@ -165,11 +167,13 @@ void find_contacts(benchmark::State& state, Order order) {
 
 const bool kRegistered = [] {
   using Fn = void (*)(benchmark::State&, Order);
-  const std::pair<const char*, Fn> methods[] = {
-      {"terrain/sphere_stackless", sphere_stackless}, {"terrain/sphere_stack", sphere_stack},
-      {"terrain/sphere_packet_exact", sphere_packet},  {"terrain/aabb", box_walk},
-      {"terrain/ray", ray_walk},                        {"terrain/swept_sphere", swept_walk},
-      {"terrain/find_contacts", find_contacts}};
+  const std::pair<const char*, Fn> methods[] = {{"terrain/sphere_stackless", sphere_stackless},
+                                                {"terrain/sphere_stack", sphere_stack},
+                                                {"terrain/sphere_packet_exact", sphere_packet},
+                                                {"terrain/aabb", box_walk},
+                                                {"terrain/ray", ray_walk},
+                                                {"terrain/swept_sphere", swept_walk},
+                                                {"terrain/find_contacts", find_contacts}};
   for (const auto& [name, fn] : methods)
     for (Order order : {Order::Random, Order::Morton})
       benchmark::RegisterBenchmark((std::string(name) + "/" + name_of(order)).c_str(),

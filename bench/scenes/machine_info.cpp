@@ -25,9 +25,12 @@ std::string simd_supported() { return supported_simd_paths(); }
 
 std::string simd_flags() {
   switch (active_simd_path()) {
-    case SimdPath::Sse42: return "-march=x86-64-v2";
-    case SimdPath::Avx2: return "-march=x86-64-v3";
-    case SimdPath::Avx512: break;
+    case SimdPath::Sse42:
+      return "-march=x86-64-v2";
+    case SimdPath::Avx2:
+      return "-march=x86-64-v3";
+    case SimdPath::Avx512:
+      break;
   }
   return "-march=x86-64-v4";
 }

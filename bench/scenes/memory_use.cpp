@@ -53,7 +53,11 @@ std::string format_bytes(double bytes) {
   int u = 0;
   while (bytes >= 1000.0 && u < 4) bytes /= 1000.0, ++u;
   char text[32];
-  std::snprintf(text, sizeof text, bytes >= 100.0 || u == 0 ? "%.0f %s" : bytes >= 10.0 ? "%.1f %s" : "%.2f %s", bytes, units[u]);
+  std::snprintf(text, sizeof text,
+                bytes >= 100.0 || u == 0 ? "%.0f %s"
+                : bytes >= 10.0          ? "%.1f %s"
+                                         : "%.2f %s",
+                bytes, units[u]);
   return text;
 }
 
@@ -74,8 +78,8 @@ MemoryLimit memory_limit(double gb) {
 }
 
 std::string over_memory_limit(double estimate_bytes, const std::string& why, const MemoryLimit& limit) {
-  return "needs about " + format_bytes(estimate_bytes) + " (" + why + "), over the memory limit of " + limit.description +
-         "; --memory-limit GB sets it, 0 turns the check off";
+  return "needs about " + format_bytes(estimate_bytes) + " (" + why + "), over the memory limit of " +
+         limit.description + "; --memory-limit GB sets it, 0 turns the check off";
 }
 
 }  // namespace hail::bench

@@ -64,7 +64,8 @@ ErrorFigures measure_errors(const Scene& scene) {
   e.max_sphere_penetration = max_sphere_overlap(s);
   for (std::size_t i = 0; i < s.size(); ++i) {
     for (const Plane& p : world.planes())
-      e.max_terrain_penetration = std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));
+      e.max_terrain_penetration =
+          std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));
     if (!scene.ground_height) continue;
     const float x = s.px[i], z = s.pz[i];
     if (!(x >= scene.min_x && x <= scene.max_x && z >= scene.min_z && z <= scene.max_z)) {
@@ -74,7 +75,8 @@ ErrorFigures measure_errors(const Scene& scene) {
     const double ground = scene.ground_height(x, z);
     if (s.py[i] < ground) ++e.tunnelled;
     if (const Terrain* terrain = world.terrain())
-      e.max_terrain_penetration = std::max<double>(e.max_terrain_penetration, terrain->penetration(x, s.py[i], z, s.radius[i]));
+      e.max_terrain_penetration =
+          std::max<double>(e.max_terrain_penetration, terrain->penetration(x, s.py[i], z, s.radius[i]));
   }
   return e;
 }

@@ -27,7 +27,7 @@ struct ErrorFigures {
   double mean_step_sphere_penetration = 0;
   double mean_step_static_penetration = 0;
   std::size_t nan_count = 0;
-  double kinetic_energy = 0;           ///< J
+  double kinetic_energy = 0;  ///< J
 };
 
 ErrorFigures measure_errors(const Scene& scene);

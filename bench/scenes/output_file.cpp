@@ -78,7 +78,8 @@ void check_output_paths(const std::vector<std::string>& outputs, const std::vect
     if (!is_special_file(out)) {
       for (const std::string& in : inputs)
         if (!in.empty() && same_file(out, in))
-          throw std::invalid_argument("refusing to write " + out + ": it is the input " + in + ", which it would overwrite");
+          throw std::invalid_argument("refusing to write " + out + ": it is the input " + in +
+                                      ", which it would overwrite");
       for (std::size_t j = 0; j < k; ++j)
         if (!outputs[j].empty() && same_file(out, outputs[j]))
           throw std::invalid_argument("two outputs name the same file: " + outputs[j] + " and " + out);
@@ -110,7 +111,11 @@ AtomicOutputFile::AtomicOutputFile(std::string path) : path_(std::move(path)), t
     static std::atomic<unsigned> serial{0};
     const fs::path t(target_);
     std::string name = ".";  // hidden, and named after the target; appended piece by piece (GCC 12's -Wrestrict)
-    name.append(t.filename().string()).append(".tmp-").append(std::to_string(::getpid())).append("-").append(std::to_string(serial++));
+    name.append(t.filename().string())
+        .append(".tmp-")
+        .append(std::to_string(::getpid()))
+        .append("-")
+        .append(std::to_string(serial++));
     temporary_ = (folder_of(t) / name).string();
   }
   errno = 0;

@@ -43,8 +43,12 @@ Scene build_bullets(const SceneParams& p) {
     const float speed = 100.0f + 900.0f * rng.uniform();
     const Vec3 velocity(speed * std::cos(dip) * std::cos(azimuth), -speed * std::sin(dip),
                         speed * std::cos(dip) * std::sin(azimuth));
-    scene.ids.push_back(scene.world->add_sphere(
-        {.position = {x, y, z}, .velocity = velocity, .radius = 0.25f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f}));
+    scene.ids.push_back(scene.world->add_sphere({.position = {x, y, z},
+                                                 .velocity = velocity,
+                                                 .radius = 0.25f,
+                                                 .mass = 1.0f,
+                                                 .restitution = 0.5f,
+                                                 .friction = 0.5f}));
   }
   return scene;
 }

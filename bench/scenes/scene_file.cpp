@@ -107,7 +107,8 @@ Vec3 to_vec3(const json& j, const Where& at) {
 /// error naming it (with the nearest known key when one is close).
 class Object {
  public:
-  Object(const json& j, Where at, std::initializer_list<std::string_view> known) : j_(j), at_(std::move(at)), known_(known) {
+  Object(const json& j, Where at, std::initializer_list<std::string_view> known)
+      : j_(j), at_(std::move(at)), known_(known) {
     if (!j.is_object()) at_.fail("must be an object, got " + got(j));
   }
 
@@ -148,7 +149,8 @@ class Object {
     return to_float(j_.at(key), at(key));
   }
   [[nodiscard]] float number(std::string_view key, float fallback) const { return opt_number(key).value_or(fallback); }
-  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min, std::int64_t max) const {
+  [[nodiscard]] std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min,
+                                     std::int64_t max) const {
     return has(key) ? to_integer(j_.at(key), at(key), min, max) : fallback;
   }
   [[nodiscard]] bool boolean(std::string_view key, bool fallback) const {
@@ -168,7 +170,8 @@ class Object {
   }
   /// One of `names` (the string given), mapped to the value beside it.
   template <class T>
-  [[nodiscard]] std::optional<T> choice(std::string_view key, std::initializer_list<std::pair<std::string_view, T>> names) const {
+  [[nodiscard]] std::optional<T> choice(std::string_view key,
+                                        std::initializer_list<std::pair<std::string_view, T>> names) const {
     const std::optional<std::string> name = opt_string(key);
     if (!name) return std::nullopt;
     std::string list;
@@ -283,8 +286,14 @@ Material read_material(const Object& o, const Material& base, bool ranges_elsewh
 }
 
 SphereDesc sphere(const Vec3& position, const Vec3& velocity, const Vec3& angular_velocity, const Material& m) {
-  return {.position = position, .velocity = velocity, .angular_velocity = angular_velocity, .radius = m.radius,
-          .mass = m.mass, .restitution = m.restitution, .friction = m.friction, .is_static = m.is_static};
+  return {.position = position,
+          .velocity = velocity,
+          .angular_velocity = angular_velocity,
+          .radius = m.radius,
+          .mass = m.mass,
+          .restitution = m.restitution,
+          .friction = m.friction,
+          .is_static = m.is_static};
 }
 
 // ---- settings --------------------------------------------------------------------------------
@@ -298,7 +307,8 @@ void read_settings(const Object& o, WorldSettings& s) {
     s.integrator = *v;
   s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
-  s.depenetration_iterations = static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
+  s.depenetration_iterations =
+      static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
   s.solver_tile_spheres = static_cast<std::size_t>(
       o.integer("solver_tile_spheres", static_cast<std::int64_t>(s.solver_tile_spheres), 0, 100000000));
   if (o.has("depenetration")) {
@@ -309,8 +319,10 @@ void read_settings(const Object& o, WorldSettings& s) {
   }
   s.restitution_threshold = non_negative(o, "restitution_threshold", s.restitution_threshold);
   s.sphere_collisions = o.boolean("sphere_collisions", s.sphere_collisions);
-  if (auto v = o.choice<PairSearch>("pair_search", {{"auto", PairSearch::Automatic}, {"brute", PairSearch::BruteForce},
-                                                    {"grid", PairSearch::Grid}, {"sweep", PairSearch::SweepAndPrune},
+  if (auto v = o.choice<PairSearch>("pair_search", {{"auto", PairSearch::Automatic},
+                                                    {"brute", PairSearch::BruteForce},
+                                                    {"grid", PairSearch::Grid},
+                                                    {"sweep", PairSearch::SweepAndPrune},
                                                     {"bvh", PairSearch::Bvh}}))
     s.pair_search = *v;
   s.speculative_radii = non_negative(o, "speculative_radii", s.speculative_radii);
@@ -324,8 +336,7 @@ void read_settings(const Object& o, WorldSettings& s) {
     o.at("fast_travel_fraction").fail("must be in (0, 1], got " + got(o["fast_travel_fraction"]));
   s.max_sweep_events = static_cast<int>(o.integer("max_sweep_events", s.max_sweep_events, 1, big));
   s.shock_mass_ratio = o.number("shock_mass_ratio", s.shock_mass_ratio);
-  if (!(s.shock_mass_ratio >= 1.0f))
-    o.at("shock_mass_ratio").fail("must be >= 1, got " + got(o["shock_mass_ratio"]));
+  if (!(s.shock_mass_ratio >= 1.0f)) o.at("shock_mass_ratio").fail("must be >= 1, got " + got(o["shock_mass_ratio"]));
   s.rotation = o.boolean("rotation", s.rotation);
 }
 
@@ -347,9 +358,9 @@ void check_terrain_extent(const Object& o, const HeightmapParams& p, std::uint32
   for (const auto& a : axes) {
     const float span = a.cell * static_cast<float>(a.vertices - 1);
     if (!std::isfinite(span))
-      o.at("cell_size").fail(std::string("times the ") + std::to_string(a.vertices - 1) + " cells along " + a.axis +
-                             " is beyond float range (cell_size * cells must stay below 3.4e38), got " +
-                             got(o["cell_size"]));
+      o.at("cell_size")
+          .fail(std::string("times the ") + std::to_string(a.vertices - 1) + " cells along " + a.axis +
+                " is beyond float range (cell_size * cells must stay below 3.4e38), got " + got(o["cell_size"]));
     if (!std::isfinite(a.origin + span))
       o.at("origin").fail(std::string("plus the terrain's ") + a.axis + " extent is beyond float range, got " +
                           got(o["origin"]));
@@ -413,7 +424,8 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     for (const char* key : {"format", "height_scale", "height_offset"})
       o.forbid(key, "applies to a \"heightmap\" terrain only");
     enum class Shape { Rain, Bowl, Flat };
-    const Shape shape = *o.choice<Shape>("function", {{"terrain-rain", Shape::Rain}, {"bowl", Shape::Bowl}, {"flat", Shape::Flat}});
+    const Shape shape =
+        *o.choice<Shape>("function", {{"terrain-rain", Shape::Rain}, {"bowl", Shape::Bowl}, {"flat", Shape::Flat}});
     if (shape != Shape::Bowl) o.forbid("coefficient", "applies to the \"bowl\" function only");
     const float k = o.number("coefficient", 0.002f);
     // The function is evaluated at each vertex's place relative to the terrain's origin (vertex
@@ -432,15 +444,16 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
         const float cx = 0.5f * static_cast<float>(cols - 1) * params.cell_x;
         const float cz = 0.5f * static_cast<float>(rows - 1) * params.cell_z;
         heightmap = Heightmap::from_function(cols, rows, local, [=](float x, float z) {
-          return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
-        }).moved(to_origin);
+                      return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
+                    }).moved(to_origin);
       } else {
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }
     } catch (const InvalidArgument& e) {  // e.g. heights beyond float range
       if (shape == Shape::Bowl)
-        o.at("coefficient").fail(std::string(e.what()) +
-                                 " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
+        o.at("coefficient")
+            .fail(std::string(e.what()) +
+                  " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
       o.where().fail(e.what());
     }
   } else {
@@ -451,15 +464,23 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     std::filesystem::path path(file);
     if (path.is_relative()) path = std::filesystem::path(base_dir) / path;
     std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     enum class Format { Pgm, Png, RawF32, RawU16Le, RawU16Be };
-    std::optional<Format> format = o.choice<Format>("format", {{"pgm", Format::Pgm}, {"png", Format::Png},
-                                                               {"raw-f32", Format::RawF32}, {"raw-u16le", Format::RawU16Le},
+    std::optional<Format> format = o.choice<Format>("format", {{"pgm", Format::Pgm},
+                                                               {"png", Format::Png},
+                                                               {"raw-f32", Format::RawF32},
+                                                               {"raw-u16le", Format::RawU16Le},
                                                                {"raw-u16be", Format::RawU16Be}});
     if (!format) {
-      if (extension == ".pgm") format = Format::Pgm;
-      else if (extension == ".png") format = Format::Png;
-      else o.at("heightmap").fail("cannot tell the format from \"" + extension + "\": add \"format\" (pgm, png, raw-f32, raw-u16le, raw-u16be)");
+      if (extension == ".pgm")
+        format = Format::Pgm;
+      else if (extension == ".png")
+        format = Format::Png;
+      else
+        o.at("heightmap")
+            .fail("cannot tell the format from \"" + extension +
+                  "\": add \"format\" (pgm, png, raw-f32, raw-u16le, raw-u16be)");
     }
     const bool raw = *format != Format::Pgm && *format != Format::Png;
     if (raw && !o.has("size")) o.where().fail("missing required key \"size\" ([columns, rows]) for a raw heightmap");
@@ -468,20 +489,32 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     const double highest = std::abs(double(params.height_scale)) * 65535.0 + std::abs(double(params.height_offset)) +
                            std::abs(double(params.origin_y));
     if (*format != Format::RawF32 && !(highest <= double(std::numeric_limits<float>::max())))
-      o.at("height_scale").fail("times the largest sample (65535), plus height_offset and origin.y, is beyond float range, got " +
-                                got(o["height_scale"]));
+      o.at("height_scale")
+          .fail("times the largest sample (65535), plus height_offset and origin.y, is beyond float range, got " +
+                got(o["height_scale"]));
     try {
       switch (*format) {
-        case Format::Pgm: heightmap = Heightmap::load_pgm(path.string(), params); break;
-        case Format::Png: heightmap = Heightmap::load_png(path.string(), params); break;
-        case Format::RawF32: heightmap = Heightmap::load_raw_f32(path.string(), cols, rows, params); break;
-        case Format::RawU16Le: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, true); break;
-        case Format::RawU16Be: heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, false); break;
+        case Format::Pgm:
+          heightmap = Heightmap::load_pgm(path.string(), params);
+          break;
+        case Format::Png:
+          heightmap = Heightmap::load_png(path.string(), params);
+          break;
+        case Format::RawF32:
+          heightmap = Heightmap::load_raw_f32(path.string(), cols, rows, params);
+          break;
+        case Format::RawU16Le:
+          heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, true);
+          break;
+        case Format::RawU16Be:
+          heightmap = Heightmap::load_raw_u16(path.string(), cols, rows, params, false);
+          break;
       }
     } catch (const SizeLimitError& e) {  // the header's size is over what the memory limit allows
-      o.at("heightmap").fail(std::string(e.what()) + "; a terrain takes about " + per_cell +
-                             " while it is built, so the memory limit of " + limit.description + " allows " +
-                             std::to_string(params.max_vertices) + " vertices; --memory-limit GB sets it, 0 turns the check off");
+      o.at("heightmap")
+          .fail(std::string(e.what()) + "; a terrain takes about " + per_cell +
+                " while it is built, so the memory limit of " + limit.description + " allows " +
+                std::to_string(params.max_vertices) + " vertices; --memory-limit GB sets it, 0 turns the check off");
     } catch (const std::exception& e) {  // FileError or InvalidArgument from the loader
       o.at("heightmap").fail(e.what());
     }
@@ -505,8 +538,8 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
 
 /// What a generator may refer to outside itself.
 struct GeneratorContext {
-  Material material;            ///< the top-level "material"
-  const Terrain* terrain;       ///< for "y_from"
+  Material material;                          ///< the top-level "material"
+  const Terrain* terrain;                     ///< for "y_from"
   std::optional<std::size_t> count_override;  ///< --spheres, for the one lattice / random generator
 };
 
@@ -547,8 +580,9 @@ VelocityRule read_velocity_rule(const Object& o) {
 void read_list(const json& list, const Where& at, const GeneratorContext& g, std::vector<SphereDesc>& out) {
   if (!list.is_array()) at.fail("must be an array of spheres, got " + got(list));
   for (std::size_t k = 0; k < list.size(); ++k) {
-    const Object o(list[k], at.index(k), {"position", "velocity", "angular_velocity", "radius", "mass", "density",
-                                          "restitution", "friction", "static"});
+    const Object o(
+        list[k], at.index(k),
+        {"position", "velocity", "angular_velocity", "radius", "mass", "density", "restitution", "friction", "static"});
     o.reject_unknown_keys();
     const Material m = read_material(o, g.material);
     out.push_back(sphere(to_vec3(o.required("position"), o.at("position")), o.vec3("velocity", Vec3::Zero()),
@@ -561,20 +595,24 @@ void read_lattice(const Object& o, const GeneratorContext& g, std::vector<Sphere
   const std::size_t n = read_count(o, g);
   const Material m = read_material(o, g.material);
   enum class Layout { Layers, Cube };
-  const Layout layout = o.choice<Layout>("layout", {{"layers", Layout::Layers}, {"cube", Layout::Cube}}).value_or(Layout::Layers);
+  const Layout layout =
+      o.choice<Layout>("layout", {{"layers", Layout::Layers}, {"cube", Layout::Cube}}).value_or(Layout::Layers);
   const float spacing = positive(o, "spacing", 2.0f * m.radius);
   Vec3 centre = o.vec3("centre", Vec3::Zero());
   enum class From { TerrainMin, TerrainMax };
-  if (const auto from = o.choice<From>("y_from", {{"terrain-min", From::TerrainMin}, {"terrain-max", From::TerrainMax}})) {
+  if (const auto from =
+          o.choice<From>("y_from", {{"terrain-min", From::TerrainMin}, {"terrain-max", From::TerrainMax}})) {
     if (!g.terrain) o.at("y_from").fail("needs a terrain");
     const Heightmap& h = g.terrain->heightmap();
     centre.y() = (*from == From::TerrainMin ? h.min_height() : h.max_height()) + centre.y();
   }
-  if (o.has("layer_side") && o.has("max_layer_side")) o.where().fail("give \"layer_side\" or \"max_layer_side\", not both");
+  if (o.has("layer_side") && o.has("max_layer_side"))
+    o.where().fail("give \"layer_side\" or \"max_layer_side\", not both");
   const auto side_limit = static_cast<std::size_t>(o.integer("max_layer_side", kMaxSpheres, 1, kMaxSpheres));
   const double root = layout == Layout::Layers ? std::ceil(std::sqrt(double(n))) : std::ceil(std::cbrt(double(n)));
-  const std::size_t s = o.has("layer_side") ? static_cast<std::size_t>(o.integer("layer_side", 1, 1, kMaxSpheres))
-                                            : std::max<std::size_t>(1, std::min(side_limit, static_cast<std::size_t>(root)));
+  const std::size_t s = o.has("layer_side")
+                            ? static_cast<std::size_t>(o.integer("layer_side", 1, 1, kMaxSpheres))
+                            : std::max<std::size_t>(1, std::min(side_limit, static_cast<std::size_t>(root)));
   const VelocityRule velocity = read_velocity_rule(o);
   const Vec3 angular_velocity = o.vec3("angular_velocity", Vec3::Zero());
 
@@ -607,7 +645,9 @@ void read_random(const Object& o, const GeneratorContext& g, std::vector<SphereD
   const Vec3 lo = to_vec3(o.required("box_min"), o.at("box_min"));
   const Vec3 hi = to_vec3(o.required("box_max"), o.at("box_max"));
   for (int a = 0; a < 3; ++a)
-    if (!(lo[a] <= hi[a])) o.where().fail("box_min must be <= box_max on every axis, got " + got(o["box_min"]) + " and " + got(o["box_max"]));
+    if (!(lo[a] <= hi[a]))
+      o.where().fail("box_min must be <= box_max on every axis, got " + got(o["box_min"]) + " and " +
+                     got(o["box_max"]));
   const Material m = read_material(o, g.material, true);
   const auto radius = range(o, "radius", g.material.radius, false);
   enum class Spread { Uniform, LogUniform };
@@ -668,7 +708,8 @@ bool is_counted_generator(const json& j) { return j.is_object() && (j.contains("
 /// Adds up the spheres every generator will make and refuses, before any is made, more than
 /// kMaxSpheres or more than fit the memory limit beside the terrain (`terrain_bytes`).
 /// Malformed generators are skipped here: the reader reports them where it meets them.
-void check_sphere_total(const json& generators, const Where& at, const SceneOverrides& overrides, double terrain_bytes) {
+void check_sphere_total(const json& generators, const Where& at, const SceneOverrides& overrides,
+                        double terrain_bytes) {
   std::uint64_t total = 0;
   for (std::size_t k = 0; k < generators.size(); ++k) {
     const json& g = generators[k];
@@ -678,18 +719,21 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
     if (kind == "list" && body.is_array()) total += body.size();
     if ((kind == "lattice" || kind == "random") && body.is_object() && body.contains("count"))
       total += overrides.spheres ? *overrides.spheres
-                                 : static_cast<std::uint64_t>(to_integer(body["count"], at.index(k).key(kind).key("count"), 0, kMaxSpheres));
+                                 : static_cast<std::uint64_t>(
+                                       to_integer(body["count"], at.index(k).key(kind).key("count"), 0, kMaxSpheres));
   }
   if (total > static_cast<std::uint64_t>(kMaxSpheres))
     at.fail("makes " + std::to_string(total) + " spheres, more than " + std::to_string(kMaxSpheres));
   const MemoryLimit& limit = overrides.memory_limit;
   const double bytes = kBytesPerSphereGuide * double(total) + terrain_bytes;
   if (limit.bytes > 0.0 && bytes > limit.bytes)
-    at.fail("making " + std::to_string(total) + " spheres " +
-            over_memory_limit(bytes, std::to_string(static_cast<int>(kBytesPerSphereGuide)) +
-                                         " bytes a sphere, the most measured: docs/benchmarks.md, Memory" +
-                                         (terrain_bytes > 0.0 ? "; the terrain " + format_bytes(terrain_bytes) : std::string()),
-                              limit));
+    at.fail(
+        "making " + std::to_string(total) + " spheres " +
+        over_memory_limit(bytes,
+                          std::to_string(static_cast<int>(kBytesPerSphereGuide)) +
+                              " bytes a sphere, the most measured: docs/benchmarks.md, Memory" +
+                              (terrain_bytes > 0.0 ? "; the terrain " + format_bytes(terrain_bytes) : std::string()),
+                          limit));
 }
 
 // ---- parsing -----------------------------------------------------------------------------------
@@ -739,9 +783,9 @@ class ParseTracker {
  private:
   struct Frame {
     bool is_array;
-    std::size_t next_index;          ///< arrays: elements finished so far
-    std::string key;                 ///< objects: the latest key
-    std::set<std::string> keys;      ///< objects: every key so far
+    std::size_t next_index;      ///< arrays: elements finished so far
+    std::string key;             ///< objects: the latest key
+    std::set<std::string> keys;  ///< objects: every key so far
   };
 
   /// The innermost object or array itself.
@@ -752,8 +796,10 @@ class ParseTracker {
     std::string path;
     for (std::size_t k = 0; k < levels; ++k) {
       const Frame& f = frames_[k];
-      if (f.is_array) path += "[" + std::to_string(f.next_index) + "]";
-      else path += (path.empty() ? "" : ".") + f.key;
+      if (f.is_array)
+        path += "[" + std::to_string(f.next_index) + "]";
+      else
+        path += (path.empty() ? "" : ".") + f.key;
     }
     return {source_, path};
   }
@@ -771,16 +817,21 @@ class ParseTracker {
 Scene parse_scene_json(const json& doc, const std::string& source_name, const SceneOverrides& overrides,
                        const std::string& base_dir) {
   const Where root{source_name, ""};
-  const Object top(doc, root, {"format", "version", "description", "gravity", "dt", "steps", "threads", "settings",
-                               "terrain", "planes", "material", "spheres"});
+  const Object top(doc, root,
+                   {"format", "version", "description", "gravity", "dt", "steps", "threads", "settings", "terrain",
+                    "planes", "material", "spheres"});
   // The format and version first: a newer file's new keys should not read as typos.
   const std::optional<std::string> format = top.opt_string("format");
   if (format != "hail-scene")
-    root.fail(format ? "\"format\" must be \"hail-scene\", got \"" + *format + "\"" : "missing \"format\": \"hail-scene\"");
-  if (!top.has("version")) root.fail("missing required key \"version\" (this hail-bench reads version " + std::to_string(kSceneFormatVersion) + ")");
+    root.fail(format ? "\"format\" must be \"hail-scene\", got \"" + *format + "\""
+                     : "missing \"format\": \"hail-scene\"");
+  if (!top.has("version"))
+    root.fail("missing required key \"version\" (this hail-bench reads version " + std::to_string(kSceneFormatVersion) +
+              ")");
   const std::int64_t version = to_integer(top["version"], top.at("version"), 1, std::numeric_limits<int>::max());
   if (version != kSceneFormatVersion)
-    top.at("version").fail("this hail-bench reads version " + std::to_string(kSceneFormatVersion) + ", got " + std::to_string(version));
+    top.at("version").fail("this hail-bench reads version " + std::to_string(kSceneFormatVersion) + ", got " +
+                           std::to_string(version));
   top.reject_unknown_keys();
 
   Scene scene;
@@ -791,15 +842,29 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   WorldSettings settings;
   settings.gravity = top.vec3("gravity", settings.gravity);
   settings.threads = static_cast<int>(top.integer("threads", 0, 0, 4096));
-  if (top.has("settings")) read_settings(Object(top["settings"], top.at("settings"),
-                                                {"time_scale", "integrator", "collision_iterations", "resting_iterations",
-                                                 "depenetration_iterations", "solver_tile_spheres", "depenetration",
-                                                 "restitution_threshold",
-                                                 "sphere_collisions", "pair_search", "speculative_radii", "pair_margin_travel",
-                                                 "reorder_interval", "warm_start", "warm_start_factor",
-                                                 "continuous_collision", "fast_travel_fraction", "max_sweep_events",
-                                                 "shock_mass_ratio", "rotation"}),
-                                         settings);
+  if (top.has("settings"))
+    read_settings(Object(top["settings"], top.at("settings"),
+                         {"time_scale",
+                          "integrator",
+                          "collision_iterations",
+                          "resting_iterations",
+                          "depenetration_iterations",
+                          "solver_tile_spheres",
+                          "depenetration",
+                          "restitution_threshold",
+                          "sphere_collisions",
+                          "pair_search",
+                          "speculative_radii",
+                          "pair_margin_travel",
+                          "reorder_interval",
+                          "warm_start",
+                          "warm_start_factor",
+                          "continuous_collision",
+                          "fast_travel_fraction",
+                          "max_sweep_events",
+                          "shock_mass_ratio",
+                          "rotation"}),
+                  settings);
 
   // A dt the World would refuse on its first step (too many substeps: World::step's contract,
   // check_step) is refused now, naming the field or flag, before minutes of set-up.
@@ -812,13 +877,14 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   }
 
   // The spheres alone first, so that too many are refused before a terrain is built for them.
-  if (top.has("spheres") && top["spheres"].is_array()) check_sphere_total(top["spheres"], top.at("spheres"), overrides, 0.0);
+  if (top.has("spheres") && top["spheres"].is_array())
+    check_sphere_total(top["spheres"], top.at("spheres"), overrides, 0.0);
   std::shared_ptr<const Terrain> terrain;
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   if (top.has("terrain") && !top["terrain"].is_null())
-    read_terrain(Object(top["terrain"], top.at("terrain"), {"function", "heightmap", "format", "size", "cell_size",
-                                                            "height_scale", "height_offset", "origin", "coefficient",
-                                                            "restitution", "friction"}),
+    read_terrain(Object(top["terrain"], top.at("terrain"),
+                        {"function", "heightmap", "format", "size", "cell_size", "height_scale", "height_offset",
+                         "origin", "coefficient", "restitution", "friction"}),
                  base_dir, overrides.memory_limit, scene, terrain_restitution, terrain_friction, terrain);
 
   std::vector<PlaneDesc> planes;
@@ -830,8 +896,10 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       p.reject_unknown_keys();
       const Vec3 normal = to_vec3(p.required("normal"), p.at("normal"));
       if (!(normal.norm() > 1e-6f)) p.at("normal").fail("must not be zero, got " + got(p["normal"]));
-      planes.push_back({.normal = normal, .offset = p.number("offset", 0.0f),
-                        .restitution = unit_interval(p, "restitution", 0.5f), .friction = non_negative(p, "friction", 0.5f)});
+      planes.push_back({.normal = normal,
+                        .offset = p.number("offset", 0.0f),
+                        .restitution = unit_interval(p, "restitution", 0.5f),
+                        .friction = non_negative(p, "friction", 0.5f)});
     }
   }
 
@@ -853,7 +921,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
         at.fail("--spheres needs exactly one \"lattice\" or \"random\" generator to resize, the file has " +
                 std::to_string(counted));
     }
-    check_sphere_total(generators, at, overrides, terrain ? terrain_bytes(terrain->heightmap().cols(), terrain->heightmap().rows()) : 0.0);
+    check_sphere_total(generators, at, overrides,
+                       terrain ? terrain_bytes(terrain->heightmap().cols(), terrain->heightmap().rows()) : 0.0);
     for (std::size_t k = 0; k < generators.size(); ++k) {
       const Object gen(generators[k], at.index(k), {"list", "lattice", "random"});
       gen.reject_unknown_keys();
@@ -863,11 +932,11 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       if (gen.has("list")) {
         read_list(gen["list"], gen.at("list"), g, spheres);
       } else if (gen.has("lattice")) {
-        read_lattice(Object(gen["lattice"], gen.at("lattice"),
-                            {"count", "layout", "layer_side", "max_layer_side", "spacing", "centre", "y_from", "velocity",
-                             "towards", "angular_velocity", "radius", "mass", "density", "restitution", "friction",
-                             "static"}),
-                     g, spheres);
+        read_lattice(
+            Object(gen["lattice"], gen.at("lattice"),
+                   {"count", "layout", "layer_side", "max_layer_side", "spacing", "centre", "y_from", "velocity",
+                    "towards", "angular_velocity", "radius", "mass", "density", "restitution", "friction", "static"}),
+            g, spheres);
       } else {
         read_random(Object(gen["random"], gen.at("random"),
                            {"count", "seed", "box_min", "box_max", "radius", "radius_distribution", "mass", "density",
@@ -929,7 +998,8 @@ Scene parse_scene_text(std::string_view text, const std::string& source_name, co
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
   // A directory opens and reads as empty; a pipe is allowed (`--scene <(generate)`).
   std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) throw std::invalid_argument(path + ": is a directory, not a scene file");
+  if (std::filesystem::is_directory(path, ignored))
+    throw std::invalid_argument(path + ": is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
   std::ostringstream text;

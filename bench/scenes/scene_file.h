@@ -62,8 +62,6 @@ Scene parse_scene_json(const nlohmann::json& doc, const std::string& source_name
 
 /// The random generator's uniform draw in [0, 1): the top 24 bits of one std::mt19937_64 output
 /// times 2^-24, exact in a float and the same with every standard library.
-[[nodiscard]] inline float unit_float(std::mt19937_64& rng) {
-  return static_cast<float>(rng() >> 40) * 0x1p-24f;
-}
+[[nodiscard]] inline float unit_float(std::mt19937_64& rng) { return static_cast<float>(rng() >> 40) * 0x1p-24f; }
 
 }  // namespace hail::bench

@@ -19,13 +19,17 @@ Scene build_implosion(const SceneParams& p) {
   scene.world->reserve(p.spheres);
   scene.ids.reserve(p.spheres);
   for (std::size_t k = 0; k < p.spheres; ++k) {
-    const Vec3 position = 1.5f * Vec3(static_cast<float>(k % side) - centre,
-                                      static_cast<float>((k / side) % side) - centre,
-                                      static_cast<float>(k / (side * side)) - centre);
+    const Vec3 position =
+        1.5f * Vec3(static_cast<float>(k % side) - centre, static_cast<float>((k / side) % side) - centre,
+                    static_cast<float>(k / (side * side)) - centre);
     const float distance = position.norm();
     const Vec3 velocity = distance > 0.0f ? Vec3(-5.0f * position / distance) : Vec3(Vec3::Zero());
-    scene.ids.push_back(scene.world->add_sphere({.position = position, .velocity = velocity, .radius = 0.5f,
-                                                 .mass = 1.0f, .restitution = 1.0f, .friction = 0.0f}));
+    scene.ids.push_back(scene.world->add_sphere({.position = position,
+                                                 .velocity = velocity,
+                                                 .radius = 0.5f,
+                                                 .mass = 1.0f,
+                                                 .restitution = 1.0f,
+                                                 .friction = 0.0f}));
   }
   return scene;
 }

@@ -19,10 +19,12 @@ void move_scene(Scene& scene, const Vec3& by) {
     scene.min_z = terrain->heightmap().z_of(0), scene.max_z = terrain->heightmap().max_z();
     scene.ground_height = [&world](float x, float z) { return world.terrain()->heightmap().surface_height(x, z); };
   } else if (scene.ground_height) {
-    scene.ground_height = [old = scene.ground_height, by](float x, float z) { return old(x - by.x(), z - by.z()) + by.y(); };
+    scene.ground_height = [old = scene.ground_height, by](float x, float z) {
+      return old(x - by.x(), z - by.z()) + by.y();
+    };
   }
-  scene.description += " (moved by (" + std::to_string(by.x()) + ", " + std::to_string(by.y()) + ", " +
-                       std::to_string(by.z()) + ") m)";
+  scene.description +=
+      " (moved by (" + std::to_string(by.x()) + ", " + std::to_string(by.y()) + ", " + std::to_string(by.z()) + ") m)";
 }
 
 }  // namespace hail::bench

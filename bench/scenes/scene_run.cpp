@@ -28,11 +28,20 @@ double median(std::vector<double> v) {
 void write_trace(const std::string& path, const PhaseTrace& trace, int threads) {
   nlohmann::json events = nlohmann::json::array();
   for (int t = 0; t < threads; ++t)
-    events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", t},
+    events.push_back({{"name", "thread_name"},
+                      {"ph", "M"},
+                      {"pid", 1},
+                      {"tid", t},
                       {"args", {{"name", "arena slot " + std::to_string(t)}}}});
   for (const TraceSlice& s : trace.slices())
-    events.push_back({{"name", phase_name(s.phase)}, {"cat", "step"}, {"ph", "X"}, {"pid", 1}, {"tid", s.thread},
-                      {"ts", s.start_us}, {"dur", s.end_us - s.start_us}, {"args", {{"step", s.step}}}});
+    events.push_back({{"name", phase_name(s.phase)},
+                      {"cat", "step"},
+                      {"ph", "X"},
+                      {"pid", 1},
+                      {"tid", s.thread},
+                      {"ts", s.start_us},
+                      {"dur", s.end_us - s.start_us},
+                      {"args", {{"step", s.step}}}});
   write_file_atomically(path, [&](std::ostream& out) {
     out << nlohmann::json{{"traceEvents", events}, {"displayTimeUnit", "ms"}}.dump() << "\n";
   });
@@ -59,7 +68,8 @@ std::string hex_hash(std::uint64_t h) {
 
 const SceneEntry& find_scene(const std::string& name) {
   const auto& registry = scene_registry();
-  const auto entry = std::find_if(registry.begin(), registry.end(), [&](const SceneEntry& e) { return name == e.name; });
+  const auto entry =
+      std::find_if(registry.begin(), registry.end(), [&](const SceneEntry& e) { return name == e.name; });
   if (entry == registry.end()) {
     std::string names;
     for (const auto& e : registry) names += std::string(names.empty() ? "" : ", ") + e.name;
@@ -69,7 +79,8 @@ const SceneEntry& find_scene(const std::string& name) {
 }
 
 RunResult run_scene(const SceneEntry& entry, const SceneParams& params, const RunOptions& options) {
-  return run_scene(entry.name, [&] { return entry.build(params); }, options);
+  return run_scene(
+      entry.name, [&] { return entry.build(params); }, options);
 }
 
 std::string step_dump_path(const std::string& path, int step) {
@@ -91,9 +102,10 @@ void write_state_csv(const Scene& scene, const std::string& path) {
     out << "id,x,y,z,vx,vy,vz,wx,wy,wz\n";
     char row[256];
     for (std::size_t k = 0; k < scene.ids.size(); ++k) {
-      const Vec3 x = world.position(scene.ids[k]), v = world.velocity(scene.ids[k]), w = world.angular_velocity(scene.ids[k]);
-      std::snprintf(row, sizeof row, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, x.x(), x.y(), x.z(), v.x(),
-                    v.y(), v.z(), w.x(), w.y(), w.z());
+      const Vec3 x = world.position(scene.ids[k]), v = world.velocity(scene.ids[k]),
+                 w = world.angular_velocity(scene.ids[k]);
+      std::snprintf(row, sizeof row, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", k, x.x(), x.y(), x.z(),
+                    v.x(), v.y(), v.z(), w.x(), w.y(), w.z());
       out << row;
     }
   });
@@ -110,10 +122,16 @@ void count_parts(const StepParts& ran, RunResult::PartCounts& count) {
 
 /// (name, steps it ran in) for each optional part, in step order.
 std::vector<std::pair<const char*, int>> part_list(const RunResult::PartCounts& c) {
-  return {{"reorder", c.reorder}, {"detect-static", c.detect_static}, {"detect-pairs", c.detect_pairs},
-          {"solve", c.solve},     {"friction", c.friction},           {"rotation", c.rotation},
+  return {{"reorder", c.reorder},
+          {"detect-static", c.detect_static},
+          {"detect-pairs", c.detect_pairs},
+          {"solve", c.solve},
+          {"friction", c.friction},
+          {"rotation", c.rotation},
           {"shock", c.shock},
-          {"sweep", c.sweep},     {"depenetrate", c.depenetrate},     {"terrain-guard", c.terrain_guard}};
+          {"sweep", c.sweep},
+          {"depenetrate", c.depenetrate},
+          {"terrain-guard", c.terrain_guard}};
 }
 
 }  // namespace
@@ -128,7 +146,8 @@ std::string describe_parts(const RunResult& r) {
       continue;
     }
     ran.append(name);
-    if (steps < r.steps) ran.append(" (").append(std::to_string(steps)).append("/").append(std::to_string(r.steps)).append(" steps)");
+    if (steps < r.steps)
+      ran.append(" (").append(std::to_string(steps)).append("/").append(std::to_string(r.steps)).append(" steps)");
     ran.append(", ");
   }
   ran.append("integrate; skipped: ").append(skipped.empty() ? "nothing" : skipped);
@@ -183,7 +202,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
     if (options.after_step) options.after_step(scene, k + 1);
     // Untimed, as every figure below: a pass over the spheres each, part of the error report.
     tunnelling.after_step(world);
-    if (const double energy = world.kinetic_energy(); energy > r.energy_peak) r.energy_peak = energy, r.energy_peak_step = k + 1;
+    if (const double energy = world.kinetic_energy(); energy > r.energy_peak)
+      r.energy_peak = energy, r.energy_peak_step = k + 1;
     if (dump_steps && (k + 1) % options.dump_every == 0)
       write_state_csv(scene, step_dump_path(options.dump_state_path, k + 1));
     if (k >= r.warmup) {
@@ -261,8 +281,12 @@ nlohmann::json to_json(const RunResult& r) {
       {"mean_step_static_penetration", e.mean_step_static_penetration},
       {"tunnelled", e.tunnelled},
       {"tunnelled_ever", r.tunnelling.spheres},
-      {"tunnelling", {{"checked", r.tunnelling_checked}, {"events", r.tunnelling.events}, {"spheres", r.tunnelling.spheres},
-                      {"worst_depth", r.tunnelling.worst_depth}, {"steps_checked", r.tunnelling.steps}}},
+      {"tunnelling",
+       {{"checked", r.tunnelling_checked},
+        {"events", r.tunnelling.events},
+        {"spheres", r.tunnelling.spheres},
+        {"worst_depth", r.tunnelling.worst_depth},
+        {"steps_checked", r.tunnelling.steps}}},
       {"fell_off", e.fell_off},
       {"kinetic_energy", e.kinetic_energy},
       {"kinetic_energy_start", r.energy_start},
@@ -272,28 +296,50 @@ nlohmann::json to_json(const RunResult& r) {
       {"energy_drift", r.energy_drift},
       {"nan_count", e.nan_count},
       {"state_hash", r.state_hash},
-      {"memory", {{"heap_after_setup_bytes", r.heap_after_setup}, {"heap_at_end_bytes", r.heap_at_end},
-                  {"terrain_bytes", r.terrain_bytes}, {"bytes_per_sphere", r.bytes_per_sphere()},
-                  {"measured", r.heap_measured}}},
+      {"memory",
+       {{"heap_after_setup_bytes", r.heap_after_setup},
+        {"heap_at_end_bytes", r.heap_at_end},
+        {"terrain_bytes", r.terrain_bytes},
+        {"bytes_per_sphere", r.bytes_per_sphere()},
+        {"measured", r.heap_measured}}},
       {"pair_search", r.pair_search},
-      {"phases_ms", {{"reorder", p.reorder}, {"predict", p.predict}, {"detect_terrain", p.detect_terrain},
-                     {"detect_pairs", p.detect_pairs}, {"solve", p.solve}, {"sweep", p.sweep}, {"integrate", p.integrate},
-                     {"depenetrate", p.depenetrate}}},
-      {"phases_ran_steps", [&] {
+      {"phases_ms",
+       {{"reorder", p.reorder},
+        {"predict", p.predict},
+        {"detect_terrain", p.detect_terrain},
+        {"detect_pairs", p.detect_pairs},
+        {"solve", p.solve},
+        {"sweep", p.sweep},
+        {"integrate", p.integrate},
+        {"depenetrate", p.depenetrate}}},
+      {"phases_ran_steps",
+       [&] {
          nlohmann::json parts = nlohmann::json::object();
          for (const auto& [part, steps] : part_list(r.parts_ran)) parts[part] = steps;
          return parts;
        }()},
       {"warm_start", r.warm_start},
-      {"solver_per_step", {{"static_contacts", r.static_contacts}, {"sphere_contacts", r.sphere_contacts},
-                           {"warm_started", r.warm_started},
-                           {"colours", r.colours}, {"tile_contacts", r.tile_contacts},
-                           {"shared_contacts", r.shared_contacts}, {"collision_passes", r.collision_passes}}},
-      {"continuous_collision", {{"on", r.continuous_collision}, {"swept_per_step", r.swept},
-                                {"swept_meeting_spheres_per_step", r.swept_meeting_spheres},
-                                {"impacts_per_step", r.sweep_events}, {"capped_total", r.sweep_capped}}},
-      {"machine", {{"cpu", cpu_model()}, {"simd", simd_path()}, {"simd_chosen_by", simd_origin()},
-                   {"simd_supported", simd_supported()}, {"simd_flags", simd_flags()}, {"flags", build_flags()}}},
+      {"solver_per_step",
+       {{"static_contacts", r.static_contacts},
+        {"sphere_contacts", r.sphere_contacts},
+        {"warm_started", r.warm_started},
+        {"colours", r.colours},
+        {"tile_contacts", r.tile_contacts},
+        {"shared_contacts", r.shared_contacts},
+        {"collision_passes", r.collision_passes}}},
+      {"continuous_collision",
+       {{"on", r.continuous_collision},
+        {"swept_per_step", r.swept},
+        {"swept_meeting_spheres_per_step", r.swept_meeting_spheres},
+        {"impacts_per_step", r.sweep_events},
+        {"capped_total", r.sweep_capped}}},
+      {"machine",
+       {{"cpu", cpu_model()},
+        {"simd", simd_path()},
+        {"simd_chosen_by", simd_origin()},
+        {"simd_supported", simd_supported()},
+        {"simd_flags", simd_flags()},
+        {"flags", build_flags()}}},
   };
 }
 

@@ -19,7 +19,8 @@ struct RunResult {
   float dt = 0;
   double mean_ms = 0, median_ms = 0, total_s = 0, setup_s = 0;
   PhaseTimes phase_ms;  ///< mean per timed step
-  double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0, collision_passes = 0;  ///< mean per timed step
+  double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0,
+         collision_passes = 0;                    ///< mean per timed step
   double tile_contacts = 0, shared_contacts = 0;  ///< mean per timed step: solved within a solver tile / across tiles
   ErrorFigures errors;
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;
@@ -37,8 +38,8 @@ struct RunResult {
   double energy_peak = 0;
   int energy_peak_step = 0;
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
-  double swept_meeting_spheres = 0;     ///< of the swept, those swept against spheres too (mean per timed step)
-  std::size_t sweep_capped = 0;         ///< spheres that reached max_sweep_events, summed over all steps
+  double swept_meeting_spheres = 0;    ///< of the swept, those swept against spheres too (mean per timed step)
+  std::size_t sweep_capped = 0;        ///< spheres that reached max_sweep_events, summed over all steps
   /// Memory (bench/scenes/memory_use.h), measured outside the timed steps: the heap the run added,
   /// after set-up (the World with its spheres, the terrain) and at the end (everything the
   /// World keeps between steps too: contacts, solver arrays, caches); 0 where the C library
@@ -61,11 +62,11 @@ struct RunResult {
 std::string describe_parts(const RunResult& r);
 
 struct RunOptions {
-  int steps = -1;              ///< -1: the scene's default
-  std::string trace_path;      ///< non-empty: write a Chrome trace there
-  bool progress = true;        ///< a line on stderr every 2 s
-  std::string progress_label;  ///< prefix of the progress lines
-  std::string dump_state_path; ///< non-empty: write every sphere's final state there (write_state_csv)
+  int steps = -1;               ///< -1: the scene's default
+  std::string trace_path;       ///< non-empty: write a Chrome trace there
+  bool progress = true;         ///< a line on stderr every 2 s
+  std::string progress_label;   ///< prefix of the progress lines
+  std::string dump_state_path;  ///< non-empty: write every sphere's final state there (write_state_csv)
   /// > 0 (with dump_state_path): also the state before the first step and after every
   /// dump_every-th, each to step_dump_path(dump_state_path, step); untimed.
   int dump_every = 0;

@@ -11,11 +11,12 @@ float terrain_rain_height(float x, float z) {
 
 namespace {
 
-Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_y, std::size_t max_side,
-                   float spacing, float centre_x, float centre_z, const char* description) {
+Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_y, std::size_t max_side, float spacing,
+                   float centre_x, float centre_z, const char* description) {
   Scene scene = scene_on_terrain(p, std::move(heightmap), description);
   // Layer side s = min(max_side, ceil(sqrt(N))); s/2 is a real division.
-  const std::size_t s = std::min<std::size_t>(max_side, static_cast<std::size_t>(std::ceil(std::sqrt(double(p.spheres)))));
+  const std::size_t s =
+      std::min<std::size_t>(max_side, static_cast<std::size_t>(std::ceil(std::sqrt(double(p.spheres)))));
   const float half = static_cast<float>(s) / 2.0f;
   scene.world->reserve(p.spheres);
   scene.ids.reserve(p.spheres);
@@ -23,8 +24,8 @@ Scene with_terrain(const SceneParams& p, Heightmap heightmap, float first_layer_
     const float x = centre_x + (static_cast<float>(k % s) - half) * spacing;
     const float z = centre_z + (static_cast<float>((k / s) % s) - half) * spacing;
     const float y = first_layer_y + static_cast<float>(k / (s * s)) * spacing;
-    scene.ids.push_back(
-        scene.world->add_sphere({.position = {x, y, z}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f}));
+    scene.ids.push_back(scene.world->add_sphere(
+        {.position = {x, y, z}, .radius = 0.5f, .mass = 1.0f, .restitution = 0.5f, .friction = 0.5f}));
   }
   return scene;
 }

@@ -16,13 +16,13 @@ struct SceneParams {
   int threads = 0;
   float dt = 1.0f / 60.0f;
   int reorder_interval = WorldSettings{}.reorder_interval;  ///< --reorder K (0: never re-sort)
-  PairSearch pair_search = PairSearch::Automatic;            ///< --pairs NAME
-  bool warm_start = WorldSettings{}.warm_start;              ///< --warm-start on|off|FACTOR
+  PairSearch pair_search = PairSearch::Automatic;           ///< --pairs NAME
+  bool warm_start = WorldSettings{}.warm_start;             ///< --warm-start on|off|FACTOR
   float warm_start_factor = WorldSettings{}.warm_start_factor;
-  int resting_iterations = WorldSettings{}.resting_iterations;  ///< --resting N
+  int resting_iterations = WorldSettings{}.resting_iterations;            ///< --resting N
   std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
-  bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
-  bool rotation = WorldSettings{}.rotation;  ///< --rotation on|off
+  bool continuous_collision = WorldSettings{}.continuous_collision;       ///< --ccd on|off
+  bool rotation = WorldSettings{}.rotation;                               ///< --rotation on|off
 };
 
 /// The WorldSettings the command-line parameters ask for (the rest at their defaults).

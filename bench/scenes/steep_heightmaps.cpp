@@ -7,10 +7,14 @@ namespace hail::bench {
 
 const char* steep_kind_name(SteepKind kind) {
   switch (kind) {
-    case SteepKind::Noise: return "noise";
-    case SteepKind::Cliffs: return "cliffs";
-    case SteepKind::Spikes: return "spikes";
-    case SteepKind::Folds: return "folds";
+    case SteepKind::Noise:
+      return "noise";
+    case SteepKind::Cliffs:
+      return "cliffs";
+    case SteepKind::Spikes:
+      return "spikes";
+    case SteepKind::Folds:
+      return "folds";
   }
   return "?";
 }
@@ -26,7 +30,9 @@ Heightmap steep_heightmap(SteepKind kind, std::uint32_t seed, std::uint32_t cols
     for (std::uint32_t i = 0; i < cols; ++i) {
       float y = 0.0f;
       switch (kind) {
-        case SteepKind::Noise: y = 16.0f * (u(rng) - 0.5f); break;
+        case SteepKind::Noise:
+          y = 16.0f * (u(rng) - 0.5f);
+          break;
         case SteepKind::Cliffs:
           y = step_x * static_cast<float>(static_cast<int>(i) / cut_x) +
               step_z * static_cast<float>(static_cast<int>(j) / cut_z) + 0.3f * u(rng);
@@ -36,7 +42,9 @@ Heightmap steep_heightmap(SteepKind kind, std::uint32_t seed, std::uint32_t cols
           y = roll < 1.0f / 24.0f ? size : roll < 1.0f / 12.0f ? -size : 0.2f * u(rng);
           break;
         }
-        case SteepKind::Folds: y = ((i + j) % 2 ? 6.0f : -6.0f) + u(rng); break;
+        case SteepKind::Folds:
+          y = ((i + j) % 2 ? 6.0f : -6.0f) + u(rng);
+          break;
       }
       heights[std::size_t(j) * cols + i] = y;
     }

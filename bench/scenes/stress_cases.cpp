@@ -18,7 +18,8 @@ namespace {
 using clock_type = std::chrono::steady_clock;
 
 std::shared_ptr<const Terrain> flat_terrain(int side = 64, float height = 0.0f, HeightmapParams params = {}) {
-  return std::make_shared<const Terrain>(Heightmap::from_function(side, side, params, [=](float, float) { return height; }));
+  return std::make_shared<const Terrain>(
+      Heightmap::from_function(side, side, params, [=](float, float) { return height; }));
 }
 
 std::shared_ptr<const Terrain> rain_terrain(HeightmapParams params = {}, float lift = 0.0f) {
@@ -77,11 +78,11 @@ StressResult heavy_on_light() {
   World w(all_threads());
   w.set_terrain(flat_terrain(), 0.5f, 0.5f);
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      w.add_sphere({.position = {31.0f + i, 0.5f, 31.0f + j}, .radius = 0.5f, .mass = 1.0f});
+    for (int j = 0; j < 3; ++j) w.add_sphere({.position = {31.0f + i, 0.5f, 31.0f + j}, .radius = 0.5f, .mass = 1.0f});
   // Resting on the four around (31.5, 31.5): centre sqrt(1 - 0.5) above their centres.
   w.add_sphere({.position = {31.5f, 0.5f + std::sqrt(0.5f), 31.5f}, .radius = 0.5f, .mass = 1e4f});
-  return watch(w, "mass-ratio-1e4-on-1", "1e4 kg sphere on nine 1 kg spheres on flat ground, 10 s", 600, 1.0f / 60.0f, {});
+  return watch(w, "mass-ratio-1e4-on-1", "1e4 kg sphere on nine 1 kg spheres on flat ground, 10 s", 600, 1.0f / 60.0f,
+               {});
 }
 
 /// Three spheres stacked straight up on flat ground: 1 kg at the bottom, then 100 kg, then 1e4 kg.
@@ -89,7 +90,8 @@ StressResult stack_ratios() {
   World w(all_threads());
   w.set_terrain(flat_terrain(), 0.5f, 0.5f);
   const float masses[3] = {1.0f, 100.0f, 1e4f};
-  for (int k = 0; k < 3; ++k) w.add_sphere({.position = {32.0f, 0.5f + k * 1.0f, 32.0f}, .radius = 0.5f, .mass = masses[k]});
+  for (int k = 0; k < 3; ++k)
+    w.add_sphere({.position = {32.0f, 0.5f + k * 1.0f, 32.0f}, .radius = 0.5f, .mass = masses[k]});
   return watch(w, "stack-1-100-1e4", "vertical stack 1 : 100 : 10,000 kg (bottom to top) on flat ground, 10 s", 600,
                1.0f / 60.0f, {});
 }
@@ -99,12 +101,15 @@ StressResult light_hit_by_heavy() {
   WorldSettings s = all_threads();
   s.gravity = Vec3(0, 0, 0);
   World w(s);
-  const SphereId light = w.add_sphere({.position = {2, 0, 0}, .radius = 0.5f, .mass = 1e-3f, .restitution = 1, .friction = 0});
-  w.add_sphere({.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = 1e3f, .restitution = 1, .friction = 0});
+  const SphereId light =
+      w.add_sphere({.position = {2, 0, 0}, .radius = 0.5f, .mass = 1e-3f, .restitution = 1, .friction = 0});
+  w.add_sphere(
+      {.position = {-2, 0, 0}, .velocity = {10, 0, 0}, .radius = 0.5f, .mass = 1e3f, .restitution = 1, .friction = 0});
   StressBounds b;
   b.energy_growth = 1e-5, b.momentum_drift = 1e-6;
-  StressResult r = watch(w, "light-hit-by-heavy", "1e-3 kg hit by 1e3 kg at 10 m/s, e = 1, no gravity: momentum and energy held",
-                         120, 1.0f / 60.0f, b, 1.0, 1.0);
+  StressResult r =
+      watch(w, "light-hit-by-heavy", "1e-3 kg hit by 1e3 kg at 10 m/s, e = 1, no gravity: momentum and energy held",
+            120, 1.0f / 60.0f, b, 1.0, 1.0);
   const double expected = 2.0 * 1e3 / (1e3 + 1e-3) * 10.0;
   const double got = w.velocity(light).x();
   r.note = format("light sphere leaves at %.6g m/s (exact %.6g)", got, expected);
@@ -117,11 +122,14 @@ StressResult small_among_large() {
   World w(all_threads());
   w.set_terrain(flat_terrain(128), 0.5f, 0.5f);
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) w.add_sphere({.position = {40.0f + 20.0f * i, 10.0f, 40.0f + 20.0f * j}, .radius = 10.0f, .mass = 1000.0f});
+    for (int j = 0; j < 3; ++j)
+      w.add_sphere({.position = {40.0f + 20.0f * i, 10.0f, 40.0f + 20.0f * j}, .radius = 10.0f, .mass = 1000.0f});
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (int k = 0; k < 200; ++k)
-    w.add_sphere({.position = {35.0f + 50.0f * u(rng), 22.0f + 5.0f * u(rng), 35.0f + 50.0f * u(rng)}, .radius = 0.01f, .mass = 1e-3f});
+    w.add_sphere({.position = {35.0f + 50.0f * u(rng), 22.0f + 5.0f * u(rng), 35.0f + 50.0f * u(rng)},
+                  .radius = 0.01f,
+                  .mass = 1e-3f});
   return watch(w, "radius-0.01-among-10", "200 spheres of radius 0.01 onto nine of radius 10 on flat ground, 5 s", 300,
                1.0f / 60.0f, {});
 }
@@ -136,10 +144,11 @@ StressResult bullets_1e4() {
     const float a = 6.2831853f * u(rng), dip = 0.3f + 1.2f * u(rng);
     w.add_sphere({.position = {40.0f + 170.0f * u(rng), 20.0f + 20.0f * u(rng), 40.0f + 170.0f * u(rng)},
                   .velocity = Vec3(std::cos(a) * std::cos(dip), -std::sin(dip), std::sin(a) * std::cos(dip)) * 1e4f,
-                  .radius = 0.25f, .mass = 1.0f});
+                  .radius = 0.25f,
+                  .mass = 1.0f});
   }
-  return watch(w, "speed-1e4-into-terrain", "100 spheres at 1e4 m/s into terrain-rain's terrain, 2 s", 120, 1.0f / 60.0f, {},
-               1.0, 1.0);
+  return watch(w, "speed-1e4-into-terrain", "100 spheres at 1e4 m/s into terrain-rain's terrain, 2 s", 120,
+               1.0f / 60.0f, {}, 1.0, 1.0);
 }
 
 /// A 1e4 m/s sphere into a resting pile on flat ground.
@@ -148,10 +157,12 @@ StressResult bullet_into_pile() {
   w.set_terrain(flat_terrain(), 0.5f, 0.5f);
   for (int y = 0; y < 3; ++y)
     for (int z = 0; z < 4; ++z)
-      for (int x = 0; x < 4; ++x) w.add_sphere({.position = {30.0f + x, 0.5f + y, 30.0f + z}, .radius = 0.5f, .mass = 1.0f});
+      for (int x = 0; x < 4; ++x)
+        w.add_sphere({.position = {30.0f + x, 0.5f + y, 30.0f + z}, .radius = 0.5f, .mass = 1.0f});
   for (int k = 0; k < 120; ++k) w.step(1.0f / 60.0f);  // settle
   w.add_sphere({.position = {5.0f, 1.0f, 31.2f}, .velocity = {1e4f, 0.0f, 0.0f}, .radius = 0.5f, .mass = 1.0f});
-  return watch(w, "speed-1e4-into-pile", "a 1e4 m/s sphere into a settled pile of 48 on flat ground, 2 s", 120, 1.0f / 60.0f, {});
+  return watch(w, "speed-1e4-into-pile", "a 1e4 m/s sphere into a settled pile of 48 on flat ground, 2 s", 120,
+               1.0f / 60.0f, {});
 }
 
 /// The same small pile on terrain-rain's terrain at dt from 1e-5 s to 1/20 s, 0.5 s each.
@@ -163,7 +174,9 @@ StressResult time_steps() {
     World w(all_threads());
     w.set_terrain(rain_terrain(), 0.5f, 0.5f);
     for (int k = 0; k < 27; ++k)
-      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f, .mass = 1.0f});
+      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)},
+                    .radius = 0.45f,
+                    .mass = 1.0f});
     const int steps = static_cast<int>(std::lround(0.5 / dt));
     const StressResult r = watch(w, all.name, all.invariants, steps, dt, {}, 100.0, 1.0, steps > 1000 ? 100 : 1);
     merge_into(all, r, format("dt %.3g: ", dt));
@@ -186,8 +199,9 @@ StressResult coincident_and_edges() {
   }
   StressBounds b;
   b.sphere_penetration = 2.1;  // the coincident pair starts fully overlapped; the case checks it is pushed apart
-  StressResult r = watch(w, "coincident-and-on-edges", "two spheres with the same centre; spheres on vertices and edges, 3 s",
-                         180, 1.0f / 60.0f, b, 10.0);
+  StressResult r =
+      watch(w, "coincident-and-on-edges", "two spheres with the same centre; spheres on vertices and edges, 3 s", 180,
+            1.0f / 60.0f, b, 10.0);
   const SphereState s = w.spheres();
   double closest = 1e9;
   for (std::size_t i = 0; i < w.sphere_count(); ++i)
@@ -205,14 +219,16 @@ StressResult cliffs_and_spikes() {
   World w(all_threads());
   auto terrain = std::make_shared<const Terrain>(Heightmap::from_function(64, 64, {}, [](float x, float z) {
     if (int(x) == 20 && int(z) % 8 == 4) return 8.0f;  // spikes one vertex wide
-    return x < 32.0f ? 10.0f : 0.0f;                 // the cliff between x = 31 and 32
+    return x < 32.0f ? 10.0f : 0.0f;                   // the cliff between x = 31 and 32
   }));
   w.set_terrain(terrain, 0.5f, 0.5f);
   for (int k = 0; k < 100; ++k)
     w.add_sphere({.position = {16.0f + (k % 10) * 2.0f, 14.0f + (k / 50), 4.0f + ((k / 10) % 5) * 12.0f},
-                  .velocity = {6.0f, 0.0f, 0.0f}, .radius = 0.4f, .mass = 1.0f});
-  return watch(w, "cliff-and-spikes", "100 spheres rolled over a 10 m vertical cliff and 8 m one-vertex spikes, 6 s", 360,
-               1.0f / 60.0f, {}, 100.0);
+                  .velocity = {6.0f, 0.0f, 0.0f},
+                  .radius = 0.4f,
+                  .mass = 1.0f});
+  return watch(w, "cliff-and-spikes", "100 spheres rolled over a 10 m vertical cliff and 8 m one-vertex spikes, 6 s",
+               360, 1.0f / 60.0f, {}, 100.0);
 }
 
 /// terrain-rain's terrain lifted to 1e4 m, and moved 1e4 m and 1e5 m away from the origin.
@@ -223,7 +239,8 @@ StressResult far_away(float offset, float lift, const char* name) {
   w.set_terrain(rain_terrain(params, lift), 0.5f, 0.5f);
   for (int k = 0; k < 100; ++k)
     w.add_sphere({.position = {offset + 120.0f + (k % 10) * 1.5f, lift + 13.0f, offset + 120.0f + (k / 10) * 1.5f},
-                  .radius = 0.5f, .mass = 1.0f});
+                  .radius = 0.5f,
+                  .mass = 1.0f});
   StressBounds b;
   b.energy_growth = 0.01;
   return watch(w, name, "100 spheres raining onto terrain-rain's terrain, moved away from the origin, 5 s", 300,
@@ -235,7 +252,9 @@ StressResult materials_and_time_scale() {
   StressResult all;
   all.name = "materials-and-time-scale";
   all.invariants = "27 spheres on terrain-rain's terrain with e 0 / 1, mu 0 / 10, time scale 0 / 100, 2 s each";
-  struct Variant { float e, mu, scale; };
+  struct Variant {
+    float e, mu, scale;
+  };
   for (const Variant v : {Variant{0, 0.5f, 1}, Variant{1, 0.5f, 1}, Variant{0.5f, 0, 1}, Variant{0.5f, 10, 1},
                           Variant{0.5f, 0.5f, 0}, Variant{0.5f, 0.5f, 100}}) {
     WorldSettings s = all_threads();
@@ -243,8 +262,11 @@ StressResult materials_and_time_scale() {
     World w(s);
     w.set_terrain(rain_terrain(), v.e, v.mu);
     for (int k = 0; k < 27; ++k)
-      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)}, .radius = 0.45f,
-                    .mass = 1.0f, .restitution = v.e, .friction = v.mu});
+      w.add_sphere({.position = {127.0f + (k % 3), 12.0f + (k / 9) * 1.0f, 127.0f + ((k / 3) % 3)},
+                    .radius = 0.45f,
+                    .mass = 1.0f,
+                    .restitution = v.e,
+                    .friction = v.mu});
     const StressResult r = watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 100.0);
     char label[64];
     std::snprintf(label, sizeof label, "e %g, mu %g, time scale %g: ", v.e, v.mu, v.scale);
@@ -265,8 +287,10 @@ StressResult long_time_steps() {
     World w(s);
     w.set_terrain(flat_terrain(), 0.5f, 0.5f);
     for (int k = 0; k < 27; ++k)
-      w.add_sphere({.position = {31.0f + (k % 3), 0.5f + (k / 9), 31.0f + ((k / 3) % 3)}, .radius = 0.5f, .mass = 1.0f});
-    merge_into(all, watch(w, all.name, all.invariants, scale < 500 ? 18 : 6, 1.0f / 60.0f, {}, 100.0), format("time scale %g: ", scale));
+      w.add_sphere(
+          {.position = {31.0f + (k % 3), 0.5f + (k / 9), 31.0f + ((k / 3) % 3)}, .radius = 0.5f, .mass = 1.0f});
+    merge_into(all, watch(w, all.name, all.invariants, scale < 500 ? 18 : 6, 1.0f / 60.0f, {}, 100.0),
+               format("time scale %g: ", scale));
   }
   WorldSettings past = all_threads();
   past.time_scale = 1e4f;
@@ -279,7 +303,8 @@ StressResult long_time_steps() {
   } catch (const InvalidArgument&) {
     refused = true;
   }
-  if (!refused || w.state_hash() != before) all.failures.push_back("time scale 1e4 (2,778 substeps) was not refused cleanly");
+  if (!refused || w.state_hash() != before)
+    all.failures.push_back("time scale 1e4 (2,778 substeps) was not refused cleanly");
   all.note = "time scale 1e4 refused (max_substeps)";
   return all;
 }
@@ -288,12 +313,14 @@ StressResult long_time_steps() {
 StressResult radius_extremes() {
   StressResult all;
   all.name = "radius-1e-4-and-1e4";
-  all.invariants = "8 spheres of radius 1e-4 (a pile at the origin) and 3 of radius 1e4 (rolling on a tilted plane), 2 s";
+  all.invariants =
+      "8 spheres of radius 1e-4 (a pile at the origin) and 3 of radius 1e4 (rolling on a tilted plane), 2 s";
   {
     World w(all_threads());
     w.add_plane({});
     for (int k = 0; k < 8; ++k)
-      w.add_sphere({.position = {0.0002f * (k % 2), 0.0001f + 0.0002f * (k / 4), 0.0002f * ((k / 2) % 2)}, .radius = 1e-4f,
+      w.add_sphere({.position = {0.0002f * (k % 2), 0.0001f + 0.0002f * (k / 4), 0.0002f * ((k / 2) % 2)},
+                    .radius = 1e-4f,
                     .mass = 1e-9f});
     merge_into(all, watch(w, all.name, all.invariants, 120, 1.0f / 60.0f, {}, 1e-12), "radius 1e-4: ");
   }
@@ -319,8 +346,9 @@ StressResult many_coincident() {
   const bool capped = w.last_step_stats().sphere_contacts_capped;
   StressBounds b;
   b.sphere_penetration = b.ground_penetration = b.energy_growth = -1;  // they start inside each other
-  StressResult r = watch(w, "coincident-1000", "1,000 spheres at one point above flat ground, 0.5 s: finite, none below the ground",
-                         29, 1.0f / 60.0f, b, 1e4, 1.0, 10);
+  StressResult r =
+      watch(w, "coincident-1000", "1,000 spheres at one point above flat ground, 0.5 s: finite, none below the ground",
+            29, 1.0f / 60.0f, b, 1e4, 1.0, 10);
   r.note = capped ? "first step's contacts capped" : "first step's contacts not capped";
   if (!capped) r.failures.push_back("the first step's contacts were not capped: " + r.note);
   return r;
@@ -339,8 +367,8 @@ StressResult inside_terrain() {
     }
   StressBounds b;
   b.energy_growth = -1;  // lifted out: the start energy is below the ground
-  return watch(w, "start-inside-terrain", "30 spheres starting 0.01, 1 and 10 radii inside terrain-rain's hills, 2 s", 120,
-               1.0f / 60.0f, b, 100.0);
+  return watch(w, "start-inside-terrain", "30 spheres starting 0.01, 1 and 10 radii inside terrain-rain's hills, 2 s",
+               120, 1.0f / 60.0f, b, 100.0);
 }
 
 /// A box of five planes (one tilted) with 64 spheres dropped in.
@@ -352,7 +380,8 @@ StressResult plane_box() {
   w.add_plane({.normal = {0, 0, 1}, .offset = -4});
   w.add_plane({.normal = {0, 0, -1}, .offset = -4});
   for (int k = 0; k < 64; ++k)
-    w.add_sphere({.position = {-3.0f + (k % 4) * 2.0f, 3.0f + (k / 16) * 1.5f, -3.0f + ((k / 4) % 4) * 2.0f}, .radius = 0.5f,
+    w.add_sphere({.position = {-3.0f + (k % 4) * 2.0f, 3.0f + (k / 16) * 1.5f, -3.0f + ((k / 4) % 4) * 2.0f},
+                  .radius = 0.5f,
                   .mass = 1.0f});
   return watch(w, "plane-box", "64 spheres dropped into a box of four walls and a tilted floor (planes), 3 s", 180,
                1.0f / 60.0f, {}, 100.0);
@@ -371,7 +400,8 @@ StressResult add_and_remove() {
   for (int step = 0; step < 120; ++step) {
     for (int k = 0; k < 4; ++k)
       ids.push_back(w.add_sphere({.position = {100.0f + 40.0f * u(rng), 15.0f + 5.0f * u(rng), 100.0f + 40.0f * u(rng)},
-                                  .radius = 0.3f + 0.3f * u(rng), .mass = 1.0f}));
+                                  .radius = 0.3f + 0.3f * u(rng),
+                                  .mass = 1.0f}));
     for (int which = 0; which < 3; ++which) {
       const std::size_t at = which == 0 ? 0 : which == 1 ? ids.size() - 1 : ids.size() / 2;
       w.remove_sphere(ids[at]);
@@ -392,8 +422,9 @@ StressResult dense_pile() {
   p.spheres = 10000;
   Scene scene = build_bowl_pile(p);
   World& w = *scene.world;
-  StressResult r = watch(w, "bowl-pile-10k-20s", "bowl-pile, 10,000 spheres, 1,200 steps: settles (KE < 1e-3 J per sphere)",
-                         1200, 1.0f / 60.0f, {}, 1e4, 1.0, 100);
+  StressResult r =
+      watch(w, "bowl-pile-10k-20s", "bowl-pile, 10,000 spheres, 1,200 steps: settles (KE < 1e-3 J per sphere)", 1200,
+            1.0f / 60.0f, {}, 1e4, 1.0, 100);
   const double per_sphere = w.kinetic_energy() / double(w.sphere_count());
   r.note = format("kinetic energy at 20 s: %.3g J per sphere", per_sphere);
   if (!(per_sphere < 1e-3)) r.failures.push_back("not at rest: " + r.note);
@@ -411,8 +442,9 @@ StressResult coincident_heap() {
   for (int k = 0; k < 500; ++k) w.add_sphere({.position = {32.0f, 0.5f, 32.0f}, .radius = 0.5f, .mass = 1.0f});
   StressResult all;
   all.name = "coincident-500-on-ground";
-  all.invariants = "500 spheres created at one point on flat ground, 4 s: apart within 1 s, then the usual bounds; "
-                   "spread over the ground, not a column";
+  all.invariants =
+      "500 spheres created at one point on flat ground, 4 s: apart within 1 s, then the usual bounds; "
+      "spread over the ground, not a column";
   StressBounds parting;
   parting.sphere_penetration = parting.energy_growth = -1;  // they start inside each other
   merge_into(all, watch(w, all.name, all.invariants, 60, 1.0f / 60.0f, parting, 1e4), "parting (0-1 s): ");
@@ -439,8 +471,10 @@ StressResult far_rain_shifted_home() {
   params.origin_x = params.origin_z = kFar;
   w.set_terrain(rain_terrain(params), 0.5f, 0.5f);
   for (int k = 0; k < 1024; ++k)
-    w.add_sphere({.position = {kFar + 127.5f + (float(k % 32) - 16.0f) * 1.5f, 13.0f, kFar + 127.5f + (float(k / 32) - 16.0f) * 1.5f},
-                  .radius = 0.5f, .mass = 1.0f});
+    w.add_sphere({.position = {kFar + 127.5f + (float(k % 32) - 16.0f) * 1.5f, 13.0f,
+                               kFar + 127.5f + (float(k / 32) - 16.0f) * 1.5f},
+                  .radius = 0.5f,
+                  .mass = 1.0f});
   StressResult all;
   all.name = "far-1e4-rain-shifted-home";
   all.invariants = "1,024 spheres raining onto terrain-rain's terrain 1e4 m out, 2.5 s; shift_origin home; 2.5 s more";
@@ -474,7 +508,11 @@ StressResult steep_rains() {
   std::vector<std::pair<std::string, std::shared_ptr<const Terrain>>> maps;
   // The DEMs at 1 m cells, heights divided by 6 (Jacksboro: 0-140 m) and by 100 (Salish: 36 m
   // of relief): steps of up to 5-10 m between neighbouring samples, slopes to 84 degrees.
-  struct Dem { const char* label; const char* file; float scale, offset, divide; };
+  struct Dem {
+    const char* label;
+    const char* file;
+    float scale, offset, divide;
+  };
   for (const Dem& d : {Dem{"jacksboro", kJacksboroFile, kJacksboroScaleM, kJacksboroOffsetM, 6.0f},
                        Dem{"salish", "salish_topobathy_120x91.pgm", 0.0555733577478f, -1437.0f, 100.0f}}) {
     HeightmapParams params;
@@ -509,7 +547,8 @@ StressResult steep_rains() {
     // 2026-11-27); the ground, below-surface and energy bounds are the ones this case is for.
     b.sphere_penetration = 0.25;
     merge_into(all, watch(w, all.name, all.invariants, 240, 1.0f / 60.0f, b, 1000.0), label + ": ");
-    all.note += (all.note.empty() ? "steepest: " : ", ") + label + format(" %.0f deg", steepest_slope_deg(terrain->heightmap()));
+    all.note += (all.note.empty() ? "steepest: " : ", ") + label +
+                format(" %.0f deg", steepest_slope_deg(terrain->heightmap()));
   }
   all.bounds.energy_growth = 0.01;
   all.bounds.sphere_penetration = 0.25;
@@ -532,13 +571,14 @@ StressResult wide_mix_rain() {
         const float r = min_r * std::pow(max_r / min_r, u(rng));  // log-uniform
         const float mass = density * 4.18879f * r * r * r;
         w.add_sphere({.position = {40.0f + 10.5f * i + u(rng), 20.0f + 15.0f * layer, 40.0f + 10.5f * j + u(rng)},
-                      .radius = r, .mass = mass});
+                      .radius = r,
+                      .mass = mass});
       }
   StressBounds b;
   b.energy_growth = 0.01;
   b.sphere_penetration = -1.0;  // reported: a 5 cm sphere under a 5 m one is judged by the ground
-  return watch(w, "wide-mix-rain", "578 spheres, radii 0.05-5 m log-uniform at 1000 kg/m^3 (mass ratio 1e6), 10 s",
-               600, 1.0f / 60.0f, b, 1e6);
+  return watch(w, "wide-mix-rain", "578 spheres, radii 0.05-5 m log-uniform at 1000 kg/m^3 (mass ratio 1e6), 10 s", 600,
+               1.0f / 60.0f, b, 1e6);
 }
 
 }  // namespace
@@ -547,11 +587,14 @@ void judge(StressResult& r) {
   const StressWorst& w = r.worst;
   const StressBounds& b = r.bounds;
   if (w.non_finite > 0) r.failures.push_back(format("%.0f non-finite state components", double(w.non_finite)));
-  if (w.below_surface > 0) r.failures.push_back(format("%.0f centres below the terrain surface", double(w.below_surface)));
+  if (w.below_surface > 0)
+    r.failures.push_back(format("%.0f centres below the terrain surface", double(w.below_surface)));
   if (b.sphere_penetration >= 0 && w.sphere_penetration > b.sphere_penetration)
-    r.failures.push_back(format("sphere penetration %.3g of the smaller radius (bound %.3g)", w.sphere_penetration, b.sphere_penetration));
+    r.failures.push_back(format("sphere penetration %.3g of the smaller radius (bound %.3g)", w.sphere_penetration,
+                                b.sphere_penetration));
   if (b.ground_penetration >= 0 && w.ground_penetration > b.ground_penetration)
-    r.failures.push_back(format("ground penetration %.3g of the radius (bound %.3g)", w.ground_penetration, b.ground_penetration));
+    r.failures.push_back(
+        format("ground penetration %.3g of the radius (bound %.3g)", w.ground_penetration, b.ground_penetration));
   if (b.energy_growth >= 0 && w.energy_growth > b.energy_growth)
     r.failures.push_back(format("mechanical energy grew by %.3g (bound %.3g)", w.energy_growth, b.energy_growth));
   if (b.momentum_drift >= 0 && w.momentum_drift > b.momentum_drift)

@@ -29,7 +29,8 @@ double worst_pair_penetration(const SphereSoA& s) {
   std::unordered_multimap<long, std::size_t> grid;
   for (std::size_t i = 0; i < n; ++i)
     grid.emplace(key(std::lround(std::floor(s.px[i] / cell)), std::lround(std::floor(s.py[i] / cell)),
-                     std::lround(std::floor(s.pz[i] / cell))), i);
+                     std::lround(std::floor(s.pz[i] / cell))),
+                 i);
   for (std::size_t i = 0; i < n; ++i) {
     const long cx = std::lround(std::floor(s.px[i] / cell)), cy = std::lround(std::floor(s.py[i] / cell)),
                cz = std::lround(std::floor(s.pz[i] / cell));

@@ -17,11 +17,22 @@
 namespace hail {
 
 /// The phases of a step (kernel/world/step_pipeline.cpp), in order.
-enum class Phase : std::uint8_t { Reorder, Predict, DetectTerrain, DetectPairs, Solve, Sweep, Integrate, Depenetrate, Count };
+enum class Phase : std::uint8_t {
+  Reorder,
+  Predict,
+  DetectTerrain,
+  DetectPairs,
+  Solve,
+  Sweep,
+  Integrate,
+  Depenetrate,
+  Count
+};
 
 /// The phase's name as hail-bench prints it.
 [[nodiscard]] constexpr const char* phase_name(Phase p) {
-  constexpr const char* names[] = {"reorder", "predict", "detect-terrain", "detect-pairs", "solve", "sweep", "integrate", "depenetrate"};
+  constexpr const char* names[] = {"reorder", "predict", "detect-terrain", "detect-pairs",
+                                   "solve",   "sweep",   "integrate",      "depenetrate"};
   return names[static_cast<int>(p)];
 }
 

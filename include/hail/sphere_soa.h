@@ -57,7 +57,9 @@ class SphereSoA {
   bool remove(SphereId id);
   /// Dense slot of a live handle, or -1 when the handle is stale or was never issued.
   [[nodiscard]] std::int64_t slot_of(SphereId id) const noexcept;
-  [[nodiscard]] SphereId id_at(std::size_t slot) const noexcept { return {slot_to_id_[slot], generation_[slot_to_id_[slot]]}; }
+  [[nodiscard]] SphereId id_at(std::size_t slot) const noexcept {
+    return {slot_to_id_[slot], generation_[slot_to_id_[slot]]};
+  }
   [[nodiscard]] bool contains(SphereId id) const noexcept { return slot_of(id) >= 0; }
   /// Reserves storage for n spheres so that adding up to n never allocates.
   void reserve(std::size_t n);
@@ -100,8 +102,8 @@ class SphereSoA {
   std::vector<std::uint32_t> id_to_slot_;  // id index -> dense slot (0xFFFFFFFF when free)
   std::vector<std::uint32_t> generation_;  // id index -> current generation
   std::vector<std::uint32_t> free_ids_;
-  AlignedArray<float> float_scratch_;        // permute(): one array's new order
-  AlignedArray<std::uint32_t> id_scratch_;   // permute(): flags and ids in their new order
+  AlignedArray<float> float_scratch_;       // permute(): one array's new order
+  AlignedArray<std::uint32_t> id_scratch_;  // permute(): flags and ids in their new order
 };
 
 template <class ForRanges>
@@ -109,7 +111,8 @@ void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, ForR
   // Array by array through one scratch array, so a re-sort every few steps allocates only the
   // first time (or when the world grows).
   float_scratch_.resize(size_);
-  for (auto* a : {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction}) {
+  for (auto* a :
+       {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction}) {
     if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
     for_ranges(size_, [&](std::size_t first, std::size_t last) {
       for (std::size_t k = first; k < last; ++k) float_scratch_[k] = (*a)[order[k]];

@@ -10,11 +10,11 @@ namespace hail {
 
 /// Continuous collision of the last step (StepStats::sweep).
 struct SweepStats {
-  std::size_t fast = 0;    ///< spheres swept because they were fast
-  std::size_t swept = 0;   ///< spheres swept in all (fast ones and those they hit)
+  std::size_t fast = 0;           ///< spheres swept because they were fast
+  std::size_t swept = 0;          ///< spheres swept in all (fast ones and those they hit)
   std::size_t meets_spheres = 0;  ///< of those, swept against spheres too (fast at the start or after an impact)
-  std::size_t events = 0;  ///< impacts resolved at their time
-  std::size_t capped = 0;  ///< spheres that reached max_events and stopped for the rest of the step
+  std::size_t events = 0;         ///< impacts resolved at their time
+  std::size_t capped = 0;         ///< spheres that reached max_events and stopped for the rest of the step
 };
 
 /// Wall-clock milliseconds spent in each phase of the last step (cheap enough to stay on).
@@ -32,34 +32,34 @@ struct PhaseTimes {
 /// friction or rotation off, no angular work; no fast sphere, no sweep. Predict and integrate
 /// always run.
 struct StepParts {
-  bool reorder = false;         ///< Morton re-sort (every reorder_interval steps)
-  bool detect_static = false;   ///< sphere-plane and sphere-terrain contacts
-  bool detect_pairs = false;    ///< sphere-sphere pair search
-  bool solve = false;           ///< contact impulses
-  bool friction = false;        ///< friction within the solve (some contact has friction > 0)
-  bool rotation = false;        ///< angular work in the solve: WorldSettings::rotation on, and friction
-  bool sweep = false;           ///< continuous collision of fast spheres
-  bool shock = false;           ///< shock propagation (masses differ more than shock_mass_ratio)
-  bool depenetrate = false;     ///< position correction
-  bool terrain_guard = false;   ///< spheres that moved beyond their terrain contacts' reach checked (terrain only)
+  bool reorder = false;        ///< Morton re-sort (every reorder_interval steps)
+  bool detect_static = false;  ///< sphere-plane and sphere-terrain contacts
+  bool detect_pairs = false;   ///< sphere-sphere pair search
+  bool solve = false;          ///< contact impulses
+  bool friction = false;       ///< friction within the solve (some contact has friction > 0)
+  bool rotation = false;       ///< angular work in the solve: WorldSettings::rotation on, and friction
+  bool sweep = false;          ///< continuous collision of fast spheres
+  bool shock = false;          ///< shock propagation (masses differ more than shock_mass_ratio)
+  bool depenetrate = false;    ///< position correction
+  bool terrain_guard = false;  ///< spheres that moved beyond their terrain contacts' reach checked (terrain only)
 };
 
 /// Counters of the last step.
 struct StepStats {
   std::size_t static_contacts = 0;
   std::size_t sphere_contacts = 0;
-  std::size_t colours = 0;        ///< colours on a pass's critical path: the largest solver tile's, then the shared ones
-  std::size_t tile_contacts = 0;   ///< contacts solved within a solver tile (WorldSettings::solver_tile_spheres)
-  std::size_t shared_contacts = 0; ///< contacts across tile edges (every contact without tiles)
-  int collision_passes = 0;  ///< collision passes that applied an impulse
+  std::size_t colours = 0;  ///< colours on a pass's critical path: the largest solver tile's, then the shared ones
+  std::size_t tile_contacts = 0;    ///< contacts solved within a solver tile (WorldSettings::solver_tile_spheres)
+  std::size_t shared_contacts = 0;  ///< contacts across tile edges (every contact without tiles)
+  int collision_passes = 0;         ///< collision passes that applied an impulse
   PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
-  std::size_t warm_started = 0;  ///< contacts that found their last-step impulses
-  SweepStats sweep;              ///< continuous collision: fast spheres, impacts, capped spheres
-  StepParts ran;                 ///< the optional parts that ran (of the last substep)
+  std::size_t warm_started = 0;                     ///< contacts that found their last-step impulses
+  SweepStats sweep;                                 ///< continuous collision: fast spheres, impacts, capped spheres
+  StepParts ran;                                    ///< the optional parts that ran (of the last substep)
   /// Some sphere-sphere pairs were dropped: a run of slots found more than its share of
   /// WorldSettings::max_sphere_contacts_per_sphere (of the last substep).
   bool sphere_contacts_capped = false;
-  std::size_t pushed_out = 0;    ///< spheres the terrain guard moved out of the terrain (Terrain::push_out)
+  std::size_t pushed_out = 0;  ///< spheres the terrain guard moved out of the terrain (Terrain::push_out)
   /// Spheres found with their centre below the terrain surface at the start of the step (those
   /// added, or all after set_terrain, since the last step) and lifted out onto it (World::step).
   std::size_t lifted_out = 0;

@@ -35,10 +35,10 @@ struct Aabb;
 
 /// Where a ray met the terrain (Terrain::raycast).
 struct TerrainRayHit {
-  float t;                  ///< distance along the ray, in units of |dir| (metres for a unit dir)
-  Vec3 point;               ///< origin + t * dir, m
-  Vec3 normal;              ///< the triangle's unit face normal, pointing up (+y) out of the ground
-  std::uint32_t triangle;   ///< index into triangles() (BVH order)
+  float t;                 ///< distance along the ray, in units of |dir| (metres for a unit dir)
+  Vec3 point;              ///< origin + t * dir, m
+  Vec3 normal;             ///< the triangle's unit face normal, pointing up (+y) out of the ground
+  std::uint32_t triangle;  ///< index into triangles() (BVH order)
 };
 
 /// One terrain triangle (Terrain::triangle): its corners, counter-clockwise seen from above, and

@@ -26,8 +26,8 @@
 #include <span>
 #include <vector>
 
-#include <Eigen/Core>
 #include <oneapi/tbb/task_arena.h>
+#include <Eigen/Core>
 
 #include "hail/contact.h"
 #include "hail/errors.h"

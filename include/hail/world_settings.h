@@ -21,8 +21,8 @@ enum class Integrator {
 
 /// Position correction after the solve (WorldSettings::depenetration).
 struct DepenetrationParams {
-  float fraction = 0.8f;       ///< share of the excess overlap removed per pass
-  float slop_fraction = 0.01f; ///< overlap tolerated, as a fraction of the smaller radius
+  float fraction = 0.8f;        ///< share of the excess overlap removed per pass
+  float slop_fraction = 0.01f;  ///< overlap tolerated, as a fraction of the smaller radius
 };
 
 /// How sphere-sphere pairs are found. All give exactly the same pairs in the same order, so the

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernel/dispatch/kernel_table.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -89,7 +89,9 @@ void SortedAxisPairs::build(const SphereSoA& s, float /*margin: the sort does no
     if (class_of_[i] != kExcluded) keys_[cursor[class_of_[i]]++] = {centre[i], static_cast<std::uint32_t>(i)};
   for (std::size_t c = 0; c + 1 < class_begin_.size(); ++c)
     std::sort(keys_.begin() + class_begin_[c], keys_.begin() + class_begin_[c + 1],
-              [](const SortKey& a, const SortKey& b) { return a.centre < b.centre || (a.centre == b.centre && a.index < b.index); });
+              [](const SortKey& a, const SortKey& b) {
+                return a.centre < b.centre || (a.centre == b.centre && a.index < b.index);
+              });
 
   // Copy into sorted SoA; the padding batch is far away and never reported (slots >= the
   // window's end are masked), it only keeps the last load inside the arrays.
@@ -114,12 +116,13 @@ void SortedAxisPairs::build(const SphereSoA& s, float /*margin: the sort does no
 }
 
 SortedAxisPairsView SortedAxisPairs::view() const {
-  return {axis_, x_.data(), y_.data(), z_.data(), radius_.data(), index_.data(), class_begin_.data(),
-          class_max_radius_.data(), class_count()};
+  return {axis_,          x_.data(),     y_.data(),           z_.data(),
+          radius_.data(), index_.data(), class_begin_.data(), class_max_radius_.data(),
+          class_count()};
 }
 
 void SortedAxisPairs::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
-                             std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const {
+                                 std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const {
   if (first >= last || class_count() == 0) return;
   row.clear();
   simd_kernels().sorted_axis_find_pairs(view(), s, first, last, margin, out, row);

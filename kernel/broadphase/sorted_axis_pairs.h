@@ -16,8 +16,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/broadphase/sphere_pairs.h"
 #include "hail/sphere_soa.h"
+#include "kernel/broadphase/sphere_pairs.h"
 
 namespace hail {
 
@@ -25,10 +25,10 @@ namespace hail {
 /// one copy per SIMD path) reads. Each array is followed by kSimdPadding inert slots.
 struct SortedAxisPairsView {
   int axis;
-  const float *x, *y, *z, *radius;      ///< sorted slots
-  const std::uint32_t* index;           ///< sphere index of each sorted slot
-  const std::uint32_t* class_begin;     ///< class c: sorted slots [class_begin[c], class_begin[c + 1])
-  const float* class_max_radius;        ///< largest |radius| in each class
+  const float *x, *y, *z, *radius;   ///< sorted slots
+  const std::uint32_t* index;        ///< sphere index of each sorted slot
+  const std::uint32_t* class_begin;  ///< class c: sorted slots [class_begin[c], class_begin[c + 1])
+  const float* class_max_radius;     ///< largest |radius| in each class
   std::size_t classes;
 };
 
@@ -59,9 +59,9 @@ class SortedAxisPairs {
   // followed by kSimdPadding (the widest batch) inert slots, so that a window's last batch may
   // read past it on any SIMD path.
   std::vector<float> x_, y_, z_, radius_;
-  std::vector<std::uint32_t> index_;       // sphere index of each sorted slot
-  std::vector<std::uint32_t> class_begin_; // class c holds sorted slots [class_begin_[c], class_begin_[c + 1])
-  std::vector<float> class_max_radius_;    // largest |radius| in each class
+  std::vector<std::uint32_t> index_;        // sphere index of each sorted slot
+  std::vector<std::uint32_t> class_begin_;  // class c holds sorted slots [class_begin_[c], class_begin_[c + 1])
+  std::vector<float> class_max_radius_;     // largest |radius| in each class
   // Build scratch, kept so that a rebuild of the same size does not allocate.
   struct SortKey {
     float centre;  // on axis_

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/geometry/aabb.h"
 #include "hail/sphere_soa.h"
+#include "kernel/geometry/aabb.h"
 
 namespace hail {
 
@@ -27,6 +27,7 @@ void morton_slot_order(const SphereSoA& spheres, std::vector<std::uint64_t>& key
 
 /// keys[i] = Morton code of sphere i in `bounds` (the box of all centres) << 32 | i, for i in
 /// [first, last).
-void morton_keys(const SphereSoA& spheres, const Aabb& bounds, std::size_t first, std::size_t last, std::uint64_t* keys);
+void morton_keys(const SphereSoA& spheres, const Aabb& bounds, std::size_t first, std::size_t last,
+                 std::uint64_t* keys);
 
 }  // namespace hail

@@ -12,10 +12,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/geometry/aabb.h"
-#include "kernel/bvh/flat_bvh.h"
-#include "kernel/broadphase/sphere_pairs.h"
 #include "hail/sphere_soa.h"
+#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/geometry/aabb.h"
 
 namespace hail {
 
@@ -44,8 +44,8 @@ class SphereBvhPairs {
     float x, y, z, radius;
   };
   FlatBvh bvh_;
-  std::vector<Aabb> bounds_;        // per sphere, input order (build scratch)
-  std::vector<LeafSphere> leaf_;    // per primitive, BVH order
+  std::vector<Aabb> bounds_;      // per sphere, input order (build scratch)
+  std::vector<LeafSphere> leaf_;  // per primitive, BVH order
 };
 
 }  // namespace hail

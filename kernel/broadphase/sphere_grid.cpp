@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "kernel/dispatch/kernel_table.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "soa/grow.h"
 
 namespace hail {

@@ -23,10 +23,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/dispatch/simd_namespace.h"
+#include "hail/sphere_soa.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
 #include "kernel/broadphase/sphere_pairs.h"
-#include "hail/sphere_soa.h"
+#include "kernel/dispatch/simd_namespace.h"
 
 namespace hail {
 
@@ -44,18 +44,19 @@ struct PairMargins {
 /// A built SphereGrid as plain arrays: what the search kernels read. The sorted arrays are
 /// followed by kSimdPadding inert slots, so a run's last batch may read past it.
 struct SphereGridView {
-  const float *x, *y, *z, *radius;    ///< sorted slots
-  const float* travel;                ///< sorted slots; null without pair margins
-  const std::uint32_t* index;         ///< sphere index of each sorted slot
-  const std::uint32_t* bucket_start;  ///< bucket b holds sorted slots [bucket_start[b], bucket_start[b + 1]), mask + 2 entries
-  const float* sphere_travel;         ///< per sphere (dense slot); null without pair margins
+  const float *x, *y, *z, *radius;  ///< sorted slots
+  const float* travel;              ///< sorted slots; null without pair margins
+  const std::uint32_t* index;       ///< sphere index of each sorted slot
+  const std::uint32_t*
+      bucket_start;            ///< bucket b holds sorted slots [bucket_start[b], bucket_start[b + 1]), mask + 2 entries
+  const float* sphere_travel;  ///< per sphere (dense slot); null without pair margins
   std::uint32_t mask;
-  std::uint32_t stride_y, stride_z;   ///< grid_key's
-  float travel_factor;                ///< PairMargins::factor (with travel)
-  float lowest[3];                    ///< lowest centre on each axis (grid_cell's)
+  std::uint32_t stride_y, stride_z;  ///< grid_key's
+  float travel_factor;               ///< PairMargins::factor (with travel)
+  float lowest[3];                   ///< lowest centre on each axis (grid_cell's)
   float inv_cell;
-  float max_radius;                   ///< largest |radius| of the sorted spheres
-  std::int32_t top_cell[3];           ///< highest cell coordinate of any sphere on each axis
+  float max_radius;          ///< largest |radius| of the sorted spheres
+  std::int32_t top_cell[3];  ///< highest cell coordinate of any sphere on each axis
 };
 
 inline namespace HAIL_SIMD_NS {
@@ -76,7 +77,8 @@ inline namespace HAIL_SIMD_NS {
 /// below the bucket count. Integers only; here (per path namespace) for the kernels and build.
 [[nodiscard]] inline std::uint32_t grid_key(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t stride_y,
                                             std::uint32_t stride_z) {
-  return static_cast<std::uint32_t>(x) + stride_z * static_cast<std::uint32_t>(z) + stride_y * static_cast<std::uint32_t>(y);
+  return static_cast<std::uint32_t>(x) + stride_z * static_cast<std::uint32_t>(z) +
+         stride_y * static_cast<std::uint32_t>(y);
 }
 
 /// The cells, on each axis [lo, hi], that hold every partner of sphere i (the top of this

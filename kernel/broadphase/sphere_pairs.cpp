@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "kernel/geometry/coincident_normal.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/geometry/coincident_normal.h"
 
 namespace hail {
 

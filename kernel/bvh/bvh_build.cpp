@@ -47,8 +47,11 @@ class Builder {
  public:
   Builder(std::span<const Aabb> bounds, const BvhBuildOptions& options, std::vector<FlatNode>& nodes,
           std::vector<std::uint32_t>& order)
-      : bounds_(bounds), options_(options), leaf_size_(static_cast<std::uint32_t>(options.leaf_size)),
-        nodes_(nodes), order_(order) {}
+      : bounds_(bounds),
+        options_(options),
+        leaf_size_(static_cast<std::uint32_t>(options.leaf_size)),
+        nodes_(nodes),
+        order_(order) {}
 
   void run() {
     const auto n = static_cast<std::uint32_t>(bounds_.size());
@@ -61,10 +64,14 @@ class Builder {
     // that needs more (the per-step sphere and path BVHs of a growing world) grows
     // geometrically, so that adding a sphere per step does not reallocate every step.
     const std::size_t nodes = median_node_count(n, leaf_size_);
-    if (nodes_.capacity() == 0) nodes_.reserve(nodes);
-    else reserve_geometric(nodes_, nodes);
-    if (options_.split == BvhSplit::InputOrder) (void)emit_input_order(0, n);
-    else emit_preorder(n);
+    if (nodes_.capacity() == 0)
+      nodes_.reserve(nodes);
+    else
+      reserve_geometric(nodes_, nodes);
+    if (options_.split == BvhSplit::InputOrder)
+      (void)emit_input_order(0, n);
+    else
+      emit_preorder(n);
     link_skips();
   }
 
@@ -178,8 +185,8 @@ class Builder {
         left_count += bin_count[a][s - 1];
         const std::uint32_t right_count = range.count - left_count;
         if (left_count == 0 || right_count == 0) continue;
-        const float cost = surface_area(left) * static_cast<float>(left_count) +
-                           right_area[s] * static_cast<float>(right_count);
+        const float cost =
+            surface_area(left) * static_cast<float>(left_count) + right_area[s] * static_cast<float>(right_count);
         if (best_axis < 0 || cost < best_cost) {  // strict: the first axis and plane win ties
           best_axis = a;
           best_split = s;
@@ -217,7 +224,8 @@ void check(std::span<const Aabb> bounds, const BvhBuildOptions& options) {
   if (options.leaf_size < 1 || options.leaf_size > static_cast<int>(kMaxLeafSize))
     throw InvalidArgument("hail: BVH leaf_size must be in 1.." + std::to_string(kMaxLeafSize) + ", got " +
                           std::to_string(options.leaf_size));
-  if (options.split != BvhSplit::Median && options.split != BvhSplit::BinnedSah && options.split != BvhSplit::InputOrder)
+  if (options.split != BvhSplit::Median && options.split != BvhSplit::BinnedSah &&
+      options.split != BvhSplit::InputOrder)
     throw InvalidArgument("hail: unknown BvhSplit " + std::to_string(static_cast<int>(options.split)));
   if (bounds.size() > kMaxBvhPrimitives)
     throw InvalidArgument("hail: BVH over " + std::to_string(bounds.size()) + " primitives exceeds " +

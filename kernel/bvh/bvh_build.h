@@ -7,8 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "kernel/geometry/aabb.h"
 #include "kernel/bvh/flat_node.h"
+#include "kernel/geometry/aabb.h"
 
 namespace hail {
 

@@ -62,7 +62,9 @@ struct PacketBoxTest {
   using batch = xsimd::batch<float, simd_arch>;
   batch cx, cy, cz, radius_sq;
   explicit PacketBoxTest(const SpherePacket& p)
-      : cx(batch::load_aligned(p.cx)), cy(batch::load_aligned(p.cy)), cz(batch::load_aligned(p.cz)),
+      : cx(batch::load_aligned(p.cx)),
+        cy(batch::load_aligned(p.cy)),
+        cz(batch::load_aligned(p.cz)),
         radius_sq(batch::load_aligned(p.radius_sq)) {}
   template <BoxBounds Box>
   [[nodiscard]] std::uint32_t operator()(const Box& b) const {
@@ -161,8 +163,7 @@ void query_sphere_packet_exact(const FlatBvh& bvh, std::span<const Aabb> bounds,
 class PacketWalkExact {
  public:
   PacketWalkExact(const FlatBvh& bvh, std::span<const Aabb> bounds, const SpherePacket& packet)
-      : bvh_(bvh), bounds_(bounds), touches_(packet),
-        next_(bvh.nodes.empty() || packet.count == 0 ? kFlatBvhEnd : 0) {}
+      : bvh_(bvh), bounds_(bounds), touches_(packet), next_(bvh.nodes.empty() || packet.count == 0 ? kFlatBvhEnd : 0) {}
 
   [[nodiscard]] bool done() const { return next_ == kFlatBvhEnd; }
 
@@ -194,8 +195,7 @@ class PacketWalkExact {
         }
         const std::uint32_t first = leaf_first(n), count = leaf_count(n);
         if (count * kSpherePacketWidth > free_slots()) break;  // resume at this leaf
-        for (std::uint32_t k = first; k < first + count; ++k)
-          visit_lanes(touches_(bounds_[k]) & leaf_lanes, k);
+        for (std::uint32_t k = first; k < first + count; ++k) visit_lanes(touches_(bounds_[k]) & leaf_lanes, k);
       }
       i = n.skip;
     }

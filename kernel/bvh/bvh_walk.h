@@ -31,8 +31,7 @@ struct NodeVisitCount {
 /// is kFlatBvhEnd. Every index taken is larger than the last, so each node is tested at most
 /// once and the walk always ends.
 template <class HitsNode, class VisitLeaf, class Count = NoNodeCount>
-void walk_stackless(std::span<const FlatNode> nodes, HitsNode&& hits_node, VisitLeaf&& visit_leaf,
-                    Count&& count = {}) {
+void walk_stackless(std::span<const FlatNode> nodes, HitsNode&& hits_node, VisitLeaf&& visit_leaf, Count&& count = {}) {
   if (nodes.empty()) return;
   const FlatNode* node = nodes.data();
   std::uint32_t i = 0;

@@ -27,10 +27,10 @@
 #include <utility>
 #include <vector>
 
-#include "kernel/geometry/aabb.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/bvh_walk.h"
 #include "kernel/bvh/flat_node.h"
+#include "kernel/geometry/aabb.h"
 
 namespace hail {
 
@@ -70,8 +70,7 @@ void query_sphere(const FlatBvh& bvh, float cx, float cy, float cz, float r, Vis
 #if HAIL_WITH_REFERENCE_WALKS
 /// query_sphere with the fixed-stack walk: the same candidates, in the same order.
 template <class Visit, class Count = NoNodeCount>
-void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit,
-                        Count&& count = {}) {
+void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit, Count&& count = {}) {
   walk_stack(
       bvh.nodes, [&](const FlatNode& n) { return sphere_overlaps(n, cx, cy, cz, r); },
       [&](std::uint32_t first, std::uint32_t n) {
@@ -150,7 +149,8 @@ template <class Intersect, class Count = NoNodeCount>
 template <class Intersect, class Count = NoNodeCount>
 [[nodiscard]] RayHit query_ray(const FlatBvh& bvh, const float origin[3], const float dir[3], float t_max,
                                Intersect&& intersect, Count&& count = {}) {
-  return query_swept_sphere(bvh, origin, dir, t_max, 0.0f, std::forward<Intersect>(intersect), std::forward<Count>(count));
+  return query_swept_sphere(bvh, origin, dir, t_max, 0.0f, std::forward<Intersect>(intersect),
+                            std::forward<Count>(count));
 }
 
 #if HAIL_WITH_REFERENCE_WALKS  // hail/features.h

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernel/geometry/coincident_normal.h"
-#include "kernel/solver/contact_impulse.h"
+#include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/ccd/path_box_scan.h"
 #include "kernel/dispatch/kernel_table.h"
-#include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/geometry/coincident_normal.h"
 #include "kernel/geometry/swept_sphere.h"
+#include "kernel/solver/contact_impulse.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -39,7 +39,8 @@ std::uint32_t ContinuousCollision::version_of(std::uint32_t slot) const {
   return m >= 0 ? motions_[static_cast<std::size_t>(m)].version : 0u;
 }
 
-void ContinuousCollision::centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3], double v[3]) const {
+void ContinuousCollision::centre_at(const SphereSoA& s, std::uint32_t slot, double t, double out[3],
+                                    double v[3]) const {
   const std::int32_t m = motion_of_[slot];
   if (m < 0) {  // not swept: still on the straight path the solver left it on
     const double p[3] = {s.px[slot], s.py[slot], s.pz[slot]}, u[3] = {s.vx[slot], s.vy[slot], s.vz[slot]};
@@ -103,7 +104,8 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
   for (std::uint32_t slot : fast) motions_[activate(s, slot)].meets_spheres = true;
   resize_geometric(first_events_, fast.size());
   stats_.fast = fast.size();
-  use_bvh_ = candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
+  use_bvh_ =
+      candidates == SweepCandidates::Automatic ? fast.size() >= kSweepBvhMinFast : candidates == SweepCandidates::Bvh;
   if (!use_bvh_) return;
   resize_geometric(path_boxes_, s.size());
   float max_radius = 0.0f;
@@ -127,7 +129,7 @@ void ContinuousCollision::begin(const SphereSoA& s, std::span<const std::uint32_
 }
 
 ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& s, const SweepScene& scene,
-                                                                std::uint32_t m) const {
+                                                               std::uint32_t m) const {
   const Motion& mo = motions_[m];
   Event best{kNoEvent, m, mo.version, Target::Terrain, 0, 0, {0, 0, 0}};
   const double t_left = dt_ - mo.t0;
@@ -139,7 +141,8 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   // Ties go to the smaller (target, other), so the result does not depend on the order in
   // which candidates are found (scan or BVH).
   auto offer = [&](double t, Target target, std::uint32_t other, std::uint32_t other_version, const double* n) {
-    if (best.t >= 0.0 && (t > best.t || (t == best.t && (target > best.target || (target == best.target && other >= best.other)))))
+    if (best.t >= 0.0 &&
+        (t > best.t || (t == best.t && (target > best.target || (target == best.target && other >= best.other)))))
       return;
     best.t = t, best.target = target, best.other = other, best.other_version = other_version;
     for (int d = 0; d < 3; ++d) best.n[d] = n ? n[d] : 0.0;
@@ -185,12 +188,14 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
     double ci[3], cj[3], vj[3];
     centre_at(s, j, start, cj, vj);
     for (int d = 0; d < 3; ++d) ci[d] = start == mo.t0 ? c[d] : c[d] + v[d] * (start - mo.t0);
-    const double dp[3] = {cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]}, dv[3] = {vj[0] - v[0], vj[1] - v[1], vj[2] - v[2]};
+    const double dp[3] = {cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]},
+                 dv[3] = {vj[0] - v[0], vj[1] - v[1], vj[2] - v[2]};
     const double t = sphere_sphere_time_of_impact(dp, dv, r + s.radius[j], dt_ - start);
     if (t >= 0.0) offer(start + t, Target::Sphere, j, version_of(j), nullptr);
   };
   PathBox box;
-  for (int d = 0; d < 3; ++d) box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
+  for (int d = 0; d < 3; ++d)
+    box.min[d] = static_cast<float>(lo[d]) - pad, box.max[d] = static_cast<float>(hi[d]) + pad;
   if (use_bvh_) {
     // The BVH holds every path as it was at the start of the step: right for spheres whose
     // path has not changed, and those that changed are few (each had an impact) and tried all.
@@ -287,9 +292,16 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     if (j > 0.0f) {
       const double r = s.radius[a];
       const double* x = motions_[ma].x;  // a's centre at the time of impact
-      impacts_.push_back({.a = a, .b = contact.b, .feature = contact.feature, .time = static_cast<float>(e.t),
-                          .px = static_cast<float>(x[0] + n[0] * r), .py = static_cast<float>(x[1] + n[1] * r),
-                          .pz = static_cast<float>(x[2] + n[2] * r), .nx = contact.nx, .ny = contact.ny, .nz = contact.nz,
+      impacts_.push_back({.a = a,
+                          .b = contact.b,
+                          .feature = contact.feature,
+                          .time = static_cast<float>(e.t),
+                          .px = static_cast<float>(x[0] + n[0] * r),
+                          .py = static_cast<float>(x[1] + n[1] * r),
+                          .pz = static_cast<float>(x[2] + n[2] * r),
+                          .nx = contact.nx,
+                          .ny = contact.ny,
+                          .nz = contact.nz,
                           .impulse = j});
     }
     // Both spheres take their new paths before either searches. scatter_bodies (above) has

@@ -40,13 +40,13 @@
 #include <span>
 #include <vector>
 
-#include "kernel/ccd/changed_path_grid.h"
-#include "kernel/geometry/fast_motion.h"
-#include "kernel/bvh/flat_bvh.h"
-#include "kernel/terrain/plane_contacts.h"
-#include "kernel/terrain/terrain_parts.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
+#include "kernel/bvh/flat_bvh.h"
+#include "kernel/ccd/changed_path_grid.h"
+#include "kernel/geometry/fast_motion.h"
+#include "kernel/terrain/plane_contacts.h"
+#include "kernel/terrain/terrain_parts.h"
 
 namespace hail {
 
@@ -88,7 +88,9 @@ class ContinuousCollision {
 
   /// moved()[slot] != 0: finish() already moved this sphere over the step (the integrator skips
   /// it). Empty when the step had no fast sphere.
-  [[nodiscard]] std::span<const std::uint8_t> moved() const { return any_ ? std::span<const std::uint8_t>(moved_) : std::span<const std::uint8_t>(); }
+  [[nodiscard]] std::span<const std::uint8_t> moved() const {
+    return any_ ? std::span<const std::uint8_t>(moved_) : std::span<const std::uint8_t>();
+  }
   [[nodiscard]] const SweepStats& stats() const { return stats_; }
   /// This step's impacts that applied an impulse, in the order resolve() took them (by time).
   [[nodiscard]] std::span<const Impact> impacts() const { return impacts_; }
@@ -103,13 +105,13 @@ class ContinuousCollision {
     std::uint32_t slot;
     std::uint32_t version;  ///< +1 at every impact: events found before it are stale
     int events;
-    bool stopped;  ///< reached max_events: stays at x for the rest of the step
+    bool stopped;        ///< reached max_events: stays at x for the rest of the step
     bool meets_spheres;  ///< its search includes other spheres: fast at the start or after an impact
   };
   struct Event {
     double t;
-    std::uint32_t motion;         ///< index in motions_
-    std::uint32_t version;        ///< motions_[motion].version when found
+    std::uint32_t motion;   ///< index in motions_
+    std::uint32_t version;  ///< motions_[motion].version when found
     Target target;
     std::uint32_t other;          ///< triangle (BVH order), plane index or sphere slot
     std::uint32_t other_version;  ///< the other sphere's version when found

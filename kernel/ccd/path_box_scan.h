@@ -16,8 +16,8 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "kernel/dispatch/simd_arch.h"
 #include "hail/sphere_soa.h"
+#include "kernel/dispatch/simd_arch.h"
 
 namespace hail {
 

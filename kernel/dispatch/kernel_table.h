@@ -60,7 +60,7 @@ template <class Visit>
 /// What count_packet_hits counts.
 enum class PacketLeafTest : std::uint8_t {
   LeafCandidates,  ///< the packet walk hands each touched leaf to its lanes; each (lane, primitive) is box-tested in scalar code
-  LeafBoxes,       ///< the leaf's primitive boxes are tested for all lanes at once (query_sphere_packet_exact)
+  LeafBoxes,  ///< the leaf's primitive boxes are tested for all lanes at once (query_sphere_packet_exact)
 };
 
 /// Points and triangles (a, b, c), SoA: closest_points' input.
@@ -77,8 +77,9 @@ struct SimdKernels {
   void (*find_sphere_pairs)(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                             std::vector<SpherePair>& out);
   /// SortedAxisPairs::find_pairs (kernel/broadphase/sorted_axis_pairs.h); `row` comes in empty and leaves empty.
-  void (*sorted_axis_find_pairs)(const SortedAxisPairsView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
-                           float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
+  void (*sorted_axis_find_pairs)(const SortedAxisPairsView& sweep, const SphereSoA& spheres, std::size_t first,
+                                 std::size_t last, float margin, std::vector<SpherePair>& out,
+                                 std::vector<std::uint32_t>& row);
   /// SphereGrid::find_pairs (kernel/broadphase/sphere_grid.h); `row` comes in empty and leaves empty.
   void (*grid_find_pairs)(const SphereGridView& grid, const SphereSoA& spheres, std::size_t first, std::size_t last,
                           float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
@@ -95,8 +96,8 @@ struct SimdKernels {
   void (*contact_depenetrate)(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
                               const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
   /// Terrain::find_contacts (include/hail/terrain.h): the packet walk and the sphere-triangle tests.
-  void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
-                           float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
+  void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last,
+                           float dt, float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
                            bool sweep_fast);
   /// Terrain::push_out_spheres (include/hail/terrain.h): the spheres at slots[0, count).
   std::size_t (*terrain_push_out)(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots,

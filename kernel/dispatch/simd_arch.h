@@ -63,7 +63,9 @@ template <class T, class Arch>
 }
 
 /// Index of the lowest set bit; bits != 0.
-[[nodiscard]] inline std::uint32_t lowest_lane(std::uint32_t bits) { return static_cast<std::uint32_t>(__builtin_ctz(bits)); }
+[[nodiscard]] inline std::uint32_t lowest_lane(std::uint32_t bits) {
+  return static_cast<std::uint32_t>(__builtin_ctz(bits));
+}
 
 }  // namespace HAIL_SIMD_NS
 }  // namespace hail

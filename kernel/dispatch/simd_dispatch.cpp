@@ -1,8 +1,8 @@
 #include "kernel/dispatch/simd_dispatch.h"
 
+#include <cpuid.h>
 #include <algorithm>
 #include <atomic>
-#include <cpuid.h>
 #include <cstdlib>
 #include <mutex>
 
@@ -14,9 +14,9 @@ namespace {
 
 /// What cpuid and xgetbv say, once.
 struct CpuFeatures {
-  bool v2 = false;      // x86-64-v2: SSE3, SSSE3, SSE4.1, SSE4.2, POPCNT, CX16, LAHF/SAHF
-  bool v3 = false;      // x86-64-v3: v2 + AVX, AVX2, BMI1, BMI2, F16C, FMA, LZCNT, MOVBE, with YMM state saved by the OS
-  bool v4 = false;      // x86-64-v4: v3 + AVX-512 F, BW, CD, DQ, VL, with opmask/ZMM state saved by the OS
+  bool v2 = false;  // x86-64-v2: SSE3, SSSE3, SSE4.1, SSE4.2, POPCNT, CX16, LAHF/SAHF
+  bool v3 = false;  // x86-64-v3: v2 + AVX, AVX2, BMI1, BMI2, F16C, FMA, LZCNT, MOVBE, with YMM state saved by the OS
+  bool v4 = false;  // x86-64-v4: v3 + AVX-512 F, BW, CD, DQ, VL, with opmask/ZMM state saved by the OS
 
   CpuFeatures() {
     unsigned a = 0, b = 0, c = 0, d = 0;
@@ -38,8 +38,8 @@ struct CpuFeatures {
       __asm__ volatile("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
       xcr0 = (std::uint64_t(hi) << 32) | lo;
     }
-    const bool ymm_state = (xcr0 & 0x6u) == 0x6u;     // SSE and AVX state
-    const bool zmm_state = (xcr0 & 0xE6u) == 0xE6u;   // and opmask, ZMM_Hi256, Hi16_ZMM
+    const bool ymm_state = (xcr0 & 0x6u) == 0x6u;    // SSE and AVX state
+    const bool zmm_state = (xcr0 & 0xE6u) == 0xE6u;  // and opmask, ZMM_Hi256, Hi16_ZMM
     v3 = v2 && ymm_state && bit(c1, 12) && bit(c1, 22) && bit(c1, 28) && bit(c1, 29) && bit(b7, 3) && bit(b7, 5) &&
          bit(b7, 8) && bit(c81, 5);
     v4 = v3 && zmm_state && bit(b7, 16) && bit(b7, 17) && bit(b7, 28) && bit(b7, 30) && bit(b7, 31);
@@ -53,9 +53,12 @@ const CpuFeatures& cpu_features() {
 
 const SimdKernels& table_of(SimdPath path) {
   switch (path) {
-    case SimdPath::Sse42: return simd_kernels_sse4_2();
-    case SimdPath::Avx2: return simd_kernels_avx2();
-    case SimdPath::Avx512: break;
+    case SimdPath::Sse42:
+      return simd_kernels_sse4_2();
+    case SimdPath::Avx2:
+      return simd_kernels_avx2();
+    case SimdPath::Avx512:
+      break;
   }
   return simd_kernels_avx512();
 }
@@ -82,7 +85,8 @@ const SimdKernels& resolve_active() {
     for (SimdPath p : kSimdPaths)
       if (std::string_view(env) == simd_path_name(p)) path = p, known = true;
     if (!known)
-      throw InvalidArgument(std::string("hail: HAIL_SIMD=") + env + " names no SIMD path (expected sse4.2, avx2 or avx512)");
+      throw InvalidArgument(std::string("hail: HAIL_SIMD=") + env +
+                            " names no SIMD path (expected sse4.2, avx2 or avx512)");
     if (!simd_path_supported(path)) unsupported(path, "HAIL_SIMD");
     origin = "HAIL_SIMD";
   }
@@ -96,9 +100,12 @@ const SimdKernels& resolve_active() {
 
 const char* simd_path_name(SimdPath path) {
   switch (path) {
-    case SimdPath::Sse42: return "sse4.2";
-    case SimdPath::Avx2: return "avx2";
-    case SimdPath::Avx512: return "avx512";
+    case SimdPath::Sse42:
+      return "sse4.2";
+    case SimdPath::Avx2:
+      return "avx2";
+    case SimdPath::Avx512:
+      return "avx512";
   }
   return "?";
 }
@@ -114,9 +121,12 @@ std::size_t simd_path_width(SimdPath path) { return path == SimdPath::Sse42 ? 4 
 bool simd_path_supported(SimdPath path) {
   const CpuFeatures& f = cpu_features();
   switch (path) {
-    case SimdPath::Sse42: return f.v2;
-    case SimdPath::Avx2: return f.v3;
-    case SimdPath::Avx512: return f.v4;
+    case SimdPath::Sse42:
+      return f.v2;
+    case SimdPath::Avx2:
+      return f.v3;
+    case SimdPath::Avx512:
+      return f.v4;
   }
   return false;
 }
@@ -125,7 +135,7 @@ SimdPath best_simd_path() {
   // x86-64-v2 is the floor the base code needs anyway: on an older CPU hail does not run at all.
   return simd_path_supported(SimdPath::Avx512) ? SimdPath::Avx512
          : simd_path_supported(SimdPath::Avx2) ? SimdPath::Avx2
-                                                : SimdPath::Sse42;
+                                               : SimdPath::Sse42;
 }
 
 std::string supported_simd_paths() {

@@ -26,8 +26,8 @@ struct TrianglePoint {
 };
 
 struct SphereTriangleContact {
-  float n[3];  ///< unit normal from the sphere's centre into the surface
-  float gap;   ///< signed distance from the sphere's surface to the triangle (< 0: overlapping)
+  float n[3];       ///< unit normal from the sphere's centre into the surface
+  float gap;        ///< signed distance from the sphere's surface to the triangle (< 0: overlapping)
   float surface_d;  ///< n . (point on the surface): the contact plane, for depenetration
 };
 
@@ -66,14 +66,21 @@ inline bool over_footprint(const float q[3], const float a[3], const float b[3],
 /// Whether the closest point lies on an edge or vertex internal to a smooth surface.
 inline bool region_is_internal(TriangleRegion region, std::uint8_t internal) {
   switch (region) {
-    case TriangleRegion::Face: return true;
-    case TriangleRegion::Edge0: return internal & kEdge0Internal;
-    case TriangleRegion::Edge1: return internal & kEdge1Internal;
-    case TriangleRegion::Edge2: return internal & kEdge2Internal;
+    case TriangleRegion::Face:
+      return true;
+    case TriangleRegion::Edge0:
+      return internal & kEdge0Internal;
+    case TriangleRegion::Edge1:
+      return internal & kEdge1Internal;
+    case TriangleRegion::Edge2:
+      return internal & kEdge2Internal;
     // A vertex is internal when both of this triangle's edges through it are.
-    case TriangleRegion::Vertex0: return (internal & kEdge0Internal) && (internal & kEdge2Internal);
-    case TriangleRegion::Vertex1: return (internal & kEdge0Internal) && (internal & kEdge1Internal);
-    case TriangleRegion::Vertex2: return (internal & kEdge1Internal) && (internal & kEdge2Internal);
+    case TriangleRegion::Vertex0:
+      return (internal & kEdge0Internal) && (internal & kEdge2Internal);
+    case TriangleRegion::Vertex1:
+      return (internal & kEdge0Internal) && (internal & kEdge1Internal);
+    case TriangleRegion::Vertex2:
+      return (internal & kEdge1Internal) && (internal & kEdge2Internal);
   }
   return false;
 }
@@ -92,12 +99,14 @@ inline TrianglePoint closest_point_on_triangle(const float q[3], const float a[3
   const float d3 = triangle_detail::dot3(ab, bp), d4 = triangle_detail::dot3(ac, bp);
   if (d3 >= 0.0f && d4 <= d3) return {{b[0], b[1], b[2]}, TriangleRegion::Vertex1};
   const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return triangle_detail::along(a, ab, d1 / (d1 - d3), TriangleRegion::Edge0);
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f)
+    return triangle_detail::along(a, ab, d1 / (d1 - d3), TriangleRegion::Edge0);
   triangle_detail::sub3(q, c, cp);
   const float d5 = triangle_detail::dot3(ab, cp), d6 = triangle_detail::dot3(ac, cp);
   if (d6 >= 0.0f && d5 <= d6) return {{c[0], c[1], c[2]}, TriangleRegion::Vertex2};
   const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return triangle_detail::along(a, ac, d2 / (d2 - d6), TriangleRegion::Edge2);
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f)
+    return triangle_detail::along(a, ac, d2 / (d2 - d6), TriangleRegion::Edge2);
   const float va = d3 * d6 - d5 * d4;
   if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
     float bc[3];
@@ -165,18 +174,19 @@ inline bool contact_from_closest_point(const float centre[3], float radius, cons
 /// the gap exceeds max_gap. A centre below the plane and over the triangle's footprint gets the
 /// face normal, so a sphere that sank is pushed out upwards, never through; one below the plane
 /// and beside the footprint gets no contact from it (contact_from_closest_point).
-inline bool sphere_triangle_contact(const float centre[3], float radius, const float a[3], const float b[3], const float c[3],
-                             const float face_normal[3], float face_d, std::uint8_t internal_edges, float max_gap,
-                             SphereTriangleContact& out) {
-  const float height = triangle_detail::dot3(face_normal, centre) - face_d;  // signed distance of the centre to the plane
-  if (height - radius > max_gap) return false;                // plane test first: cheap rejection
+inline bool sphere_triangle_contact(const float centre[3], float radius, const float a[3], const float b[3],
+                                    const float c[3], const float face_normal[3], float face_d,
+                                    std::uint8_t internal_edges, float max_gap, SphereTriangleContact& out) {
+  const float height =
+      triangle_detail::dot3(face_normal, centre) - face_d;  // signed distance of the centre to the plane
+  if (height - radius > max_gap) return false;              // plane test first: cheap rejection
   const TrianglePoint closest = closest_point_on_triangle(centre, a, b, c);
   float d[3];
   triangle_detail::sub3(closest.p, centre, d);
   const float distance = std::sqrt(triangle_detail::dot3(d, d));  // depth before normalising
   if (distance - radius > max_gap) return false;
-  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges, a,
-                                    b, c, out);
+  return contact_from_closest_point(centre, radius, closest, d, distance, height, face_normal, face_d, internal_edges,
+                                    a, b, c, out);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -133,9 +133,9 @@ bool swept_sphere_triangle(const double centre[3], const double v[3], double r, 
                             centre[2] + v[2] * t - r * n[2]};
     if (t <= t_max && inside_triangle(foot, a, b, c, n)) consider(t, 0);
   }
-  const double entries[6] = {edge_entry(centre, v, r, a, b, t_max),   edge_entry(centre, v, r, b, c, t_max),
-                             edge_entry(centre, v, r, c, a, t_max),   vertex_entry(centre, v, r, a, t_max),
-                             vertex_entry(centre, v, r, b, t_max),    vertex_entry(centre, v, r, c, t_max)};
+  const double entries[6] = {edge_entry(centre, v, r, a, b, t_max), edge_entry(centre, v, r, b, c, t_max),
+                             edge_entry(centre, v, r, c, a, t_max), vertex_entry(centre, v, r, a, t_max),
+                             vertex_entry(centre, v, r, b, t_max),  vertex_entry(centre, v, r, c, t_max)};
   for (int k = 0; k < 6; ++k) {
     if (entries[k] == kTouching) return touching_hit(centre, v, r, a, b, c, n, internal_edges, hit);
     consider(entries[k], k + 1);
@@ -143,8 +143,12 @@ bool swept_sphere_triangle(const double centre[3], const double v[3], double r, 
   if (part < 0) return false;
   const double at[3] = {centre[0] + v[0] * best, centre[1] + v[1] * best, centre[2] + v[2] * best};
   // Which edges meet at each vertex: v0 (e0, e2), v1 (e0, e1), v2 (e1, e2).
-  constexpr std::uint8_t part_edges[7] = {0, kEdge0Internal, kEdge1Internal, kEdge2Internal,
-                                          kEdge0Internal | kEdge2Internal, kEdge0Internal | kEdge1Internal,
+  constexpr std::uint8_t part_edges[7] = {0,
+                                          kEdge0Internal,
+                                          kEdge1Internal,
+                                          kEdge2Internal,
+                                          kEdge0Internal | kEdge2Internal,
+                                          kEdge0Internal | kEdge1Internal,
                                           kEdge1Internal | kEdge2Internal};
   const bool internal = part == 0 || (internal_edges & part_edges[part]) == part_edges[part];
   if (internal) {

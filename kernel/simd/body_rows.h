@@ -61,25 +61,28 @@ inline float* group(SolverBody* body, std::size_t offset) { return reinterpret_c
                                            _mm_load_ps(group(body[12 + j], offset)), 1);
     r[j] = _mm512_insertf32x8(_mm512_castps256_ps512(lo), hi, 1);
   }
-  transpose4(r, [](__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); },
-             [](__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); },
-             []<int S>(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); },
+      [](__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); },
+      []<int S>(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, S); });
   for (int k = 0; k < 4; ++k) out[k] = body_batch(r[k]);
 #elif defined(HAIL_SIMD_PATH_AVX2)
   __m256 r[4];
   for (int j = 0; j < 4; ++j)
     r[j] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(group(body[j], offset))),
                                 _mm_load_ps(group(body[4 + j], offset)), 1);
-  transpose4(r, [](__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); },
-             [](__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); },
-             []<int S>(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); },
+      [](__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); },
+      []<int S>(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, S); });
   for (int k = 0; k < 4; ++k) out[k] = body_batch(r[k]);
 #elif defined(HAIL_SIMD_PATH_SSE4_2)
   __m128 r[4];
   for (int j = 0; j < 4; ++j) r[j] = _mm_load_ps(group(body[j], offset));
-  transpose4(r, [](__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); },
-             [](__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); },
-             []<int S>(__m128 a, __m128 b) { return _mm_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); },
+      [](__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); },
+      []<int S>(__m128 a, __m128 b) { return _mm_shuffle_ps(a, b, S); });
   for (int k = 0; k < 4; ++k) out[k] = body_batch(r[k]);
 #else
   // Reference (and any other instruction set): element by element, the same values.
@@ -98,9 +101,10 @@ inline float* group(SolverBody* body, std::size_t offset) { return reinterpret_c
   using namespace body_rows_detail;
 #if defined(HAIL_SIMD_PATH_AVX512)
   __m512 r[4] = {in[0], in[1], in[2], in[3]};
-  transpose4(r, [](__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); },
-             [](__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); },
-             []<int S>(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); },
+      [](__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); },
+      []<int S>(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, S); });
   for (int j = 0; j < 4; ++j) {
     const __m128 q[4] = {_mm512_extractf32x4_ps(r[j], 0), _mm512_extractf32x4_ps(r[j], 1),
                          _mm512_extractf32x4_ps(r[j], 2), _mm512_extractf32x4_ps(r[j], 3)};
@@ -109,18 +113,20 @@ inline float* group(SolverBody* body, std::size_t offset) { return reinterpret_c
   }
 #elif defined(HAIL_SIMD_PATH_AVX2)
   __m256 r[4] = {in[0], in[1], in[2], in[3]};
-  transpose4(r, [](__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); },
-             [](__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); },
-             []<int S>(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); },
+      [](__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); },
+      []<int S>(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, S); });
   for (int j = 0; j < 4; ++j) {
     if (body[j] != skip) _mm_store_ps(group(body[j], offset), _mm256_castps256_ps128(r[j]));
     if (body[4 + j] != skip) _mm_store_ps(group(body[4 + j], offset), _mm256_extractf128_ps(r[j], 1));
   }
 #elif defined(HAIL_SIMD_PATH_SSE4_2)
   __m128 r[4] = {in[0], in[1], in[2], in[3]};
-  transpose4(r, [](__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); },
-             [](__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); },
-             []<int S>(__m128 a, __m128 b) { return _mm_shuffle_ps(a, b, S); });
+  transpose4(
+      r, [](__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); },
+      [](__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); },
+      []<int S>(__m128 a, __m128 b) { return _mm_shuffle_ps(a, b, S); });
   for (int j = 0; j < 4; ++j)
     if (body[j] != skip) _mm_store_ps(group(body[j], offset), r[j]);
 #else
@@ -144,7 +150,8 @@ inline xsimd::batch<std::int32_t, simd_arch> load_body_stamps(const SolverBody* 
   const __m512i slots = _mm512_mullo_epi32(_mm512_load_si512(idx), _mm512_set1_epi32(kStride));
   return index_batch(_mm512_i32gather_epi32(slots, base, 4));
 #elif defined(HAIL_SIMD_PATH_AVX2)
-  const __m256i slots = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(idx)), _mm256_set1_epi32(kStride));
+  const __m256i slots =
+      _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(idx)), _mm256_set1_epi32(kStride));
   return index_batch(_mm256_i32gather_epi32(base, slots, 4));
 #else
   alignas(64) std::int32_t lanes[kBodyLanes];

@@ -11,10 +11,10 @@
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/solver/contact_solve_simd.h"
-#include "kernel/solver/depenetrate.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
+#include "kernel/solver/contact_solve_simd.h"
+#include "kernel/solver/depenetrate.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -56,7 +56,8 @@ void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
     const batch pxa = gather_floats(s.px, ia), pya = gather_floats(s.py, ia), pza = gather_floats(s.pz, ia);
     const batch pxb = gather_floats(s.px, ib), pyb = gather_floats(s.py, ib), pzb = gather_floats(s.pz, ib);
     const auto dyn = xsimd::bool_cast(dynamic_b);
-    const batch nx = batch::load_aligned(c.nx + o), ny = batch::load_aligned(c.ny + o), nz = batch::load_aligned(c.nz + o);
+    const batch nx = batch::load_aligned(c.nx + o), ny = batch::load_aligned(c.ny + o),
+                nz = batch::load_aligned(c.nz + o);
     const batch ra = batch::load_aligned(c.ra + o), rb = batch::load_aligned(c.rb + o);
     // current_gap, both forms, in its operation order.
     const batch gap_static = (batch::load_aligned(c.surface_d + o) - (nx * pxa + ny * pya + nz * pza)) - ra;

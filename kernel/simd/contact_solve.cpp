@@ -7,9 +7,9 @@
 
 #include <cstddef>
 
-#include "kernel/solver/contact_solve_simd.h"
 #include "kernel/simd/body_rows.h"
 #include "kernel/simd/kernels.h"
+#include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/solver_body.h"
 
 namespace hail {
@@ -108,8 +108,10 @@ struct Lanes {
     }
     const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
     const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
-    const batch wa_x_ra[3] = {wa[1] * r_a[2] - wa[2] * r_a[1], wa[2] * r_a[0] - wa[0] * r_a[2], wa[0] * r_a[1] - wa[1] * r_a[0]};
-    const batch wb_x_rb[3] = {wb[1] * r_b[2] - wb[2] * r_b[1], wb[2] * r_b[0] - wb[0] * r_b[2], wb[0] * r_b[1] - wb[1] * r_b[0]};
+    const batch wa_x_ra[3] = {wa[1] * r_a[2] - wa[2] * r_a[1], wa[2] * r_a[0] - wa[0] * r_a[2],
+                              wa[0] * r_a[1] - wa[1] * r_a[0]};
+    const batch wb_x_rb[3] = {wb[1] * r_b[2] - wb[2] * r_b[1], wb[2] * r_b[0] - wb[0] * r_b[2],
+                              wb[0] * r_b[1] - wb[1] * r_b[0]};
     for (int d = 0; d < 3; ++d) out[d] = (vb[d] + wb_x_rb[d]) - (va[d] + wa_x_ra[d]);
   }
 
@@ -129,8 +131,10 @@ struct Lanes {
   [[gnu::always_inline]] void apply_angular_impulse(const batch p[3], const lane_mask& active) {
     const batch r_a[3] = {n[0] * ra, n[1] * ra, n[2] * ra};
     const batch r_b[3] = {-n[0] * rb, -n[1] * rb, -n[2] * rb};
-    const batch ra_x_p[3] = {r_a[1] * p[2] - r_a[2] * p[1], r_a[2] * p[0] - r_a[0] * p[2], r_a[0] * p[1] - r_a[1] * p[0]};
-    const batch rb_x_p[3] = {r_b[1] * p[2] - r_b[2] * p[1], r_b[2] * p[0] - r_b[0] * p[2], r_b[0] * p[1] - r_b[1] * p[0]};
+    const batch ra_x_p[3] = {r_a[1] * p[2] - r_a[2] * p[1], r_a[2] * p[0] - r_a[0] * p[2],
+                             r_a[0] * p[1] - r_a[1] * p[0]};
+    const batch rb_x_p[3] = {r_b[1] * p[2] - r_b[2] * p[1], r_b[2] * p[0] - r_b[0] * p[2],
+                             r_b[0] * p[1] - r_b[1] * p[0]};
     for (int d = 0; d < 3; ++d) {
       wa[d] = xsimd::select(active, wa[d] - ra_x_p[d] * iia, wa[d]);
       wb[d] = xsimd::select(active, wb[d] + rb_x_p[d] * iib, wb[d]);
@@ -160,7 +164,8 @@ struct Lanes {
     if constexpr (kFriction) kt = ima + imb + ra * ra * iia + rb * rb * iib;
     active = active & !(kt <= batch(0.0f));
     const batch inv_kt = batch(1.0f) / kt;
-    batch target[3] = {accumulated[0] - vt[0] * inv_kt, accumulated[1] - vt[1] * inv_kt, accumulated[2] - vt[2] * inv_kt};
+    batch target[3] = {accumulated[0] - vt[0] * inv_kt, accumulated[1] - vt[1] * inv_kt,
+                       accumulated[2] - vt[2] * inv_kt};
     const batch len2 = target[0] * target[0] + target[1] * target[1] + target[2] * target[2];
     const lane_mask over = len2 > limit * limit;
     const batch scale = limit / xsimd::sqrt(len2);
@@ -238,7 +243,8 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
     const batch impulse = batch::load_aligned(c.normal_impulse + o);
-    batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
+    batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o),
+                            batch::load_aligned(c.tz + o)};
     const lane_mask idle = (impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
                            (accumulated[2] == zero) & (vn + allowed_closing >= zero);  // resting_idle
     const lane_mask active = !(kn <= zero) & !idle;
@@ -257,7 +263,8 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
       batch delta[3];
       L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
       L.apply_contact_impulse(dj, delta, active);
-      accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o), accumulated[2].store_aligned(c.tz + o);
+      accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o),
+          accumulated[2].store_aligned(c.tz + o);
     } else {
       const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
       L.apply_linear_impulse(p, active);
@@ -304,7 +311,8 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
       return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
     case kLinearFriction:
       return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
-    case kWithFriction: break;
+    case kWithFriction:
+      break;
   }
   return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
 }
@@ -312,9 +320,12 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
 void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                      std::size_t body_count, float inv_dt, FrictionWork work) {
   switch (work) {
-    case kNoFriction: return resting_pass<kNoFriction>(c, first, last, bodies, body_count, inv_dt);
-    case kLinearFriction: return resting_pass<kLinearFriction>(c, first, last, bodies, body_count, inv_dt);
-    case kWithFriction: break;
+    case kNoFriction:
+      return resting_pass<kNoFriction>(c, first, last, bodies, body_count, inv_dt);
+    case kLinearFriction:
+      return resting_pass<kLinearFriction>(c, first, last, bodies, body_count, inv_dt);
+    case kWithFriction:
+      break;
   }
   resting_pass<kRotationWork>(c, first, last, bodies, body_count, inv_dt);
 }
@@ -322,9 +333,12 @@ void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t
 void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                         std::size_t body_count, FrictionWork work) {
   switch (work) {
-    case kNoFriction: return warm_start_pass<kNoFriction>(c, first, last, bodies, body_count);
-    case kLinearFriction: return warm_start_pass<kLinearFriction>(c, first, last, bodies, body_count);
-    case kWithFriction: break;
+    case kNoFriction:
+      return warm_start_pass<kNoFriction>(c, first, last, bodies, body_count);
+    case kLinearFriction:
+      return warm_start_pass<kLinearFriction>(c, first, last, bodies, body_count);
+    case kWithFriction:
+      break;
   }
   warm_start_pass<kRotationWork>(c, first, last, bodies, body_count);
 }

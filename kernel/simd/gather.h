@@ -30,8 +30,8 @@ inline namespace HAIL_SIMD_NS {
 }
 
 /// One int per lane from base[index[l]], as gather_floats.
-[[nodiscard]] inline xsimd::batch<std::int32_t, simd_arch> gather_ints(const std::int32_t* base,
-                                                                       const xsimd::batch<std::int32_t, simd_arch>& index) {
+[[nodiscard]] inline xsimd::batch<std::int32_t, simd_arch> gather_ints(
+    const std::int32_t* base, const xsimd::batch<std::int32_t, simd_arch>& index) {
   using ibatch = xsimd::batch<std::int32_t, simd_arch>;
 #if defined(HAIL_SIMD_PATH_AVX512)
   return ibatch(_mm512_i32gather_epi32(index, base, 4));

@@ -1,6 +1,7 @@
 // This SIMD path's SimdKernels table (kernel/dispatch/kernel_table.h). Compiled once per path.
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
+
 #include "kernel/simd/kernels.h"
 
 namespace hail {

@@ -8,16 +8,17 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernel/dispatch/simd_arch.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/dispatch/simd_arch.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
 
 void find_sphere_pairs(const SphereSoA& spheres, std::size_t first, std::size_t last, float margin,
                        std::vector<SpherePair>& out);
-void sorted_axis_find_pairs(const SortedAxisPairsView& sweep, const SphereSoA& spheres, std::size_t first, std::size_t last,
-                      float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
+void sorted_axis_find_pairs(const SortedAxisPairsView& sweep, const SphereSoA& spheres, std::size_t first,
+                            std::size_t last, float margin, std::vector<SpherePair>& out,
+                            std::vector<std::uint32_t>& row);
 void grid_find_pairs(const SphereGridView& grid, const SphereSoA& spheres, std::size_t first, std::size_t last,
                      float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
@@ -30,7 +31,8 @@ void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::
 void contact_depenetrate(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
                          const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
-                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
+                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
+                      bool sweep_fast);
 std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots, std::size_t count);
 void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
 void closest_points(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);

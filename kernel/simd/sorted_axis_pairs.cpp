@@ -4,10 +4,10 @@
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/simd/kernels.h"
+#include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
 #include "kernel/broadphase/sphere_pairs.h"
-#include "kernel/broadphase/sorted_axis_pairs.h"
+#include "kernel/simd/kernels.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -46,8 +46,8 @@ const float* first_above(const float* begin, const float* end, float value) {
 
 }  // namespace
 
-void sorted_axis_find_pairs(const SortedAxisPairsView& v, const SphereSoA& s, std::size_t first, std::size_t last, float margin,
-                      std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
+void sorted_axis_find_pairs(const SortedAxisPairsView& v, const SphereSoA& s, std::size_t first, std::size_t last,
+                            float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) {
   using batch = xsimd::batch<float, simd_arch>;
   constexpr std::size_t W = batch::size;
   static_assert(kSimdPadding >= W, "the sweep's padding must cover the widest batch");

@@ -6,11 +6,11 @@
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/simd/compress_lanes.h"
-#include "kernel/simd/kernels.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/simd/compress_lanes.h"
+#include "kernel/simd/kernels.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -34,8 +34,14 @@ struct RowTest {
   ibatch bi;
 
   RowTest(const SphereGridView& v, const SphereSoA& s, std::size_t i, float margin)
-      : bx(s.px[i]), by(s.py[i]), bz(s.pz[i]), b_ri(s.radius[i]), b_ri_margin(s.radius[i] + margin),  // brute force's order
-        travel_i(kPairMargins ? v.sphere_travel[i] : 0.0f), factor(v.travel_factor), b_margin(margin),
+      : bx(s.px[i]),
+        by(s.py[i]),
+        bz(s.pz[i]),
+        b_ri(s.radius[i]),
+        b_ri_margin(s.radius[i] + margin),  // brute force's order
+        travel_i(kPairMargins ? v.sphere_travel[i] : 0.0f),
+        factor(v.travel_factor),
+        b_margin(margin),
         bi(static_cast<std::int32_t>(i)) {}
 
   /// Lanes of slots [k0, k0 + W) within reach, masked to the run [.., end).
@@ -85,7 +91,8 @@ void find_rows(const SphereGridView& v, const SphereSoA& s, std::size_t first, s
   SpherePair pairs[kPairBuffer];
   std::size_t pair_count = 0;
   for (std::size_t i = first; i < last; ++i) {
-    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i], ri_margin = ri + margin;  // brute force's order
+    const float xi = s.px[i], yi = s.py[i], zi = s.pz[i], ri = s.radius[i],
+                ri_margin = ri + margin;  // brute force's order
     if (!can_pair(xi, yi, zi, ri_margin)) continue;
     const std::uint32_t i32 = static_cast<std::uint32_t>(i);
     const RowTest<kPairMargins> test(v, s, i, margin);

@@ -3,14 +3,16 @@
 // find_sphere_pairs_scalar in kernel/broadphase/sphere_pairs.cpp, which evaluates the same float operations.
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
-#include "kernel/simd/kernels.h"
-#include "kernel/dispatch/kernel_table.h"
+
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/dispatch/kernel_table.h"
+#include "kernel/simd/kernels.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
 
-void find_sphere_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin, std::vector<SpherePair>& out) {
+void find_sphere_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,
+                       std::vector<SpherePair>& out) {
   using batch = xsimd::batch<float, simd_arch>;
   constexpr std::size_t W = batch::size;
   static_assert(kSimdPadding % W == 0, "SoA padding must cover the widest batch");

@@ -46,9 +46,10 @@ inline void take_vertex(const xsimd::batch_bool<float, simd_arch>& mask, const b
 }  // namespace triangle_lanes_detail
 
 /// Closest point of triangle (a, b, c) to q, per lane: closest_point_on_triangle's bits.
-[[gnu::always_inline]] inline ClosestPointLanes closest_points_on_triangles(
-    const xsimd::batch<float, simd_arch> q[3], const xsimd::batch<float, simd_arch> a[3],
-    const xsimd::batch<float, simd_arch> b[3], const xsimd::batch<float, simd_arch> c[3]) {
+[[gnu::always_inline]] inline ClosestPointLanes closest_points_on_triangles(const xsimd::batch<float, simd_arch> q[3],
+                                                                            const xsimd::batch<float, simd_arch> a[3],
+                                                                            const xsimd::batch<float, simd_arch> b[3],
+                                                                            const xsimd::batch<float, simd_arch> c[3]) {
   using namespace triangle_lanes_detail;
   const batch zero(0.0f);
   batch ab[3], ac[3], ap[3], bp[3], cp[3], bc[3];

@@ -13,8 +13,8 @@
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
 #include "kernel/simd/sphere_triangle_lanes.h"
-#include "kernel/terrain/terrain_parts.h"
 #include "kernel/terrain/terrain_contacts.h"
+#include "kernel/terrain/terrain_parts.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -40,8 +40,9 @@ struct TerrainCandidates {
 /// Appends (lane, k, height[lane]) for each set lane of `lanes`, lowest lane first, at
 /// candidate `at` of c, which must have room for W; returns how many. No branch on the lanes
 /// (kernel/simd/compress_lanes.h).
-[[gnu::always_inline]] inline std::uint32_t append_candidates(TerrainCandidates& c, std::uint32_t at, std::uint32_t lanes,
-                                                              std::uint32_t k, const batch& height) {
+[[gnu::always_inline]] inline std::uint32_t append_candidates(TerrainCandidates& c, std::uint32_t at,
+                                                              std::uint32_t lanes, std::uint32_t k,
+                                                              const batch& height) {
   alignas(64) float by_lane[W];
   height.store_aligned(by_lane);
   index_batch(static_cast<std::int32_t>(k)).store_unaligned(c.triangle + at);
@@ -60,8 +61,9 @@ struct PacketSpheres {
 /// a batch at a time (kernel/simd/sphere_triangle_lanes.h; its plane test was done by the walk,
 /// which kept the heights), then, for the lanes within reach, its second half and the contact
 /// into the lane's reduction, in candidate order.
-void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p, const TerrainTriangles& t,
-                     const SphereSoA& s, float restitution, float friction, ContactReduction* lanes) {
+void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p,
+                     const TerrainTriangles& t, const SphereSoA& s, float restitution, float friction,
+                     ContactReduction* lanes) {
   alignas(64) float px[W], py[W], pz[W], region[W], distance[W], height[W];
   for (std::uint32_t o = 0; o < c.count; o += W) {
     std::uint32_t valid = (1u << std::min(W, c.count - o)) - 1u;
@@ -91,8 +93,8 @@ void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const Pac
       const TrianglePoint at{{px[l], py[l], pz[l]}, static_cast<TriangleRegion>(static_cast<int>(region[l]))};
       const float to[3] = {at.p[0] - centre[0], at.p[1] - centre[1], at.p[2] - centre[2]};
       const float normal[3] = {t.nx[tri], t.ny[tri], t.nz[tri]};
-      const float corner0[3] = {t.v0x[tri], t.v0y[tri], t.v0z[tri]},
-                  corner1[3] = {t.v1x[tri], t.v1y[tri], t.v1z[tri]}, corner2[3] = {t.v2x[tri], t.v2y[tri], t.v2z[tri]};
+      const float corner0[3] = {t.v0x[tri], t.v0y[tri], t.v0z[tri]}, corner1[3] = {t.v1x[tri], t.v1y[tri], t.v1z[tri]},
+                  corner2[3] = {t.v2x[tri], t.v2y[tri], t.v2z[tri]};
       SphereTriangleContact st;
       if (contact_from_closest_point(centre, s.radius[i], at, to, distance[l], height[l], normal, t.d[tri],
                                      t.internal_edges[tri], corner0, corner1, corner2, st))
@@ -105,7 +107,8 @@ void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const Pac
 }  // namespace
 
 void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t first, std::size_t last, float dt,
-                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast) {
+                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
+                      bool sweep_fast) {
   const TerrainTriangles& t = terrain.triangles();
   const std::span<const Aabb> bounds(terrain.triangle_bounds().data(), terrain.triangle_bounds().size());
   SpherePacket packet;
@@ -127,7 +130,8 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
     // passes: the triangle's plane is one broadcast here, where a candidate's is four gathers,
     // and about a third of the box hits end at it. The same float operations as the scalar
     // reference's sphere_triangle_contact, so the same candidates pass.
-    const batch cx = batch::load_aligned(packet.cx), cy = batch::load_aligned(packet.cy), cz = batch::load_aligned(packet.cz);
+    const batch cx = batch::load_aligned(packet.cx), cy = batch::load_aligned(packet.cy),
+                cz = batch::load_aligned(packet.cz);
     const batch radius = batch::load_aligned(spheres.radius), max_gap = batch::load_aligned(spheres.margin);
     // The walk stops when the buffer could overflow at the next leaf; the buffer is tested and
     // emptied here, outside the walk's loop (PacketWalkExact).
@@ -169,7 +173,9 @@ std::uint64_t count_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x,
       // Each primitive's lanes counted at once, as the terrain kernel appends them at once.
       query_sphere_packet_exact_masks(
           bvh, boxes, packet,
-          [&](std::uint32_t lanes, std::uint32_t) { packet_hits += static_cast<std::uint32_t>(__builtin_popcount(lanes)); },
+          [&](std::uint32_t lanes, std::uint32_t) {
+            packet_hits += static_cast<std::uint32_t>(__builtin_popcount(lanes));
+          },
           count_node);
     } else {
       query_sphere_packet(

@@ -12,12 +12,12 @@
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "kernel/bvh/bvh_packet_walk.h"
 #include "hail/features.h"
-#include "kernel/simd/kernels.h"
-#include "kernel/geometry/sphere_triangle.h"
-#include "kernel/terrain/terrain_parts.h"
 #include "hail/sphere_soa.h"
+#include "kernel/bvh/bvh_packet_walk.h"
+#include "kernel/geometry/sphere_triangle.h"
+#include "kernel/simd/kernels.h"
+#include "kernel/terrain/terrain_parts.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -49,8 +49,8 @@ std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& s, const std::ui
       const float c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
       const float normal[3] = {t.nx[k], t.ny[k], t.nz[k]};
       SphereTriangleContact st;
-      if (sphere_triangle_contact(centre, s.radius[slots[p0 + lane]], a, b, c, normal, t.d[k], t.internal_edges[k], 0.0f,
-                                  st) &&
+      if (sphere_triangle_contact(centre, s.radius[slots[p0 + lane]], a, b, c, normal, t.d[k], t.internal_edges[k],
+                                  0.0f, st) &&
           st.gap < deepest[lane].gap)
         deepest[lane] = st;
     });

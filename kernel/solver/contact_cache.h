@@ -87,7 +87,8 @@ class ContactImpulseCache {
   void mark_runs(std::span<const Contact> contacts, std::size_t begin, std::size_t end, std::uint32_t Range::*run_begin,
                  std::uint32_t Range::*run_end);
   /// The entry of `partner` in entries_[begin, end), trying entries_[guess] first; null if none.
-  [[nodiscard]] const Entry* find(std::uint32_t begin, std::uint32_t end, std::uint32_t guess, std::uint32_t partner) const;
+  [[nodiscard]] const Entry* find(std::uint32_t begin, std::uint32_t end, std::uint32_t guess,
+                                  std::uint32_t partner) const;
 
   std::vector<Entry> entries_;
   std::vector<Range> ranges_, scratch_;  // per slot; scratch_: remap_slots, then the next step's layout

@@ -29,7 +29,8 @@ std::uint32_t take_colour(const Contact& c, std::uint64_t* mask) {
 
 std::size_t ContactColouring::sequential_colours() const {
   std::size_t most = 0;
-  for (std::size_t t = 0; t < tile_count(); ++t) most = std::max<std::size_t>(most, tile_colour_begin[t + 1] - tile_colour_begin[t]);
+  for (std::size_t t = 0; t < tile_count(); ++t)
+    most = std::max<std::size_t>(most, tile_colour_begin[t + 1] - tile_colour_begin[t]);
   return most + (colour_count() - shared_colour_begin());
 }
 
@@ -49,7 +50,8 @@ void lay_out_colours(ContactColouring& out, std::size_t keys, std::size_t tiles)
   out.tile_colour_begin.clear();
   std::uint32_t position = 0;
   for (std::size_t slot = 0; slot < keys / 2; ++slot) {
-    if (slot % kColourSlots == 0 && tiles > 0) out.tile_colour_begin.push_back(static_cast<std::uint32_t>(out.serial.size()));
+    if (slot % kColourSlots == 0 && tiles > 0)
+      out.tile_colour_begin.push_back(static_cast<std::uint32_t>(out.serial.size()));
     const std::uint32_t count = out.counts[2 * slot] + out.counts[2 * slot + 1];
     out.counts[2 * slot + 1] = position + out.counts[2 * slot];
     out.counts[2 * slot] = position;
@@ -82,14 +84,16 @@ void colour_contacts(std::span<const Contact> contacts, std::size_t sphere_count
       const std::uint32_t ta = tile_of(c.a);
       if (c.b == kStaticBody || tile_of(c.b) == ta) tile = ta;
     }
-    const std::uint32_t colour = take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
+    const std::uint32_t colour =
+        take_colour(c, tile == tiles && tiles > 0 ? out.shared_mask.data() : out.body_mask.data());
     const std::uint32_t key = colouring_key(c, tile, colour, velocities);
     out.key_of[k] = key;
     ++out.counts[key];
   }
   lay_out_colours(out, keys, tiles);
   resize_geometric(out.order, contacts.size());
-  for (std::size_t k = 0; k < contacts.size(); ++k) out.order[out.counts[out.key_of[k]]++] = static_cast<std::uint32_t>(k);
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    out.order[out.counts[out.key_of[k]]++] = static_cast<std::uint32_t>(k);
 }
 
 std::size_t TiledColouring::begin(std::span<const Contact> contacts, const DetectionBlocks& blocks,
@@ -129,7 +133,8 @@ void TiledColouring::colour_tile(std::size_t t) {
   std::size_t most = 0;
   if (in_static.first < in_static.last)
     most += blocks_.static_offsets[in_static.last] - blocks_.static_offsets[in_static.first];
-  if (in_pairs.first < in_pairs.last) most += blocks_.pair_offsets[in_pairs.last] - blocks_.pair_offsets[in_pairs.first];
+  if (in_pairs.first < in_pairs.last)
+    most += blocks_.pair_offsets[in_pairs.last] - blocks_.pair_offsets[in_pairs.first];
   // Grown, never shrunk (a std::vector zero-fills what it grows by); tile_counts holds the lengths.
   if (out.tile_contacts[t].size() < most) resize_geometric(out.tile_contacts[t], most);
   if (out.tile_shared[t].size() < most) resize_geometric(out.tile_shared[t], most);

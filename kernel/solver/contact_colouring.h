@@ -42,8 +42,8 @@ struct SolveStartVelocities {
   const bool moving_b = c.b != kStaticBody;
   const std::uint32_t b = moving_b ? c.b : c.a;  // a valid slot; its velocity is then not used
   const float sb = moving_b ? 1.0f : 0.0f;
-  const float vn = (sb * v->vx[b] - v->vx[c.a]) * c.nx + (sb * v->vy[b] - v->vy[c.a]) * c.ny +
-                   (sb * v->vz[b] - v->vz[c.a]) * c.nz;
+  const float vn =
+      (sb * v->vx[b] - v->vx[c.a]) * c.nx + (sb * v->vy[b] - v->vy[c.a]) * c.ny + (sb * v->vz[b] - v->vz[c.a]) * c.nz;
   return idle & (vn + 0.5f * c.gap * v->inv_dt >= 0.0f);
 }
 
@@ -53,22 +53,27 @@ struct SolveStartVelocities {
 inline constexpr std::uint32_t kMaxParallelColours = 64;
 
 struct ContactColouring {
-  std::vector<std::uint32_t> order;         ///< contact indices grouped by colour; within one, those not starts_idle, then those, each in contact order
+  std::vector<std::uint32_t>
+      order;  ///< contact indices grouped by colour; within one, those not starts_idle, then those, each in contact order
   std::vector<std::uint32_t> colour_begin;  ///< colour k spans order[colour_begin[k] .. colour_begin[k+1])
   /// Tile t's colours are [tile_colour_begin[t], tile_colour_begin[t+1]); the shared colours
   /// are [shared_colour_begin(), colour_count()). Colours of different tiles share no sphere.
   std::vector<std::uint32_t> tile_colour_begin;
-  std::vector<std::uint8_t> serial;         ///< per colour: 1 for an overflow colour (its contacts may share spheres)
-  std::vector<std::uint64_t> body_mask;     ///< scratch: colours used per sphere
-  std::vector<std::uint64_t> shared_mask;   ///< scratch: shared colours used per sphere
-  std::vector<std::uint32_t> key_of;        ///< scratch: (tile or shared) and colour per contact
-  std::vector<std::uint32_t> counts;        ///< scratch: contacts per (tile or shared, colour)
-  std::vector<std::vector<std::uint32_t>> tile_contacts;  ///< scratch (TiledColouring): per tile, its contacts, in contact order
-  std::vector<std::vector<std::uint32_t>> tile_shared;    ///< scratch (TiledColouring): per tile, the shared contacts of its rows
-  std::vector<std::uint32_t> tile_counts;                 ///< scratch (TiledColouring): per tile, the lengths of those two lists
+  std::vector<std::uint8_t> serial;        ///< per colour: 1 for an overflow colour (its contacts may share spheres)
+  std::vector<std::uint64_t> body_mask;    ///< scratch: colours used per sphere
+  std::vector<std::uint64_t> shared_mask;  ///< scratch: shared colours used per sphere
+  std::vector<std::uint32_t> key_of;       ///< scratch: (tile or shared) and colour per contact
+  std::vector<std::uint32_t> counts;       ///< scratch: contacts per (tile or shared, colour)
+  std::vector<std::vector<std::uint32_t>>
+      tile_contacts;  ///< scratch (TiledColouring): per tile, its contacts, in contact order
+  std::vector<std::vector<std::uint32_t>>
+      tile_shared;                         ///< scratch (TiledColouring): per tile, the shared contacts of its rows
+  std::vector<std::uint32_t> tile_counts;  ///< scratch (TiledColouring): per tile, the lengths of those two lists
   [[nodiscard]] std::size_t colour_count() const { return colour_begin.empty() ? 0 : colour_begin.size() - 1; }
   [[nodiscard]] std::size_t tile_count() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.size() - 1; }
-  [[nodiscard]] std::size_t shared_colour_begin() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.back(); }
+  [[nodiscard]] std::size_t shared_colour_begin() const {
+    return tile_colour_begin.empty() ? 0 : tile_colour_begin.back();
+  }
   [[nodiscard]] bool is_serial(std::size_t colour) const { return serial[colour] != 0; }
   /// Colours one after another on a pass's critical path: the most colours of any tile, then
   /// the shared colours.

@@ -64,14 +64,30 @@ template <FrictionWork kWork = kWithFriction>
 inline ContactBodies gather_bodies(const SphereSoA& s, const Contact& c) {
   ContactBodies k;
   const std::uint32_t a = c.a;
-  k.ima = s.inv_mass[a]; k.iia = s.inv_inertia[a]; k.ra = s.radius[a];
-  k.va[0] = s.vx[a]; k.va[1] = s.vy[a]; k.va[2] = s.vz[a];
-  if constexpr (has_rotation(kWork)) { k.wa[0] = s.wx[a]; k.wa[1] = s.wy[a]; k.wa[2] = s.wz[a]; }
+  k.ima = s.inv_mass[a];
+  k.iia = s.inv_inertia[a];
+  k.ra = s.radius[a];
+  k.va[0] = s.vx[a];
+  k.va[1] = s.vy[a];
+  k.va[2] = s.vz[a];
+  if constexpr (has_rotation(kWork)) {
+    k.wa[0] = s.wx[a];
+    k.wa[1] = s.wy[a];
+    k.wa[2] = s.wz[a];
+  }
   if (c.b != kStaticBody) {
     const std::uint32_t b = c.b;
-    k.imb = s.inv_mass[b]; k.iib = s.inv_inertia[b]; k.rb = s.radius[b];
-    k.vb[0] = s.vx[b]; k.vb[1] = s.vy[b]; k.vb[2] = s.vz[b];
-    if constexpr (has_rotation(kWork)) { k.wb[0] = s.wx[b]; k.wb[1] = s.wy[b]; k.wb[2] = s.wz[b]; }
+    k.imb = s.inv_mass[b];
+    k.iib = s.inv_inertia[b];
+    k.rb = s.radius[b];
+    k.vb[0] = s.vx[b];
+    k.vb[1] = s.vy[b];
+    k.vb[2] = s.vz[b];
+    if constexpr (has_rotation(kWork)) {
+      k.wb[0] = s.wx[b];
+      k.wb[1] = s.wy[b];
+      k.wb[2] = s.wz[b];
+    }
   }
   return k;
 }
@@ -79,12 +95,24 @@ inline ContactBodies gather_bodies(const SphereSoA& s, const Contact& c) {
 template <FrictionWork kWork = kWithFriction>
 inline void scatter_bodies(SphereSoA& s, const Contact& c, const ContactBodies& k) {
   const std::uint32_t a = c.a;
-  s.vx[a] = k.va[0]; s.vy[a] = k.va[1]; s.vz[a] = k.va[2];
-  if constexpr (has_rotation(kWork)) { s.wx[a] = k.wa[0]; s.wy[a] = k.wa[1]; s.wz[a] = k.wa[2]; }
+  s.vx[a] = k.va[0];
+  s.vy[a] = k.va[1];
+  s.vz[a] = k.va[2];
+  if constexpr (has_rotation(kWork)) {
+    s.wx[a] = k.wa[0];
+    s.wy[a] = k.wa[1];
+    s.wz[a] = k.wa[2];
+  }
   if (c.b != kStaticBody) {
     const std::uint32_t b = c.b;
-    s.vx[b] = k.vb[0]; s.vy[b] = k.vb[1]; s.vz[b] = k.vb[2];
-    if constexpr (has_rotation(kWork)) { s.wx[b] = k.wb[0]; s.wy[b] = k.wb[1]; s.wz[b] = k.wb[2]; }
+    s.vx[b] = k.vb[0];
+    s.vy[b] = k.vb[1];
+    s.vz[b] = k.vb[2];
+    if constexpr (has_rotation(kWork)) {
+      s.wx[b] = k.wb[0];
+      s.wy[b] = k.wb[1];
+      s.wz[b] = k.wb[2];
+    }
   }
 }
 
@@ -157,7 +185,8 @@ inline void tangential_slip(const Contact& c, const ContactBodies& k, float vt[3
 /// compute it from the masses alone, off the chain of operations on the velocities, and one
 /// division replaces three.
 template <FrictionWork kFriction = kWithFriction>
-inline void friction_impulse(const ContactBodies& k, const float vt[3], float limit, float accumulated[3], float delta[3]) {
+inline void friction_impulse(const ContactBodies& k, const float vt[3], float limit, float accumulated[3],
+                             float delta[3]) {
   static_assert(has_friction(kFriction));
   const float kt = tangent_mass_denominator<kFriction>(k);
   if (kt <= 0.0f) {

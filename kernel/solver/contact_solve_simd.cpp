@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "kernel/solver/contact_impulse.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/solver/contact_impulse.h"
 
 namespace hail {
 
@@ -51,27 +51,37 @@ void warm_start_run(std::span<const Contact> contacts, std::span<SolverBody> bod
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
                                 float restitution_threshold, std::uint32_t pass, FrictionWork work) {
   switch (work) {
-    case kNoFriction: return collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
-    case kLinearFriction: return collision_run<kLinearFriction>(contacts, bodies, dt, restitution_threshold, pass);
-    case kWithFriction: break;
+    case kNoFriction:
+      return collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
+    case kLinearFriction:
+      return collision_run<kLinearFriction>(contacts, bodies, dt, restitution_threshold, pass);
+    case kWithFriction:
+      break;
   }
   return collision_run<kRotationWork>(contacts, bodies, dt, restitution_threshold, pass);
 }
 
-void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt, FrictionWork work) {
+void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
+                              FrictionWork work) {
   switch (work) {
-    case kNoFriction: return resting_run<kNoFriction>(contacts, bodies, inv_dt);
-    case kLinearFriction: return resting_run<kLinearFriction>(contacts, bodies, inv_dt);
-    case kWithFriction: break;
+    case kNoFriction:
+      return resting_run<kNoFriction>(contacts, bodies, inv_dt);
+    case kLinearFriction:
+      return resting_run<kLinearFriction>(contacts, bodies, inv_dt);
+    case kWithFriction:
+      break;
   }
   resting_run<kRotationWork>(contacts, bodies, inv_dt);
 }
 
 void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, FrictionWork work) {
   switch (work) {
-    case kNoFriction: return warm_start_run<kNoFriction>(contacts, bodies);
-    case kLinearFriction: return warm_start_run<kLinearFriction>(contacts, bodies);
-    case kWithFriction: break;
+    case kNoFriction:
+      return warm_start_run<kNoFriction>(contacts, bodies);
+    case kLinearFriction:
+      return warm_start_run<kLinearFriction>(contacts, bodies);
+    case kWithFriction:
+      break;
   }
   warm_start_run<kRotationWork>(contacts, bodies);
 }
@@ -80,11 +90,23 @@ std::size_t contact_batch_width() { return simd_kernels().width; }
 
 ContactBatchArrays ContactBatches::arrays() {
   return {width_,
-          a_.data(), b_.data(),
-          nx_.data(), ny_.data(), nz_.data(), gap_.data(), restitution_.data(), friction_.data(),
-          ra_.data(), rb_.data(),
-          normal_impulse_.data(), tx_.data(), ty_.data(), tz_.data(), bounce_impulse_.data(),
-          surface_d_.data(), static_b_.data()};
+          a_.data(),
+          b_.data(),
+          nx_.data(),
+          ny_.data(),
+          nz_.data(),
+          gap_.data(),
+          restitution_.data(),
+          friction_.data(),
+          ra_.data(),
+          rb_.data(),
+          normal_impulse_.data(),
+          tx_.data(),
+          ty_.data(),
+          tz_.data(),
+          bounce_impulse_.data(),
+          surface_d_.data(),
+          static_b_.data()};
 }
 
 void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span<const std::uint8_t> serial) {
@@ -108,8 +130,8 @@ void ContactBatches::plan(std::span<const std::uint32_t> colour_begin, std::span
   const std::size_t lanes = first_contact_.size() * W;
   for (auto* v : {&a_, &b_}) v->resize(lanes);
   if (static_b_.size() < first_contact_.size()) resize_geometric(static_b_, first_contact_.size());
-  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_, &surface_d_,
-                  &normal_impulse_, &tx_, &ty_, &tz_, &bounce_impulse_})
+  for (auto* v : {&nx_, &ny_, &nz_, &gap_, &restitution_, &friction_, &ra_, &rb_, &surface_d_, &normal_impulse_, &tx_,
+                  &ty_, &tz_, &bounce_impulse_})
     v->resize(lanes);
 }
 
@@ -174,8 +196,8 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
                                      float restitution_threshold, std::uint32_t pass, FrictionWork work) {
   if (first >= last) return false;
-  return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold, pass,
-                                     work);
+  return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold,
+                                     pass, work);
 }
 
 void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
@@ -195,9 +217,7 @@ void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<S
   kernels_->contact_warm_start(arrays(), first, last, bodies.data(), bodies.size(), work);
 }
 
-void ContactBatches::store_impulses(std::span<Contact> contacts) const {
-  store_impulses(contacts, 0, batch_count());
-}
+void ContactBatches::store_impulses(std::span<Contact> contacts) const { store_impulses(contacts, 0, batch_count()); }
 
 void ContactBatches::store_impulses(std::span<Contact> contacts, std::size_t first, std::size_t last) const {
   const std::size_t W = width_;

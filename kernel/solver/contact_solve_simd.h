@@ -25,11 +25,11 @@
 #include <utility>
 #include <vector>
 
+#include "hail/aligned_array.h"
 #include "hail/contact.h"
 #include "kernel/solver/contact_impulse.h"
 #include "kernel/solver/depenetrate.h"
 #include "kernel/solver/solver_body.h"
-#include "hail/aligned_array.h"
 
 namespace hail {
 
@@ -46,7 +46,7 @@ struct ContactBatchArrays {
   const float *nx, *ny, *nz, *gap, *restitution, *friction;
   const float *ra, *rb;  ///< radii (rb 0 for static contacts)
   float *normal_impulse, *tx, *ty, *tz;
-  float* bounce_impulse;  ///< the collision passes' normal impulses, summed (Contact::bounce_impulse)
+  float* bounce_impulse;   ///< the collision passes' normal impulses, summed (Contact::bounce_impulse)
   const float* surface_d;  ///< Contact::surface_d (the depenetration pass's static gap)
   /// Per batch: 1 when every lane's b is the static body. Such a batch (terrain and plane
   /// contacts come first in each colour, so most of them fill whole batches) loads and stores
@@ -60,8 +60,8 @@ class ContactBatches {
   /// (each must share no sphere) in batches, the last one padded; later colours are left to
   /// the scalar rules. `bodies` must end with one static body (zero velocity and
   /// inverse mass), whose slot static contacts gather from. Allocates only on growth.
-  void stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin, std::size_t batched_colours,
-             std::span<const SolverBody> bodies);
+  void stage(std::span<const Contact> contacts, std::span<const std::uint32_t> colour_begin,
+             std::size_t batched_colours, std::span<const SolverBody> bodies);
   /// stage() in two parts, so that the copying can run in parallel: plan() lays out the
   /// batches (serial, cheap), fill() copies batches [first, last) (disjoint ranges in parallel).
   /// Colour c is batched unless serial[c] is non-zero (its contacts may share spheres: all of

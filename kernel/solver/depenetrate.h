@@ -26,8 +26,7 @@ struct DepenetrationArrays {
 /// Current signed gap of a contact from the spheres' present positions (normal kept fixed).
 inline float current_gap(const SphereSoA& s, const Contact& c) {
   const std::uint32_t a = c.a;
-  if (c.b == kStaticBody)
-    return c.surface_d - (c.nx * s.px[a] + c.ny * s.py[a] + c.nz * s.pz[a]) - s.radius[a];
+  if (c.b == kStaticBody) return c.surface_d - (c.nx * s.px[a] + c.ny * s.py[a] + c.nz * s.pz[a]) - s.radius[a];
   const std::uint32_t b = c.b;
   return c.nx * (s.px[b] - s.px[a]) + c.ny * (s.py[b] - s.py[a]) + c.nz * (s.pz[b] - s.pz[a]) - s.radius[a] -
          s.radius[b];

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "kernel/solver/contact_impulse.h"
-#include "kernel/geometry/fast_motion.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/geometry/fast_motion.h"
+#include "kernel/solver/contact_impulse.h"
 
 namespace hail {
 
@@ -109,9 +109,17 @@ double earliest_root(double d0, double vn, double an, double limit) {
                          : solve_impact<kLinearFriction>(contact, bodies, p.restitution_threshold);
     if (impacts && j > 0.0f) {
       const float r = s.radius[i];
-      impacts->push_back({.a = contact.a, .b = kStaticBody, .feature = kPlaneFeature | static_cast<std::uint32_t>(hit_plane),
-                          .time = p.dt - remaining, .px = x[0] + contact.nx * r, .py = x[1] + contact.ny * r,
-                          .pz = x[2] + contact.nz * r, .nx = contact.nx, .ny = contact.ny, .nz = contact.nz, .impulse = j});
+      impacts->push_back({.a = contact.a,
+                          .b = kStaticBody,
+                          .feature = kPlaneFeature | static_cast<std::uint32_t>(hit_plane),
+                          .time = p.dt - remaining,
+                          .px = x[0] + contact.nx * r,
+                          .py = x[1] + contact.ny * r,
+                          .pz = x[2] + contact.nz * r,
+                          .nx = contact.nx,
+                          .ny = contact.ny,
+                          .nz = contact.nz,
+                          .impulse = j});
     }
     for (int d = 0; d < 3; ++d) u[d] = bodies.va[d];
     if (spin) s.wx[i] = bodies.wa[0], s.wy[i] = bodies.wa[1], s.wz[i] = bodies.wa[2];
@@ -135,7 +143,9 @@ void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std:
     float remaining = p.dt;
     if (!planes.empty()) bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
     for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
-    s.px[i] = x[0]; s.py[i] = x[1]; s.pz[i] = x[2];
+    s.px[i] = x[0];
+    s.py[i] = x[1];
+    s.pz[i] = x[2];
     s.vx[i] = u[0] + a[0] * remaining;
     s.vy[i] = u[1] + a[1] * remaining;
     s.vz[i] = u[2] + a[2] * remaining;

@@ -11,9 +11,9 @@
 #include <span>
 #include <vector>
 
-#include "kernel/terrain/plane_contacts.h"
 #include "hail/sphere_soa.h"
 #include "hail/world_settings.h"
+#include "kernel/terrain/plane_contacts.h"
 
 namespace hail {
 

@@ -46,9 +46,7 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
     }
   }
   // Contacts by the lower level of their two bodies (static geometry: 0), stable in index.
-  auto key = [&](const Contact& c) {
-    return c.b == kStaticBody ? 0u : std::min(level_[c.a], level_[c.b]);
-  };
+  auto key = [&](const Contact& c) { return c.b == kStaticBody ? 0u : std::min(level_[c.a], level_[c.b]); };
   std::uint32_t top = 0;
   for (std::uint32_t l : level_)
     if (l != kNone) top = std::max(top, l);

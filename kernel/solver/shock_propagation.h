@@ -43,12 +43,12 @@ class ShockPropagation {
   static constexpr std::uint32_t kNoLevel = 0xFFFFFFFFu;
 
  private:
-  std::vector<std::uint32_t> level_;         ///< per sphere
-  std::vector<std::uint32_t> first_edge_;    ///< per sphere + 1: where its neighbours start in edges_
-  std::vector<std::uint32_t> edges_;         ///< neighbour slots of sphere-sphere contacts
-  std::vector<std::uint32_t> queue_;         ///< breadth-first order
-  std::vector<std::uint32_t> level_count_;   ///< counting sort of contacts by level
-  std::vector<std::uint32_t> order_;         ///< contact indices, lowest level first
+  std::vector<std::uint32_t> level_;        ///< per sphere
+  std::vector<std::uint32_t> first_edge_;   ///< per sphere + 1: where its neighbours start in edges_
+  std::vector<std::uint32_t> edges_;        ///< neighbour slots of sphere-sphere contacts
+  std::vector<std::uint32_t> queue_;        ///< breadth-first order
+  std::vector<std::uint32_t> level_count_;  ///< counting sort of contacts by level
+  std::vector<std::uint32_t> order_;        ///< contact indices, lowest level first
 };
 
 }  // namespace hail

@@ -16,7 +16,9 @@ class SlotDivider {
  public:
   /// d >= 1.
   explicit SlotDivider(std::uint32_t d)
-      : d_(d), shift_(31 + static_cast<unsigned>(std::bit_width(d - 1))), magic_((std::uint64_t{1} << shift_) / d + 1) {}
+      : d_(d),
+        shift_(31 + static_cast<unsigned>(std::bit_width(d - 1))),
+        magic_((std::uint64_t{1} << shift_) / d + 1) {}
 
   [[nodiscard]] std::uint32_t operator()(std::uint32_t slot) const {
     if (slot >= (std::uint32_t{1} << 31)) return slot / d_;

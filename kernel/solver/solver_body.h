@@ -10,8 +10,8 @@
 #include <span>
 
 #include "hail/contact.h"
-#include "kernel/solver/contact_impulse.h"
 #include "hail/sphere_soa.h"
+#include "kernel/solver/contact_impulse.h"
 
 namespace hail {
 
@@ -35,7 +35,9 @@ inline void load_solver_bodies(const SphereSoA& s, std::size_t first, std::size_
                                bool angular = true) {
   for (std::size_t i = first; i < last; ++i) {
     SolverBody& b = bodies[i];
-    b.v[0] = s.vx[i]; b.v[1] = s.vy[i]; b.v[2] = s.vz[i];
+    b.v[0] = s.vx[i];
+    b.v[1] = s.vy[i];
+    b.v[2] = s.vz[i];
     if (angular) b.w[0] = s.wx[i], b.w[1] = s.wy[i], b.w[2] = s.wz[i];
     b.inv_mass = s.inv_mass[i];
     b.inv_inertia = s.inv_inertia[i];
@@ -46,11 +48,13 @@ inline void load_solver_bodies(const SphereSoA& s, std::size_t first, std::size_
 
 /// Writes the velocities of bodies [first, last) back to the SoA (angular ones when `angular`,
 /// as load_solver_bodies read them).
-inline void store_solver_velocities(std::span<const SolverBody> bodies, std::size_t first, std::size_t last, SphereSoA& s,
-                                    bool angular = true) {
+inline void store_solver_velocities(std::span<const SolverBody> bodies, std::size_t first, std::size_t last,
+                                    SphereSoA& s, bool angular = true) {
   for (std::size_t i = first; i < last; ++i) {
     const SolverBody& b = bodies[i];
-    s.vx[i] = b.v[0]; s.vy[i] = b.v[1]; s.vz[i] = b.v[2];
+    s.vx[i] = b.v[0];
+    s.vy[i] = b.v[1];
+    s.vz[i] = b.v[2];
     if (angular) s.wx[i] = b.w[0], s.wy[i] = b.w[1], s.wz[i] = b.w[2];
   }
 }
@@ -60,14 +64,30 @@ template <FrictionWork kWork = kWithFriction>
 inline ContactBodies gather_bodies(std::span<const SolverBody> bodies, const Contact& c) {
   ContactBodies k;
   const SolverBody& a = bodies[c.a];
-  k.ima = a.inv_mass; k.iia = a.inv_inertia; k.ra = a.radius;
-  k.va[0] = a.v[0]; k.va[1] = a.v[1]; k.va[2] = a.v[2];
-  if constexpr (has_rotation(kWork)) { k.wa[0] = a.w[0]; k.wa[1] = a.w[1]; k.wa[2] = a.w[2]; }
+  k.ima = a.inv_mass;
+  k.iia = a.inv_inertia;
+  k.ra = a.radius;
+  k.va[0] = a.v[0];
+  k.va[1] = a.v[1];
+  k.va[2] = a.v[2];
+  if constexpr (has_rotation(kWork)) {
+    k.wa[0] = a.w[0];
+    k.wa[1] = a.w[1];
+    k.wa[2] = a.w[2];
+  }
   if (c.b != kStaticBody) {
     const SolverBody& b = bodies[c.b];
-    k.imb = b.inv_mass; k.iib = b.inv_inertia; k.rb = b.radius;
-    k.vb[0] = b.v[0]; k.vb[1] = b.v[1]; k.vb[2] = b.v[2];
-    if constexpr (has_rotation(kWork)) { k.wb[0] = b.w[0]; k.wb[1] = b.w[1]; k.wb[2] = b.w[2]; }
+    k.imb = b.inv_mass;
+    k.iib = b.inv_inertia;
+    k.rb = b.radius;
+    k.vb[0] = b.v[0];
+    k.vb[1] = b.v[1];
+    k.vb[2] = b.v[2];
+    if constexpr (has_rotation(kWork)) {
+      k.wb[0] = b.w[0];
+      k.wb[1] = b.w[1];
+      k.wb[2] = b.w[2];
+    }
   }
   return k;
 }
@@ -76,12 +96,24 @@ inline ContactBodies gather_bodies(std::span<const SolverBody> bodies, const Con
 template <FrictionWork kWork = kWithFriction>
 inline void scatter_bodies(std::span<SolverBody> bodies, const Contact& c, const ContactBodies& k) {
   SolverBody& a = bodies[c.a];
-  a.v[0] = k.va[0]; a.v[1] = k.va[1]; a.v[2] = k.va[2];
-  if constexpr (has_rotation(kWork)) { a.w[0] = k.wa[0]; a.w[1] = k.wa[1]; a.w[2] = k.wa[2]; }
+  a.v[0] = k.va[0];
+  a.v[1] = k.va[1];
+  a.v[2] = k.va[2];
+  if constexpr (has_rotation(kWork)) {
+    a.w[0] = k.wa[0];
+    a.w[1] = k.wa[1];
+    a.w[2] = k.wa[2];
+  }
   if (c.b != kStaticBody) {
     SolverBody& b = bodies[c.b];
-    b.v[0] = k.vb[0]; b.v[1] = k.vb[1]; b.v[2] = k.vb[2];
-    if constexpr (has_rotation(kWork)) { b.w[0] = k.wb[0]; b.w[1] = k.wb[1]; b.w[2] = k.wb[2]; }
+    b.v[0] = k.vb[0];
+    b.v[1] = k.vb[1];
+    b.v[2] = k.vb[2];
+    if constexpr (has_rotation(kWork)) {
+      b.w[0] = k.wb[0];
+      b.w[1] = k.wb[1];
+      b.w[2] = k.wb[2];
+    }
   }
 }
 

@@ -14,7 +14,8 @@ namespace hail {
 void check_heightmap_params(const HeightmapParams& p) {
   auto finite = [](float v, const char* name) {
     if (!std::isfinite(v))
-      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be finite, got " + std::to_string(v));
+      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be finite, got " +
+                            std::to_string(v));
   };
   auto positive = [&](float v, const char* name) {
     finite(v, name);
@@ -33,14 +34,14 @@ void check_heightmap_params(const HeightmapParams& p) {
                           ", got " + std::to_string(p.max_vertices));
 }
 
-void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where, std::uint64_t max_vertices) {
+void check_heightmap_size(std::uint64_t cols, std::uint64_t rows, const std::string& where,
+                          std::uint64_t max_vertices) {
   const std::string size = std::to_string(cols) + " x " + std::to_string(rows);
   if (cols < 2 || rows < 2)
     throw InvalidArgument("hail: " + where + ": a heightmap needs at least 2 x 2 vertices, got " + size);
   // Both sides are <= 2^16 before the product is formed, so it cannot overflow.
   if (cols > kMaxHeightmapSide || rows > kMaxHeightmapSide || cols * rows > kMaxHeightmapVertices)
-    throw InvalidArgument("hail: " + where + ": " + size +
-                          " vertices exceeds the limit (65536 per side, 2^28 in all)");
+    throw InvalidArgument("hail: " + where + ": " + size + " vertices exceeds the limit (65536 per side, 2^28 in all)");
   if (cols * rows > max_vertices)
     throw InvalidArgument("hail: " + where + ": " + size + " = " + std::to_string(cols * rows) +
                           " vertices exceeds HeightmapParams::max_vertices = " + std::to_string(max_vertices));
@@ -81,8 +82,8 @@ Heightmap Heightmap::from_file_samples(const std::string& path, std::uint32_t co
 
 Heightmap Heightmap::moved(const Vec3& by) const {
   if (!std::isfinite(by.x()) || !std::isfinite(by.y()) || !std::isfinite(by.z()))
-    throw InvalidArgument("hail: Heightmap::moved: offset (" + std::to_string(by.x()) + ", " + std::to_string(by.y()) + ", " +
-                          std::to_string(by.z()) + ") is not finite");
+    throw InvalidArgument("hail: Heightmap::moved: offset (" + std::to_string(by.x()) + ", " + std::to_string(by.y()) +
+                          ", " + std::to_string(by.z()) + ") is not finite");
   HeightmapParams params = params_;
   params.origin_x += by.x();
   params.origin_y += by.y();

@@ -30,13 +30,19 @@ inline void require_regular_file(const std::string& path) {
   if (status.type() == fs::file_type::not_found) throw_file_error(path, "cannot open file (no such file)");
   if (error) throw_file_error(path, "cannot open file (" + error.message() + ")");
   switch (status.type()) {
-    case fs::file_type::regular: return;
-    case fs::file_type::directory: throw_file_error(path, "is a directory, not a heightmap file");
-    case fs::file_type::fifo: throw_file_error(path, "is a FIFO (named pipe), not a regular file: it would block");
+    case fs::file_type::regular:
+      return;
+    case fs::file_type::directory:
+      throw_file_error(path, "is a directory, not a heightmap file");
+    case fs::file_type::fifo:
+      throw_file_error(path, "is a FIFO (named pipe), not a regular file: it would block");
     case fs::file_type::character:
-    case fs::file_type::block: throw_file_error(path, "is a device, not a regular file");
-    case fs::file_type::socket: throw_file_error(path, "is a socket, not a regular file");
-    default: throw_file_error(path, "is not a regular file");
+    case fs::file_type::block:
+      throw_file_error(path, "is a device, not a regular file");
+    case fs::file_type::socket:
+      throw_file_error(path, "is a socket, not a regular file");
+    default:
+      throw_file_error(path, "is not a regular file");
   }
 }
 

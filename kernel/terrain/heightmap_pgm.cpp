@@ -27,7 +27,8 @@ std::string next_token(std::istream& in) {
   std::string token;
   for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
     if (c == '#' && token.empty()) {
-      while ((c = in.get()) != std::char_traits<char>::eof() && c != '\n' && c != '\r') {}
+      while ((c = in.get()) != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
+      }
       continue;
     }
     if (std::isspace(c)) {
@@ -80,7 +81,8 @@ void read_ascii_samples(std::istream& in, const std::string& path, std::uint64_t
   for (std::size_t k = 0; k < out.size(); ++k) {
     const std::string what = "sample " + std::to_string(k);
     const std::uint64_t v = read_number(in, path, what);
-    if (v > maxval) throw_file_error(path, what + " = " + std::to_string(v) + " exceeds maxval " + std::to_string(maxval));
+    if (v > maxval)
+      throw_file_error(path, what + " = " + std::to_string(v) + " exceeds maxval " + std::to_string(maxval));
     out[k] = static_cast<float>(v);
   }
 }
@@ -93,7 +95,8 @@ void check_after_raster(std::istream& in, const std::string& path, bool ascii) {
   for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
     if (std::isspace(c)) continue;
     if (c == '#' && ascii) {
-      while ((c = in.get()) != std::char_traits<char>::eof() && c != '\n' && c != '\r') {}
+      while ((c = in.get()) != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
+      }
       continue;
     }
     const int kind = in.get(), after = in.peek();

@@ -57,7 +57,8 @@ PngChunks walk_chunks(std::FILE* file, const std::string& path, std::uint64_t fi
     const std::string type(reinterpret_cast<const char*>(head + 4), 4);
     at += 8;
     if (length + 4 > file_size - at)
-      throw_file_error(path, "truncated PNG: chunk " + type + " of " + std::to_string(length) + " bytes runs past the end");
+      throw_file_error(path,
+                       "truncated PNG: chunk " + type + " of " + std::to_string(length) + " bytes runs past the end");
     if (type == "IHDR") {
       unsigned char ihdr[13];
       if (length != sizeof ihdr || std::fread(ihdr, 1, sizeof ihdr, file) != sizeof ihdr)
@@ -78,8 +79,7 @@ PngChunks walk_chunks(std::FILE* file, const std::string& path, std::uint64_t fi
     if (type == "IEND") break;
   }
   if (!have_header) throw_file_error(path, "corrupt PNG: no IHDR chunk");
-  if (at != file_size)
-    throw_file_error(path, std::to_string(file_size - at) + " bytes follow the PNG's IEND chunk");
+  if (at != file_size) throw_file_error(path, std::to_string(file_size - at) + " bytes follow the PNG's IEND chunk");
   return found;
 }
 
@@ -96,7 +96,8 @@ void check_compressed_size(const std::string& path, const PngChunks& png) {
   if (raw_bytes > 1032 * (png.idat_bytes + 1))
     throw_file_error(path, "truncated or corrupt PNG: " + std::to_string(png.idat_bytes) +
                                " bytes of compressed data cannot hold the " + std::to_string(png.width) + " x " +
-                               std::to_string(png.height) + " image the header claims (deflate expands at most 1032:1)");
+                               std::to_string(png.height) +
+                               " image the header claims (deflate expands at most 1032:1)");
 }
 
 }  // namespace

@@ -28,10 +28,9 @@ std::vector<unsigned char> read_exact(const std::string& path, std::uint32_t col
   const std::uint64_t expected = std::uint64_t{cols} * rows * bytes_per_sample;
   if (size == 0) throw_file_error(path, "empty file");
   if (size != expected)
-    throw_file_error(path, std::to_string(size) + " bytes, but " + std::to_string(cols) + " x " +
-                               std::to_string(rows) + " samples of " + std::to_string(bytes_per_sample) +
-                               " bytes need exactly " + std::to_string(expected) +
-                               (size < expected ? " (truncated)" : " (wrong size)"));
+    throw_file_error(path, std::to_string(size) + " bytes, but " + std::to_string(cols) + " x " + std::to_string(rows) +
+                               " samples of " + std::to_string(bytes_per_sample) + " bytes need exactly " +
+                               std::to_string(expected) + (size < expected ? " (truncated)" : " (wrong size)"));
   std::vector<unsigned char> bytes(expected);
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(expected));
   if (static_cast<std::uint64_t>(in.gcount()) != expected) throw_file_error(path, "read failed");
@@ -46,8 +45,8 @@ Heightmap Heightmap::load_raw_f32(const std::string& path, std::uint32_t cols, s
   std::vector<float> samples(std::size_t(cols) * rows);
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const unsigned char* b = &bytes[4 * k];
-    const std::uint32_t bits = std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 |
-                               std::uint32_t{b[3]} << 24;
+    const std::uint32_t bits =
+        std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 | std::uint32_t{b[3]} << 24;
     std::memcpy(&samples[k], &bits, 4);
     if (!std::isfinite(samples[k]))
       throw_file_error(path, "sample at column " + std::to_string(k % cols) + ", row " + std::to_string(k / cols) +

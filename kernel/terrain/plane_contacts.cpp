@@ -4,8 +4,8 @@
 
 namespace hail {
 
-void find_plane_contacts(const SphereSoA& s, std::span<const Plane> planes, std::size_t first,
-                         std::size_t last, std::vector<Contact>& out) {
+void find_plane_contacts(const SphereSoA& s, std::span<const Plane> planes, std::size_t first, std::size_t last,
+                         std::vector<Contact>& out) {
   for (std::size_t i = first; i < last; ++i) {
     for (std::uint32_t k = 0; k < planes.size(); ++k) {
       const Plane& p = planes[k];

@@ -13,10 +13,12 @@
 
 namespace hail {
 
-Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size) : heightmap_(std::move(heightmap)), leaf_size_(leaf_size) {
+Terrain::Terrain(Heightmap heightmap, std::uint32_t leaf_size)
+    : heightmap_(std::move(heightmap)), leaf_size_(leaf_size) {
   TerrainTriangles in_grid_order = build_terrain_triangles(heightmap_);
   std::vector<Aabb> bounds(in_grid_order.size());
-  for (std::size_t t = 0; t < bounds.size(); ++t) terrain_triangle_bounds(in_grid_order, t, bounds[t].min, bounds[t].max);
+  for (std::size_t t = 0; t < bounds.size(); ++t)
+    terrain_triangle_bounds(in_grid_order, t, bounds[t].min, bounds[t].max);
   bvh_ = std::make_unique<FlatBvh>(build_flat_bvh(bounds, leaf_size));
   // Permuted into BVH order so that a leaf's triangles are contiguous.
   triangles_ = std::make_unique<TerrainTriangles>(reorder_terrain_triangles(in_grid_order, bvh_->primitive_order));
@@ -42,8 +44,9 @@ TerrainTriangle Terrain::triangle(std::uint32_t index) const {
 std::size_t Terrain::memory_bytes() const {
   const TerrainTriangles& t = triangles();
   std::size_t bytes = heightmap_.heights().size() * sizeof(float);
-  for (const AlignedArray<float>* a : {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.e0x, &t.e0y,
-                                       &t.e0z, &t.e1x, &t.e1y, &t.e1z, &t.e2x, &t.e2y, &t.e2z, &t.nx, &t.ny, &t.nz, &t.d})
+  for (const AlignedArray<float>* a :
+       {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.e0x, &t.e0y,
+        &t.e0z, &t.e1x, &t.e1y, &t.e1z, &t.e2x, &t.e2y, &t.e2z, &t.nx,  &t.ny,  &t.nz,  &t.d})
     bytes += a->capacity() * sizeof(float);
   bytes += t.internal_edges.capacity();
   bytes += bvh().nodes.capacity() * sizeof(FlatNode) + bvh().primitive_order.capacity() * sizeof(std::uint32_t);
@@ -61,7 +64,8 @@ void Terrain::find_contacts(const SphereSoA& s, std::size_t first, std::size_t l
 }
 
 void Terrain::find_contacts_scalar(const SphereSoA& s, std::size_t first, std::size_t last, float dt, float restitution,
-                                   float friction, std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const {
+                                   float friction, std::vector<Contact>& out, float fast_fraction,
+                                   bool sweep_fast) const {
   for (std::size_t i = first; i < last; ++i) {
     const float margin = terrain_contact_reach(s, i, dt, fast_fraction, sweep_fast);
     const float r = s.radius[i] + margin;
@@ -84,7 +88,8 @@ float Terrain::penetration(float x, float y, float z, float r) const {
   const float centre[3] = {x, y, z};
   float deepest = 0.0f;
   query_sphere(bvh(), x, y, z, r, [&](std::uint32_t k) {
-    const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
+    const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]},
+                c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
     const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
     SphereTriangleContact st;
     if (sphere_triangle_contact(centre, r, a, b, c, n, t.d[k], t.internal_edges[k], 0.0f, st))

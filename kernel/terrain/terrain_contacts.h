@@ -11,12 +11,12 @@
 #include <new>
 
 #include "hail/contact.h"
-#include "kernel/geometry/fast_motion.h"
-#include "kernel/dispatch/simd_namespace.h"
+#include "hail/sphere_soa.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/dispatch/simd_namespace.h"
+#include "kernel/geometry/fast_motion.h"
 #include "kernel/geometry/sphere_triangle.h"
 #include "kernel/terrain/terrain_triangles.h"
-#include "hail/sphere_soa.h"
 
 namespace hail {
 inline namespace HAIL_SIMD_NS {
@@ -45,8 +45,8 @@ struct ContactReduction {
           // by (n_kept - n_new) . x: up to 0.5% of the distance from the origin, tens of metres
           // at 1e4 m (depenetration then threw spheres). Shift the offset so that the plane
           // sits at the new gap along the kept normal; exact (a no-op) for equal normals.
-          kept.surface_d = surface_d + ((kept.nx - n[0]) * centre[0] + (kept.ny - n[1]) * centre[1] +
-                                        (kept.nz - n[2]) * centre[2]);
+          kept.surface_d =
+              surface_d + ((kept.nx - n[0]) * centre[0] + (kept.ny - n[1]) * centre[1] + (kept.nz - n[2]) * centre[2]);
         }
         return nullptr;
       }
@@ -99,7 +99,8 @@ inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const SphereT
 inline void add_terrain_contact(const SphereSoA& s, std::size_t i, const TerrainTriangles& t, std::uint32_t k,
                                 float margin, float restitution, float friction, ContactReduction& reduction) {
   const float centre[3] = {s.px[i], s.py[i], s.pz[i]};
-  const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]}, c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
+  const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]},
+              c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
   const float n[3] = {t.nx[k], t.ny[k], t.nz[k]};
   SphereTriangleContact st;
   if (!sphere_triangle_contact(centre, s.radius[i], a, b, c, n, t.d[k], t.internal_edges[k], margin, st)) return;

@@ -118,7 +118,8 @@ TerrainTriangles build_terrain_triangles(const Heightmap& heightmap) {
 }
 
 void terrain_triangle_bounds(const TerrainTriangles& s, std::size_t t, float min[3], float max[3]) {
-  const float v[3][3] = {{s.v0x[t], s.v0y[t], s.v0z[t]}, {s.v1x[t], s.v1y[t], s.v1z[t]}, {s.v2x[t], s.v2y[t], s.v2z[t]}};
+  const float v[3][3] = {
+      {s.v0x[t], s.v0y[t], s.v0z[t]}, {s.v1x[t], s.v1y[t], s.v1z[t]}, {s.v2x[t], s.v2y[t], s.v2z[t]}};
   for (int c = 0; c < 3; ++c) {
     min[c] = std::min({v[0][c], v[1][c], v[2][c]});
     max[c] = std::max({v[0][c], v[1][c], v[2][c]});
@@ -141,8 +142,8 @@ TerrainTriangles reorder_terrain_triangles(const TerrainTriangles& in, std::span
                       &TerrainTriangles::v1y, &TerrainTriangles::v1z, &TerrainTriangles::v2x, &TerrainTriangles::v2y,
                       &TerrainTriangles::v2z, &TerrainTriangles::e0x, &TerrainTriangles::e0y, &TerrainTriangles::e0z,
                       &TerrainTriangles::e1x, &TerrainTriangles::e1y, &TerrainTriangles::e1z, &TerrainTriangles::e2x,
-                      &TerrainTriangles::e2y, &TerrainTriangles::e2z, &TerrainTriangles::nx, &TerrainTriangles::ny,
-                      &TerrainTriangles::nz, &TerrainTriangles::d})
+                      &TerrainTriangles::e2y, &TerrainTriangles::e2z, &TerrainTriangles::nx,  &TerrainTriangles::ny,
+                      &TerrainTriangles::nz,  &TerrainTriangles::d})
     gather(member);
   out.internal_edges.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) out.internal_edges[k] = in.internal_edges[order[k]];

@@ -15,9 +15,9 @@
 #include <cstdint>
 #include <span>
 
+#include "hail/aligned_array.h"
 #include "hail/heightmap.h"
 #include "kernel/geometry/sphere_triangle.h"  // kEdge{0,1,2}Internal: the mask bits stored here
-#include "hail/aligned_array.h"
 
 namespace hail {
 
@@ -30,11 +30,11 @@ inline constexpr float kInternalEdgeCosine = 0.9961947f;  // cos 5 degrees
 /// the order given to reorder_terrain_triangles). Positions in m.
 struct TerrainTriangles {
   AlignedArray<float> v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z;  ///< vertices, m
-  AlignedArray<float> e0x, e0y, e0z;  ///< e0 = v1 - v0, m
-  AlignedArray<float> e1x, e1y, e1z;  ///< e1 = v2 - v1, m
-  AlignedArray<float> e2x, e2y, e2z;  ///< e2 = v0 - v2, m
-  AlignedArray<float> nx, ny, nz;     ///< unit normal, ny > 0 (out of the ground)
-  AlignedArray<float> d;              ///< plane offset n . v0, m
+  AlignedArray<float> e0x, e0y, e0z;                                ///< e0 = v1 - v0, m
+  AlignedArray<float> e1x, e1y, e1z;                                ///< e1 = v2 - v1, m
+  AlignedArray<float> e2x, e2y, e2z;                                ///< e2 = v0 - v2, m
+  AlignedArray<float> nx, ny, nz;                                   ///< unit normal, ny > 0 (out of the ground)
+  AlignedArray<float> d;                                            ///< plane offset n . v0, m
   /// Bit k (kEdge{k}Internal) set: edge k is shared with a neighbour across a fold that is
   /// concave, or convex by less than acos(kInternalEdgeCosine). Clear: a real edge (the map's
   /// boundary, or a sharp convex ridge).

@@ -25,17 +25,17 @@
 #include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/parallel_sort.h>
 
+#include "hail/phase_trace.h"
+#include "hail/world.h"
 #include "jobs/parallel_blocks.h"
 #include "jobs/phase_timer.h"
-#include "hail/phase_trace.h"
 #include "jobs/stage_crew.h"
+#include "kernel/broadphase/spatial_order.h"
 #include "kernel/solver/contact_impulse.h"
 #include "kernel/solver/contact_solve_simd.h"
-#include "kernel/solver/solver_body.h"
-#include "kernel/broadphase/spatial_order.h"
-#include "hail/world.h"
 #include "kernel/solver/depenetrate.h"
 #include "kernel/solver/integrate.h"
+#include "kernel/solver/solver_body.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/step_state.h"
@@ -45,11 +45,11 @@ namespace hail {
 
 namespace {
 constexpr std::size_t kReorderBlock = 16384;  // spheres per block of the re-sort: few parallel loops at 4k
-constexpr std::size_t kSphereBlock = 256;    // spheres per block in per-sphere phases
-constexpr std::size_t kPairRowBlock = 64;    // rows i per block of the brute-force pair search
-constexpr std::size_t kPairRowChunk = 16;    // rows per search call once a block may pass its contact cap
-constexpr std::size_t kContactChunk = 256;   // contacts per task within one colour
-constexpr std::size_t kBatchChunk = 32;      // SIMD contact batches per task within one colour
+constexpr std::size_t kSphereBlock = 256;     // spheres per block in per-sphere phases
+constexpr std::size_t kPairRowBlock = 64;     // rows i per block of the brute-force pair search
+constexpr std::size_t kPairRowChunk = 16;     // rows per search call once a block may pass its contact cap
+constexpr std::size_t kContactChunk = 256;    // contacts per task within one colour
+constexpr std::size_t kBatchChunk = 32;       // SIMD contact batches per task within one colour
 // Terrain guard in steps of mixed masses: a sphere whose centre is lower than (1 - this) of its
 // radius above the surface under it overlaps flat ground by more than this share of its radius
 // (the depenetration slop is 1%, the stress battery's bound 5%), and is pushed out.
@@ -81,13 +81,13 @@ struct StepPipeline {
   StepState& st;  // w's scratch (kernel/world/step_state.h)
   IntegrationParams params;
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
-  float fast_fraction = 1.0f;  // is_fast's threshold (WorldSettings::fast_travel_fraction)
-  bool sweeping = true;        // continuous collision on: fast spheres are swept
-  bool shock = false;          // masses differ more than shock_mass_ratio: shock propagation
-  bool guarding = false;       // terrain guard on (there is a terrain)
-  bool friction_needed_ = true;  // some contact of this step has friction > 0 (merge_contacts)
-  bool pair_margins = false;     // pairs filtered by their own margin (pair_margin_travel > 0)
-  bool rotation = true;          // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
+  float fast_fraction = 1.0f;                  // is_fast's threshold (WorldSettings::fast_travel_fraction)
+  bool sweeping = true;                        // continuous collision on: fast spheres are swept
+  bool shock = false;                          // masses differ more than shock_mass_ratio: shock propagation
+  bool guarding = false;                       // terrain guard on (there is a terrain)
+  bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
+  bool pair_margins = false;                   // pairs filtered by their own margin (pair_margin_travel > 0)
+  bool rotation = true;  // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres;
@@ -99,7 +99,8 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
-      st.block_max_speed[b] = predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
+      st.block_max_speed[b] =
+          predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
       st.block_extremes[b] = block_extremes(first, last);
       if (guarding) remember_reach(first, last);
       if (pair_margins) remember_travel(first, last);
@@ -110,7 +111,8 @@ struct StepPipeline {
     std::size_t fast_count = 0;
     for (std::size_t b = 0; b < blocks; ++b) fast_count += st.fast_blocks[b].size();
     reserve_geometric(st.fast, fast_count);
-    for (std::size_t b = 0; b < blocks; ++b) st.fast.insert(st.fast.end(), st.fast_blocks[b].begin(), st.fast_blocks[b].end());
+    for (std::size_t b = 0; b < blocks; ++b)
+      st.fast.insert(st.fast.end(), st.fast_blocks[b].begin(), st.fast_blocks[b].end());
     // Minima and maxima do not depend on the order they are combined in.
     SphereExtremes all = block_extremes(0, 0);
     for (const SphereExtremes& e : st.block_extremes) all.combine(e);
@@ -237,7 +239,7 @@ struct StepPipeline {
 #if HAIL_WITH_TERRAIN
       if (w.terrain)
         w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
-                                  st.contact_blocks[b], fast_fraction, sweeping);
+                                 st.contact_blocks[b], fast_fraction, sweeping);
 #endif
     });
   }
@@ -252,11 +254,11 @@ struct StepPipeline {
     w.stats.sphere_contacts_capped = false;
     if (!w.settings.sphere_collisions) return;
     PairSearch search = w.settings.pair_search;
-    if (search == PairSearch::Automatic)
-      search = automatic_pair_search(n, min_radius, max_radius);
+    if (search == PairSearch::Automatic) search = automatic_pair_search(n, min_radius, max_radius);
     w.stats.pair_search = search;
     // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
-    const PairMargins own_margins = pair_margins ? PairMargins{st.travel.data(), w.settings.pair_margin_travel} : PairMargins{};
+    const PairMargins own_margins =
+        pair_margins ? PairMargins{st.travel.data(), w.settings.pair_margin_travel} : PairMargins{};
     if (search == PairSearch::Grid) st.grid.build(s, margin, own_margins);
     if (search == PairSearch::SweepAndPrune) st.sorted_axis.build(s, margin);
     if (search == PairSearch::Bvh) st.sphere_bvh.build(s, margin);
@@ -268,10 +270,18 @@ struct StepPipeline {
       std::vector<std::uint32_t>& row = st.pair_row_scratch[b];
       auto find = [&](std::size_t from, std::size_t to) {
         switch (search) {
-          case PairSearch::Grid: st.grid.find_pairs(s, from, to, margin, out, row); break;
-          case PairSearch::SweepAndPrune: st.sorted_axis.find_pairs(s, from, to, margin, out, row); break;
-          case PairSearch::Bvh: st.sphere_bvh.find_pairs(s, from, to, margin, out, row); break;
-          default: find_sphere_pairs_simd(s, from, to, margin, out); break;
+          case PairSearch::Grid:
+            st.grid.find_pairs(s, from, to, margin, out, row);
+            break;
+          case PairSearch::SweepAndPrune:
+            st.sorted_axis.find_pairs(s, from, to, margin, out, row);
+            break;
+          case PairSearch::Bvh:
+            st.sphere_bvh.find_pairs(s, from, to, margin, out, row);
+            break;
+          default:
+            find_sphere_pairs_simd(s, from, to, margin, out);
+            break;
         }
       };
       // The block's share of WorldSettings::max_sphere_contacts_per_sphere. A row has fewer
@@ -357,8 +367,8 @@ struct StepPipeline {
     SphereSoA& s = w.spheres;
     ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings.reorder_interval > 0);
     if (st.fast.empty()) return;
-    const SweepScene scene{w.terrain, w.terrain_restitution, w.terrain_friction, w.planes,
-                           w.settings.sphere_collisions, rotation};
+    const SweepScene scene{w.terrain, w.terrain_restitution,        w.terrain_friction,
+                           w.planes,  w.settings.sphere_collisions, rotation};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
@@ -383,8 +393,8 @@ struct StepPipeline {
     resize_geometric(st.contacts, offset.back());
     const std::size_t static_count = offset[static_blocks];
     const bool warm = w.settings.warm_start;
-    std::atomic<bool> friction{false};        // an OR: the order of stores cannot change the result
-    std::atomic<std::size_t> matched{0};      // a sum: the order of adds cannot change it
+    std::atomic<bool> friction{false};    // an OR: the order of stores cannot change the result
+    std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
     if (warm) st.contact_cache.begin_layout(s);
     for_each_block(static_blocks + pair_blocks, 1, [&](std::size_t b, std::size_t, std::size_t) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
@@ -406,8 +416,8 @@ struct StepPipeline {
       // (a pass of its own read them all back from memory at 64k).
       // And where they lie, for remembering their impulses after the solve.
       if (warm) {
-        matched += st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s,
-                                         w.settings.warm_start_factor);
+        matched +=
+            st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s, w.settings.warm_start_factor);
         if (b < static_blocks) {
           st.contact_cache.layout_static(st.contacts, offset[b], offset[b + 1], b * kSphereBlock,
                                          std::min(n, (b + 1) * kSphereBlock), s);
@@ -434,7 +444,8 @@ struct StepPipeline {
     const std::size_t static_count = w.stats.static_contacts;
     for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      for (std::size_t k = first; k < last; ++k) cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres);
+      for (std::size_t k = first; k < last; ++k)
+        cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres);
     });
   }
 
@@ -451,12 +462,14 @@ struct StepPipeline {
     const std::size_t tiles = col.tile_count();
     auto whole_colour = [&](std::size_t tile, std::size_t colour) {
       const std::size_t end = col.colour_begin[colour + 1], tail = batches.tail_begin(colour);
-      f(tile, batches.batch_begin(colour), batches.batch_end(colour), std::span<Contact>(st.contacts.data() + tail, end - tail));
+      f(tile, batches.batch_begin(colour), batches.batch_end(colour),
+        std::span<Contact>(st.contacts.data() + tail, end - tail));
     };
     crew.stage(tiles, [&](std::size_t t) {
       if (!tile_wanted(t)) return;
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour) whole_colour(t, colour);
+      for (std::size_t colour = col.tile_colour_begin[t]; colour < col.tile_colour_begin[t + 1]; ++colour)
+        whole_colour(t, colour);
     });
     for (std::size_t colour = col.shared_colour_begin(); colour < col.colour_count(); ++colour) {
       const std::size_t first = batches.batch_begin(colour), count = batches.batch_end(colour) - first;
@@ -478,7 +491,8 @@ struct StepPipeline {
   /// for_each_batch_chunk over every tile.
   template <class F>
   void for_each_batch_chunk(StageCrew& crew, F&& f) {
-    for_each_batch_chunk(crew, [](std::size_t) { return true; }, f);
+    for_each_batch_chunk(
+        crew, [](std::size_t) { return true; }, f);
   }
 
   /// After collision pass `pass` applied impulses to some contacts in shared batches [first,
@@ -577,7 +591,8 @@ struct StepPipeline {
     const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
     assign_geometric(st.tile_changed, tiles, std::uint32_t{0});
     const std::size_t stages = (static_cast<std::size_t>(w.settings.collision_iterations) + 1 +
-                                static_cast<std::size_t>(w.settings.resting_iterations)) * stages_per_pass;
+                                static_cast<std::size_t>(w.settings.resting_iterations)) *
+                               stages_per_pass;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -585,14 +600,17 @@ struct StepPipeline {
         // A tile none of whose bodies changed since the previous pass began would skip every
         // batch (ContactBatches::solve_collision): skipped whole, without reading its batches.
         auto tile_wanted = [&](std::size_t t) { return pass == 0 || st.tile_changed[t] >= number; };
-        for_each_batch_chunk(crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
-          const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
-          const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
-          if (!(simd || rest)) return;
-          any.store(true, std::memory_order_relaxed);
-          if (tile < tiles) st.tile_changed[tile] = number + 1;  // only this tile's block writes it
-          else if (tiles > 0) mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
-        });
+        for_each_batch_chunk(
+            crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+              const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
+              const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+              if (!(simd || rest)) return;
+              any.store(true, std::memory_order_relaxed);
+              if (tile < tiles)
+                st.tile_changed[tile] = number + 1;  // only this tile's block writes it
+              else if (tiles > 0)
+                mark_changed_tiles(first, last, scalar, bodies, number, tile_spheres);
+            });
         if (!any.load()) break;
         ++w.stats.collision_passes;
       }
@@ -667,8 +685,13 @@ struct StepPipeline {
     const std::size_t colours = col.colour_count();
     assign_geometric(st.moved_at, s.size() + 1, std::uint32_t{0});
     std::uint32_t* const moved = st.moved_at.data();
-    DepenetrationArrays arrays{s.px.data(), s.py.data(), s.pz.data(), s.inv_mass.data(), moved,
-                               static_cast<std::int32_t>(s.size()), w.settings.depenetration};
+    DepenetrationArrays arrays{s.px.data(),
+                               s.py.data(),
+                               s.pz.data(),
+                               s.inv_mass.data(),
+                               moved,
+                               static_cast<std::int32_t>(s.size()),
+                               w.settings.depenetration};
     for (int pass = 0; pass < w.settings.depenetration_iterations; ++pass) {
       auto stamps = [&](std::size_t colour) {
         const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
@@ -754,7 +777,8 @@ struct StepPipeline {
     for_ranges(n, [&](std::size_t first, std::size_t last) {
       for (std::size_t k = first; k < last; ++k) order[k] = static_cast<std::uint32_t>(keys[k]);
     });
-    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation, for_ranges);  // without rotation every w is 0
+    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation,
+              for_ranges);                                                          // without rotation every w is 0
     st.contact_cache.remap_slots(std::span<const std::uint32_t>(order.data(), n));  // its ranges are kept by slot
   }
 
@@ -765,7 +789,11 @@ struct StepPipeline {
     StepParts& ran = w.stats.ran;
     ran = {};
     ran.reorder = reorder_due();
-    if (ran.reorder) { ScopedPhaseTimer timer(t.reorder); ScopedTraceRecord record(w.trace, Phase::Reorder); reorder(); }
+    if (ran.reorder) {
+      ScopedPhaseTimer timer(t.reorder);
+      ScopedTraceRecord record(w.trace, Phase::Reorder);
+      reorder();
+    }
     float margin = 0.0f;
     guarding = w.terrain != nullptr;
     ran.terrain_guard = guarding;
@@ -779,11 +807,23 @@ struct StepPipeline {
     }
     // Each phase is also recorded on the thread that runs its serial parts (the trace's
     // per-block records cover the parallel parts).
-    { ScopedPhaseTimer timer(t.predict); ScopedTraceRecord record(w.trace, Phase::Predict); predict(margin); }
+    {
+      ScopedPhaseTimer timer(t.predict);
+      ScopedTraceRecord record(w.trace, Phase::Predict);
+      predict(margin);
+    }
     ran.detect_static = w.terrain != nullptr || !w.planes.empty();
     ran.detect_pairs = w.settings.sphere_collisions && w.spheres.size() > 1;
-    auto detect_static_timed = [&] { ScopedPhaseTimer inner(t.detect_terrain); ScopedTraceRecord record(w.trace, Phase::DetectTerrain); detect_static(); };
-    auto detect_pairs_timed = [&] { ScopedPhaseTimer inner(t.detect_pairs); ScopedTraceRecord record(w.trace, Phase::DetectPairs); detect_pairs(margin); };
+    auto detect_static_timed = [&] {
+      ScopedPhaseTimer inner(t.detect_terrain);
+      ScopedTraceRecord record(w.trace, Phase::DetectTerrain);
+      detect_static();
+    };
+    auto detect_pairs_timed = [&] {
+      ScopedPhaseTimer inner(t.detect_pairs);
+      ScopedTraceRecord record(w.trace, Phase::DetectPairs);
+      detect_pairs(margin);
+    };
     if (ran.detect_static && ran.detect_pairs) {
       tbb::parallel_invoke(detect_static_timed, detect_pairs_timed);
     } else if (ran.detect_static) {
@@ -796,7 +836,11 @@ struct StepPipeline {
       clear_static_blocks();
       clear_pair_blocks();
     }
-    { ScopedPhaseTimer timer(t.solve); ScopedTraceRecord record(w.trace, Phase::Solve); merge_contacts(); }
+    {
+      ScopedPhaseTimer timer(t.solve);
+      ScopedTraceRecord record(w.trace, Phase::Solve);
+      merge_contacts();
+    }
     ran.solve = !st.contacts.empty();
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
@@ -817,7 +861,11 @@ struct StepPipeline {
       sweep();
       w.stats.sweep = st.ccd.stats();
     }
-    { ScopedPhaseTimer timer(t.integrate); ScopedTraceRecord record(w.trace, Phase::Integrate); integrate(); }
+    {
+      ScopedPhaseTimer timer(t.integrate);
+      ScopedTraceRecord record(w.trace, Phase::Integrate);
+      integrate();
+    }
     ran.depenetrate = ran.solve && w.settings.depenetration_iterations > 0;
     if (ran.depenetrate || guarding) {
       ScopedPhaseTimer timer(t.depenetrate);
@@ -847,7 +895,7 @@ void World::step(float dt) {
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
   if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
-  const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
+  const std::size_t lifted = lift_out_of_terrain();                     // spheres that start inside the terrain
   // dt * time_scale in float where it is finite (bitwise what steps always took); in double
   // where the float product overflows yet each substep does not.
   const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
@@ -871,7 +919,8 @@ void World::substep(float scaled) {
   pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
   pipeline.params.rotation = pipeline.rotation;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
-  pipeline.params.restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
+  pipeline.params.restitution_threshold =
+      std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
   arena_->execute([&] { pipeline.run(); });
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;

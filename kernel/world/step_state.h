@@ -33,10 +33,10 @@ struct StepState {
   SortedAxisPairs sorted_axis;
   SphereBvhPairs sphere_bvh;
   std::vector<std::vector<Contact>> contact_blocks;
-  std::vector<Contact> contacts;                    ///< World::last_contacts()
-  std::vector<std::vector<Impact>> impact_blocks;   ///< integrate: plane impacts per sphere block
-  std::vector<Impact> impacts;                      ///< World::last_impacts(): the sweep's, then impact_blocks in order
-  std::vector<std::size_t> merge_offsets;           ///< per detect block: where its contacts start in contacts
+  std::vector<Contact> contacts;                   ///< World::last_contacts()
+  std::vector<std::vector<Impact>> impact_blocks;  ///< integrate: plane impacts per sphere block
+  std::vector<Impact> impacts;                     ///< World::last_impacts(): the sweep's, then impact_blocks in order
+  std::vector<std::size_t> merge_offsets;          ///< per detect block: where its contacts start in contacts
   // Solve.
   ContactColouring colouring;
   std::vector<std::uint32_t> tile_changed;  ///< per solver tile, the latest stamp of its bodies (changed_in_pass)
@@ -49,15 +49,15 @@ struct StepState {
   StageCrew crew;                           ///< the solver passes' threads (jobs/stage_crew.h)
   // Predict and sweep.
   std::vector<float> block_max_speed;
-  std::vector<SphereExtremes> block_extremes;        ///< radii and inverse masses per block
+  std::vector<SphereExtremes> block_extremes;           ///< radii and inverse masses per block
   std::vector<std::vector<std::uint32_t>> fast_blocks;  ///< fast spheres per block
-  std::vector<std::uint32_t> fast;                   ///< this step's fast spheres, slot order
+  std::vector<std::uint32_t> fast;                      ///< this step's fast spheres, slot order
   ContinuousCollision ccd;
   // Terrain guard (predict -> end of step): where each sphere started and how far (squared) its
   // terrain contacts reached.
   std::vector<float> start_x, start_y, start_z, reach2;
-  std::vector<float> travel;              ///< per sphere |v| dt this step (pair margins)
-  std::vector<std::uint32_t> moved_at;    ///< per sphere: last depenetration (pass, colour) that moved it
+  std::vector<float> travel;            ///< per sphere |v| dt this step (pair margins)
+  std::vector<std::uint32_t> moved_at;  ///< per sphere: last depenetration (pass, colour) that moved it
   // Morton re-sort.
   std::vector<std::uint64_t> reorder_keys;
   std::vector<std::uint32_t> reorder_slots;  ///< new slot k <- old slot

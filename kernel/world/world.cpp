@@ -29,8 +29,10 @@ std::string describe(const char* what, float value) { return std::string(what) +
 template <class Message>
 void require(bool ok, Message&& message) {
   if (ok) return;
-  if constexpr (std::is_invocable_v<Message>) throw InvalidArgument("hail: " + std::string(message()));
-  else throw InvalidArgument("hail: " + std::string(message));
+  if constexpr (std::is_invocable_v<Message>)
+    throw InvalidArgument("hail: " + std::string(message()));
+  else
+    throw InvalidArgument("hail: " + std::string(message));
 }
 
 void require_finite(const Vec3& v, const char* what) {
@@ -59,10 +61,12 @@ void World::validate(const WorldSettings& s) {
   require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
           describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
   require(s.max_sphere_contacts_per_sphere >= 1, [&] {
-    return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " + std::to_string(s.max_sphere_contacts_per_sphere);
+    return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " +
+           std::to_string(s.max_sphere_contacts_per_sphere);
   });
   require(s.max_substeps >= 1, "WorldSettings::max_substeps must be >= 1, got " + std::to_string(s.max_substeps));
-  require(s.threads >= 0, "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
+  require(s.threads >= 0,
+          "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
   require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
   require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
@@ -70,16 +74,17 @@ void World::validate(const WorldSettings& s) {
     return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
            ", got " + std::to_string(s.solver_tile_spheres);
   });
-  require(std::isfinite(s.depenetration.fraction) && s.depenetration.fraction >= 0.0f && s.depenetration.fraction <= 1.0f,
-          describe("WorldSettings::depenetration.fraction must be in [0, 1], got", s.depenetration.fraction));
+  require(
+      std::isfinite(s.depenetration.fraction) && s.depenetration.fraction >= 0.0f && s.depenetration.fraction <= 1.0f,
+      describe("WorldSettings::depenetration.fraction must be in [0, 1], got", s.depenetration.fraction));
   require(std::isfinite(s.depenetration.slop_fraction) && s.depenetration.slop_fraction >= 0.0f,
           describe("WorldSettings::depenetration.slop_fraction must be >= 0, got", s.depenetration.slop_fraction));
   require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f,
           describe("WorldSettings::restitution_threshold must be >= 0, got", s.restitution_threshold));
   require(std::isfinite(s.warm_start_factor) && s.warm_start_factor >= 0.0f && s.warm_start_factor <= 1.0f,
           describe("WorldSettings::warm_start_factor must be in [0, 1], got", s.warm_start_factor));
-  require(s.reorder_interval >= 0, "WorldSettings::reorder_interval must be >= 0 (0 = never), got " +
-                                       std::to_string(s.reorder_interval));
+  require(s.reorder_interval >= 0,
+          "WorldSettings::reorder_interval must be >= 0 (0 = never), got " + std::to_string(s.reorder_interval));
   require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
           describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
   require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
@@ -89,7 +94,8 @@ void World::validate(const WorldSettings& s) {
           "WorldSettings::rotation is true, but this hail was built without it (HAIL_WITH_ROTATION=OFF)");
   require(s.shock_mass_ratio >= 1.0f,  // false for NaN
           describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
-  require(s.max_sweep_events >= 1, "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
+  require(s.max_sweep_events >= 1,
+          "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
   require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
   require(std::isfinite(s.pair_margin_travel) && s.pair_margin_travel >= 0.0f,
@@ -100,7 +106,8 @@ void World::validate(const WorldSettings& s) {
 }
 
 std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
-  require(std::isfinite(dt) && dt > 0.0f, [&] { return "World::step dt must be finite and > 0, got " + std::to_string(dt); });
+  require(std::isfinite(dt) && dt > 0.0f,
+          [&] { return "World::step dt must be finite and > 0, got " + std::to_string(dt); });
   // float * float is exact in double, and the quotient cannot overflow a double.
   const double count = std::ceil(double(dt) * double(settings.time_scale) / double(settings.max_substep));
   if (count <= 0.0) return settings.time_scale > 0.0f ? 1 : 0;
@@ -112,9 +119,9 @@ std::int64_t check_step(const WorldSettings& settings, float dt) {
   const std::int64_t needed = substeps_needed(settings, dt);
   require(needed <= settings.max_substeps, [&] {
     return "World::step dt = " + std::to_string(dt) + " s at time_scale " + std::to_string(settings.time_scale) +
-           " needs " + std::to_string(needed) + " substeps of at most WorldSettings::max_substep = " +
-           std::to_string(settings.max_substep) + " s, more than WorldSettings::max_substeps = " +
-           std::to_string(settings.max_substeps) +
+           " needs " + std::to_string(needed) +
+           " substeps of at most WorldSettings::max_substep = " + std::to_string(settings.max_substep) +
+           " s, more than WorldSettings::max_substeps = " + std::to_string(settings.max_substeps) +
            ": take shorter steps (several calls), lower time_scale, or raise max_substep or max_substeps";
   });
   return needed;
@@ -159,8 +166,8 @@ SphereId World::add_sphere(const SphereDesc& d) {
     });
     // Compared squared in double: the float norm of a finite vector can overflow.
     require(d.velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpeed) * kMaxSphereSpeed, [&] {
-      return "sphere velocity must be at most kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s, got |v| = " +
-             number(d.velocity.cast<double>().norm());
+      return "sphere velocity must be at most kMaxSphereSpeed = " + number(kMaxSphereSpeed) +
+             " m/s, got |v| = " + number(d.velocity.cast<double>().norm());
     });
     require(d.angular_velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpin) * kMaxSphereSpin, [&] {
       return "sphere angular_velocity must be at most kMaxSphereSpin = " + number(kMaxSphereSpin) +
@@ -168,7 +175,8 @@ SphereId World::add_sphere(const SphereDesc& d) {
     });
   }
   require_material(d.restitution, d.friction, "sphere");
-  const bool spins = !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
+  const bool spins =
+      !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
   require(settings_.rotation || d.is_static || !spins, [&] {
     return "sphere angular_velocity must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
            std::to_string(d.angular_velocity.x()) + ", " + std::to_string(d.angular_velocity.y()) + ", " +
@@ -220,7 +228,8 @@ std::size_t World::add_plane(const PlaneDesc& d) {
     length = largest * scaled_length;  // infinite past float range: the offset below is then ~0
     n = scaled / scaled_length;
   }
-  require(length > 1e-6f, [&] { return "plane normal must not be (nearly) zero, got length " + std::to_string(length); });
+  require(length > 1e-6f,
+          [&] { return "plane normal must not be (nearly) zero, got length " + std::to_string(length); });
   require_material(d.restitution, d.friction, "plane");
   const float offset = d.offset / length;
   require(std::isfinite(offset), [&] {
@@ -253,7 +262,7 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   require_material(restitution, friction, "terrain");
   if (terrain) require_terrain_resolvable(*terrain);
   terrain_ = std::move(terrain);
-  unchecked_from_ = 0;     // every sphere may be inside the new terrain
+  unchecked_from_ = 0;           // every sphere may be inside the new terrain
   step_->contact_cache.clear();  // triangle features name another terrain's triangles now
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
@@ -268,7 +277,8 @@ void World::shift_origin(const Vec3& offset) {
     const Plane& p = planes_[k];
     const float moved = p.offset - (p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z());
     require(std::isfinite(moved), [&] {
-      return "World::shift_origin: plane " + std::to_string(k) + "'s offset would be " + number(moved) + " (not finite)";
+      return "World::shift_origin: plane " + std::to_string(k) + "'s offset would be " + number(moved) +
+             " (not finite)";
     });
   }
   const SphereSoA& s = spheres_;
@@ -331,9 +341,9 @@ void World::reserve(std::size_t n) { spheres_.reserve(n); }
 SphereState World::spheres() const {
   const std::size_t n = spheres_.size();
   const SphereSoA& s = spheres_;
-  return {{s.px.data(), n}, {s.py.data(), n}, {s.pz.data(), n}, {s.vx.data(), n}, {s.vy.data(), n},
-          {s.vz.data(), n}, {s.wx.data(), n}, {s.wy.data(), n}, {s.wz.data(), n}, {s.radius.data(), n},
-          {s.inv_mass.data(), n}};
+  return {{s.px.data(), n}, {s.py.data(), n},     {s.pz.data(), n},      {s.vx.data(), n},
+          {s.vy.data(), n}, {s.vz.data(), n},     {s.wx.data(), n},      {s.wy.data(), n},
+          {s.wz.data(), n}, {s.radius.data(), n}, {s.inv_mass.data(), n}};
 }
 
 std::size_t World::require_slot(SphereId id) const {

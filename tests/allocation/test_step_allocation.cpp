@@ -107,15 +107,21 @@ SphereDesc sphere_k(int k, float first_y) {
   const float x = -3.5f + static_cast<float>(k % side) + 0.1f * static_cast<float>((k / side) % 3);
   const float z = -3.5f + static_cast<float>((k / side) % side);
   const float y = first_y + 1.0f * static_cast<float>(k / (side * side));
-  return {.position = {x, y, z}, .radius = 0.25f + 0.05f * static_cast<float>(k % 4),
-          .mass = k % 5 == 0 ? 20.0f : 1.0f, .restitution = 0.3f, .friction = 0.6f};
+  return {.position = {x, y, z},
+          .radius = 0.25f + 0.05f * static_cast<float>(k % 4),
+          .mass = k % 5 == 0 ? 20.0f : 1.0f,
+          .restitution = 0.3f,
+          .friction = 0.6f};
 }
 
 }  // namespace
 
 TEST_CASE("The replaced operator new counts what it should", "[allocation]") {
   CHECK(allocations_during([] {}) == 0);
-  CHECK(allocations_during([] { std::vector<int> v(100); (void)v; }) == 1);
+  CHECK(allocations_during([] {
+          std::vector<int> v(100);
+          (void)v;
+        }) == 1);
   CHECK(allocations_during([] { auto p = std::make_unique<World>(WorldSettings{.threads = 1}); }) > 0);
 }
 
@@ -195,9 +201,9 @@ TEST_CASE("While spheres are added and contacts rise, steps reallocate O(log n) 
     contacts = stats.static_contacts + stats.sphere_contacts;
     if (step == 3 * kSteps / 4 - 1) contacts_at_three_quarters = contacts;
   }
-  INFO(allocations << " allocations, " << last_quarter << " in the last quarter (contacts " << contacts_at_three_quarters
-                   << " -> " << contacts << ")");
-  REQUIRE(contacts > 1000);  // (2,385 here; fewer without terrain or rotation)
+  INFO(allocations << " allocations, " << last_quarter << " in the last quarter (contacts "
+                   << contacts_at_three_quarters << " -> " << contacts << ")");
+  REQUIRE(contacts > 1000);                                // (2,385 here; fewer without terrain or rotation)
   REQUIRE(contacts > contacts_at_three_quarters * 5 / 4);  // still rising in the last quarter
   // In the last quarter the counts grow by half: each of the ~100 buffers (some 40 of the step,
   // plus one list per block of 64 or 256 spheres) doubles at most once. Less than one

@@ -3,13 +3,13 @@
 // file must end in hail::FileError or hail::InvalidArgument, never a crash, a hang, a huge
 // allocation or a sanitizer report. Run through scripts/fuzz.sh.
 
+#include <sys/mman.h>
+#include <unistd.h>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include "hail/errors.h"
 #include "hail/heightmap.h"
@@ -48,10 +48,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint32_t cols = 2 + (pick >> 4), rows = 2 + ((pick >> 2) & 3);
   try {
     switch (pick & 3) {
-      case 0: (void)hail::Heightmap::load_pgm(path, {}); break;
-      case 1: (void)hail::Heightmap::load_png(path, {}); break;
-      case 2: (void)hail::Heightmap::load_raw_f32(path, cols, rows, {}); break;
-      default: (void)hail::Heightmap::load_raw_u16(path, cols, rows, {}, (pick & 0x80) != 0); break;
+      case 0:
+        (void)hail::Heightmap::load_pgm(path, {});
+        break;
+      case 1:
+        (void)hail::Heightmap::load_png(path, {});
+        break;
+      case 2:
+        (void)hail::Heightmap::load_raw_f32(path, cols, rows, {});
+        break;
+      default:
+        (void)hail::Heightmap::load_raw_u16(path, cols, rows, {}, (pick & 0x80) != 0);
+        break;
     }
   } catch (const hail::FileError&) {
   } catch (const hail::InvalidArgument&) {

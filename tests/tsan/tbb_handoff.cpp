@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
   tbb::global_control two_threads(tbb::global_control::max_allowed_parallelism, 2);  // even on 1 core
   tbb::task_arena arena(2);
   std::vector<int> out(1000, 0);
-  for (int rep = 0; rep < 20; ++rep)
-    arena.execute([&] { tbb::parallel_for(0, 1000, [&](int i) { out[i] += i; }); });
+  for (int rep = 0; rep < 20; ++rep) arena.execute([&] { tbb::parallel_for(0, 1000, [&](int i) { out[i] += i; }); });
   long sum = 0;
   for (int v : out) sum += v;
 
@@ -31,8 +30,9 @@ int main(int argc, char** argv) {
     std::atomic<int> started{0};
     auto task = [&] {
       started.fetch_add(1);
-      while (started.load() < 2) {}  // both tasks are running, so on two threads
-      shared += 1;                   // the planted race
+      while (started.load() < 2) {
+      }             // both tasks are running, so on two threads
+      shared += 1;  // the planted race
     };
     arena.execute([&] {
       tbb::task_group g;
