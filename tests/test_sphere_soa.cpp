@@ -73,7 +73,7 @@ TEST_CASE("Permuting over ranges run in any order gives permute's state", "[soa]
   for (std::uint32_t k = 0; k < 100; ++k) order.push_back((k * 37) % 100);  // 37 is prime to 100
   serial.permute(order);
   std::size_t calls = 0;
-  blocked.permute(order, true, [&](std::size_t count, auto&& f) {
+  blocked.permute(order, true, true, [&](std::size_t count, auto&& f) {
     constexpr std::size_t kBlock = 7;
     for (std::size_t first = (count - 1) / kBlock * kBlock;; first -= kBlock) {  // last block first
       f(first, std::min(count, first + kBlock));

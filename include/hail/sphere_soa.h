@@ -45,6 +45,10 @@ struct SphereRecord {
   float restitution;
   float friction;
   std::uint32_t flags;
+  float gravity_scale = 1.0f;            ///< the sphere's gravity is WorldSettings::gravity * this
+  float force[3] = {0.0f, 0.0f, 0.0f};   ///< N, accumulated for the next step
+  float torque[3] = {0.0f, 0.0f, 0.0f};  ///< N m, accumulated for the next step
+  std::uint64_t user_data = 0;           ///< the game's, never read by hail
 };
 
 class SphereSoA {
@@ -57,22 +61,27 @@ class SphereSoA {
   bool remove(SphereId id);
   /// Dense slot of a live handle, or -1 when the handle is stale or was never issued.
   [[nodiscard]] std::int64_t slot_of(SphereId id) const noexcept;
-  [[nodiscard]] SphereId id_at(std::size_t slot) const noexcept {
-    return {slot_to_id_[slot], generation_[slot_to_id_[slot]]};
-  }
+  [[nodiscard]] SphereId id_at(std::size_t slot) const noexcept { return slot_ids_[slot]; }
+  /// Handle of every dense slot, in slot order (id_at for all of them); valid until the next
+  /// add, remove or permute.
+  [[nodiscard]] std::span<const SphereId> handles() const noexcept { return {slot_ids_.data(), size_}; }
+  /// Dense slot of the live sphere whose handle has this index (any generation: the one alive),
+  /// or -1 when none has. For data that keeps only handle indices (the warm-start cache).
+  [[nodiscard]] std::int64_t slot_of_index(std::uint32_t index) const noexcept;
   [[nodiscard]] bool contains(SphereId id) const noexcept { return slot_of(id) >= 0; }
   /// Reserves storage for n spheres so that adding up to n never allocates.
   void reserve(std::size_t n);
   /// Reorders dense slots: new slot k holds the sphere that was in slot order[k]. Handles stay valid.
   /// `angular` false leaves the angular velocity arrays as they are: for a caller that knows
-  /// them all equal (a world without rotation keeps them all zero).
-  void permute(std::span<const std::uint32_t> order, bool angular = true);
+  /// them all equal (a world without rotation keeps them all zero); `accumulators` false does
+  /// the same for the force and torque arrays (a world with no force pending keeps them zero).
+  void permute(std::span<const std::uint32_t> order, bool angular = true, bool accumulators = true);
   /// permute() with its element loops run by `for_ranges(count, f)`, which must call f(first,
   /// last) for ranges that cover [0, count) exactly once each, in any order and on any thread
   /// (jobs/ runs them over blocks in parallel): each loop writes element k from element order[k]
   /// alone, so the result is permute()'s.
   template <class ForRanges>
-  void permute(std::span<const std::uint32_t> order, bool angular, ForRanges&& for_ranges);
+  void permute(std::span<const std::uint32_t> order, bool angular, bool accumulators, ForRanges&& for_ranges);
 
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
   /// size() rounded up to kSimdPadding; the arrays are at least this long.
@@ -90,6 +99,11 @@ class SphereSoA {
   AlignedArray<float> restitution;  ///< [0, 1]
   AlignedArray<float> friction;     ///< Coulomb coefficient, >= 0
   AlignedArray<std::uint32_t> flags;
+  AlignedArray<float> gravity_scale;  ///< the sphere's gravity is WorldSettings::gravity * this (default 1)
+  /// Force (N) and torque (N m) accumulated by World::apply_force / apply_torque for the next
+  /// step, which applies them in predict (over each of its substeps) and then zeroes them.
+  AlignedArray<float> force_x, force_y, force_z, torque_x, torque_y, torque_z;
+  AlignedArray<std::uint64_t> user_data;  ///< the game's (World::set_user_data), never read by hail
 
  private:
   void set_padding(std::size_t first);
@@ -98,45 +112,49 @@ class SphereSoA {
   SphereRecord read_slot(std::size_t slot) const;
 
   std::size_t size_ = 0;
-  std::vector<std::uint32_t> slot_to_id_;  // dense slot -> id index
+  std::vector<SphereId> slot_ids_;         // dense slot -> handle
   std::vector<std::uint32_t> id_to_slot_;  // id index -> dense slot (0xFFFFFFFF when free)
   std::vector<std::uint32_t> generation_;  // id index -> current generation
   std::vector<std::uint32_t> free_ids_;
-  AlignedArray<float> float_scratch_;       // permute(): one array's new order
-  AlignedArray<std::uint32_t> id_scratch_;  // permute(): flags and ids in their new order
+  AlignedArray<float> float_scratch_;         // permute(): one array's new order
+  AlignedArray<std::uint32_t> id_scratch_;    // permute(): flags in their new order
+  AlignedArray<std::uint64_t> user_scratch_;  // permute(): user data in its new order
+  std::vector<SphereId> handle_scratch_;      // permute(): handles in their new order
 };
 
 template <class ForRanges>
-void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, ForRanges&& for_ranges) {
+void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, bool accumulators, ForRanges&& for_ranges) {
   // Array by array through one scratch array, so a re-sort every few steps allocates only the
   // first time (or when the world grows).
+  auto permute_through = [&](auto& array, auto& scratch) {
+    for_ranges(size_, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) scratch[k] = array[order[k]];
+    });
+    for_ranges(size_, [&](std::size_t first, std::size_t last) {
+      std::copy(scratch.data() + first, scratch.data() + last, array.data() + first);
+    });
+  };
   float_scratch_.resize(size_);
-  for (auto* a :
-       {&px, &py, &pz, &vx, &vy, &vz, &wx, &wy, &wz, &radius, &inv_mass, &inv_inertia, &restitution, &friction}) {
+  for (auto* a : {&px,       &py,          &pz,          &vx,       &vy,
+                  &vz,       &wx,          &wy,          &wz,       &radius,
+                  &inv_mass, &inv_inertia, &restitution, &friction, &gravity_scale,
+                  &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
+                  &torque_z}) {
     if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
-    for_ranges(size_, [&](std::size_t first, std::size_t last) {
-      for (std::size_t k = first; k < last; ++k) float_scratch_[k] = (*a)[order[k]];
-    });
-    for_ranges(size_, [&](std::size_t first, std::size_t last) {
-      std::copy(float_scratch_.data() + first, float_scratch_.data() + last, a->data() + first);
-    });
+    if (!accumulators &&
+        (a == &force_x || a == &force_y || a == &force_z || a == &torque_x || a == &torque_y || a == &torque_z))
+      continue;
+    permute_through(*a, float_scratch_);
   }
   id_scratch_.resize(size_);
+  permute_through(flags, id_scratch_);
+  user_scratch_.resize(size_);
+  permute_through(user_data, user_scratch_);
+  handle_scratch_.resize(size_);
+  permute_through(slot_ids_, handle_scratch_);
+  // Handles are distinct, so each range writes its own entries of id_to_slot_.
   for_ranges(size_, [&](std::size_t first, std::size_t last) {
-    for (std::size_t k = first; k < last; ++k) id_scratch_[k] = flags[order[k]];
-  });
-  for_ranges(size_, [&](std::size_t first, std::size_t last) {
-    std::copy(id_scratch_.data() + first, id_scratch_.data() + last, flags.data() + first);
-  });
-  for_ranges(size_, [&](std::size_t first, std::size_t last) {
-    for (std::size_t k = first; k < last; ++k) id_scratch_[k] = slot_to_id_[order[k]];
-  });
-  // Ids are distinct, so each range writes its own entries of id_to_slot_.
-  for_ranges(size_, [&](std::size_t first, std::size_t last) {
-    for (std::size_t k = first; k < last; ++k) {
-      slot_to_id_[k] = id_scratch_[k];
-      id_to_slot_[id_scratch_[k]] = static_cast<std::uint32_t>(k);
-    }
+    for (std::size_t k = first; k < last; ++k) id_to_slot_[slot_ids_[k].index] = static_cast<std::uint32_t>(k);
   });
 }
 

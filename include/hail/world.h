@@ -70,6 +70,8 @@ inline constexpr float kMinSphereMass = 1e-12f;   ///< kg (movable spheres; a st
 inline constexpr float kMaxSphereMass = 1e12f;    ///< kg
 inline constexpr float kMaxSphereSpeed = 1e6f;    ///< m/s, |velocity|
 inline constexpr float kMaxSphereSpin = 1e6f;     ///< rad/s, |angular_velocity|
+/// |World::set_gravity_scale| at most this: a sphere's gravity stays within a million g's.
+inline constexpr float kMaxGravityScale = 1e6f;
 
 /// Resolution: a float cannot place a point more finely than the spacing of floats at its
 /// coordinates (2^-23 of their magnitude), so far from the origin small things blur. add_sphere
@@ -196,6 +198,64 @@ class World {
   [[nodiscard]] Vec3 position(SphereId id) const;
   [[nodiscard]] Vec3 velocity(SphereId id) const;
   [[nodiscard]] Vec3 angular_velocity(SphereId id) const;
+  /// Handle of every dense slot, in slot order (slot k's is id_at(k)): one array for a game
+  /// that walks spheres() and wants to know whose each entry is. No copy; valid until the next
+  /// step (the Morton re-sort moves slots), add or remove.
+  [[nodiscard]] std::span<const SphereId> handles() const { return spheres_.handles(); }
+  /// The game's 64-bit value for a sphere (set_user_data; 0 until set). Throws for a stale handle.
+  [[nodiscard]] std::uint64_t user_data(SphereId id) const;
+
+  // ---- Driving spheres from a game (kernel/world/world_control.cpp) ----
+  // Each call checks its handle (a stale one throws InvalidArgument) and its value by the rule
+  // add_sphere uses for the same quantity (finite; radius, mass, speed and spin within the
+  // limits above; positions resolvable for the radius; spin zero without rotation), and throws
+  // InvalidArgument naming the value with the world unchanged. Velocity limits apply to the
+  // velocity a call leaves: an impulse that would take a sphere past kMaxSphereSpeed is refused.
+  // Static spheres stay static: set_velocity, set_angular_velocity and set_mass on one throw
+  // (it has no mass and never moves), while impulses, forces and torques on one are checked
+  // and then ignored (a push on the immovable: the game need not ask what it hit first).
+
+  /// Teleports a sphere. Its warm-start impulses are dropped (ContactImpulseCache::forget), so
+  /// the next step gives it nothing it had where it was; its velocity is kept. Costs
+  /// O(spheres + last step's contacts): teleport many at once with set_positions. Not lifted
+  /// out of the terrain (a centre put inside a hill stays there: place it above).
+  void set_position(SphereId id, const Vec3& position);
+  void set_velocity(SphereId id, const Vec3& velocity);
+  /// Refused when WorldSettings::rotation is off and the value is not zero.
+  void set_angular_velocity(SphereId id, const Vec3& angular_velocity);
+  /// v += impulse / m (N s, at the centre).
+  void apply_impulse(SphereId id, const Vec3& impulse);
+  /// An impulse at a world point: v += impulse / m and, with rotation on, w += (r x impulse) / I,
+  /// r = point - centre, I = 0.4 m r^2 (solid sphere). Without rotation only the linear part.
+  void apply_impulse_at(SphereId id, const Vec3& impulse, const Vec3& world_point);
+  /// Adds to the force (N) / torque (N m) that the next step applies: v += F dt / m (w += T dt / I)
+  /// in each of its substeps, before gravity; the step then zeroes them (also a step that
+  /// moves nothing: time_scale 0). Refused when the sum would not be finite; a non-zero torque
+  /// is refused without rotation.
+  void apply_force(SphereId id, const Vec3& force);
+  void apply_torque(SphereId id, const Vec3& torque);
+  void set_restitution(SphereId id, float restitution);
+  void set_friction(SphereId id, float friction);
+  /// Movable spheres only; the inertia follows (0.4 m r^2). Velocities are kept.
+  void set_mass(SphereId id, float mass);
+  /// The inertia follows for a movable sphere. Refused where floats at its position cannot
+  /// resolve the new radius. The sphere grows in place: an overlap it makes is pushed apart
+  /// by the next steps as any overlap is.
+  void set_radius(SphereId id, float radius);
+  /// The sphere's gravity becomes WorldSettings::gravity * scale (default 1; 0 floats, -1
+  /// rises); |scale| <= kMaxGravityScale.
+  void set_gravity_scale(SphereId id, float scale);
+  void set_user_data(SphereId id, std::uint64_t value);
+
+  /// Batch forms: handles[k] gets values[k]. Every handle and value is checked first, then all
+  /// are applied: a refusal (sizes differ, a stale handle, a bad value, naming its index)
+  /// leaves the world unchanged. A handle listed twice: set_* keep the last value,
+  /// apply_impulses adds both (and the limits are checked on the sum). set_positions drops
+  /// the warm-start impulses of all the moved spheres in one pass.
+  void set_positions(std::span<const SphereId> handles, std::span<const Vec3> positions);
+  void set_velocities(std::span<const SphereId> handles, std::span<const Vec3> velocities);
+  void apply_impulses(std::span<const SphereId> handles, std::span<const Vec3> impulses);
+
   [[nodiscard]] std::span<const Plane> planes() const { return planes_; }
   [[nodiscard]] const WorldSettings& settings() const { return settings_; }
   [[nodiscard]] int thread_count() const;
@@ -247,6 +307,10 @@ class World {
   /// One pass of the step pipeline over `scaled` (time-scaled) seconds.
   void substep(float scaled);
   std::size_t require_slot(SphereId id) const;
+  /// require_slot, also refusing a static sphere for `what` (it has no mass, never moves).
+  std::size_t require_movable(SphereId id, const char* what) const;
+  /// Zeroes the force and torque accumulators if any call filled them (after each step).
+  void clear_forces();
   /// Lifts the movable spheres of slots [unchecked_from_, n) whose centre is below the terrain
   /// surface out of it (see set_terrain); returns how many moved.
   std::size_t lift_out_of_terrain();
@@ -268,6 +332,9 @@ class World {
   /// kernel's internal headers.
   std::unique_ptr<StepState> step_;
   std::uint64_t steps_taken_ = 0;
+  /// apply_force / apply_torque filled an accumulator since the last step: the step applies
+  /// them and re-sorts them (when false they are all zero, and both are skipped).
+  bool forces_pending_ = false;
   PhaseTimes times_;
   PhaseTrace trace_;
   StepStats stats_;

@@ -11,6 +11,21 @@ void ContactImpulseCache::clear() {
   ranges_.clear();
 }
 
+void ContactImpulseCache::drop_forgotten(const SphereSoA& s) {
+  // A pair is remembered in its first sphere's range only: a forgotten sphere's own range no
+  // longer matches its id (forget), and here its partners' entries that name it lose their
+  // partner, so load() matches neither.
+  for (const Range& r : ranges_) {
+    if (r.id == kNoId) continue;
+    for (std::uint32_t k = r.pair_begin; k < r.pair_end; ++k) {
+      const std::int64_t partner = s.slot_of_index(entries_[k].partner);
+      const bool forgotten =
+          partner >= 0 && (static_cast<std::size_t>(partner) >= ranges_.size() || ranges_[partner].id == kNoId);
+      if (forgotten) entries_[k].partner = kNoId;
+    }
+  }
+}
+
 void ContactImpulseCache::begin_layout(const SphereSoA& s) { resize_geometric(scratch_, s.size()); }
 
 void ContactImpulseCache::layout_static(std::span<const Contact> contacts, std::size_t begin, std::size_t end,

@@ -70,6 +70,14 @@ class ContactImpulseCache {
   void remap_slots(std::span<const std::uint32_t> order);
   /// Forgets everything (spheres were added or removed: ids may be reused).
   void clear();
+  /// Forgets the contacts of the sphere in `slot` alone (it was teleported: what it touched is
+  /// no longer where it is), in two steps so that a batch pays one pass: forget(slot) for
+  /// each such sphere drops its own range, then drop_forgotten() one pass over the remembered
+  /// pairs drops those whose partner was forgotten. O(spheres + contacts); no allocation.
+  void forget(std::size_t slot) {
+    if (slot < ranges_.size()) ranges_[slot].id = kNoId;
+  }
+  void drop_forgotten(const SphereSoA& spheres);
 
  private:
   struct Entry {

@@ -16,9 +16,11 @@ float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, cons
   // Branch-free (selects), so that the compiler vectorises it: this runs for every sphere.
   for (std::size_t i = first; i < last; ++i) {
     const bool movable = s.inv_mass[i] > 0.0f;
-    const float vx = movable ? s.vx[i] + gx : s.vx[i];
-    const float vy = movable ? s.vy[i] + gy : s.vy[i];
-    const float vz = movable ? s.vz[i] + gz : s.vz[i];
+    // (g dt) scale: at the default scale 1 bitwise the g dt of a world without scales.
+    const float scale = s.gravity_scale[i];
+    const float vx = movable ? s.vx[i] + gx * scale : s.vx[i];
+    const float vy = movable ? s.vy[i] + gy * scale : s.vy[i];
+    const float vz = movable ? s.vz[i] + gz * scale : s.vz[i];
     s.vx[i] = vx, s.vy[i] = vy, s.vz[i] = vz;
     const float v2 = vx * vx + vy * vy + vz * vz;
     const float reach = fast_fraction * s.radius[i];
@@ -38,6 +40,22 @@ float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, cons
       max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
   }
   return std::sqrt(max_speed2);
+}
+
+void apply_forces(SphereSoA& s, std::size_t first, std::size_t last, float dt, bool rotation) {
+  for (std::size_t i = first; i < last; ++i) {
+    const float linear = s.inv_mass[i] * dt;  // 0 for a static sphere: forces do not move it
+    s.vx[i] += s.force_x[i] * linear;
+    s.vy[i] += s.force_y[i] * linear;
+    s.vz[i] += s.force_z[i] * linear;
+  }
+  if (!rotation) return;
+  for (std::size_t i = first; i < last; ++i) {
+    const float angular = s.inv_inertia[i] * dt;
+    s.wx[i] += s.torque_x[i] * angular;
+    s.wy[i] += s.torque_y[i] * angular;
+    s.wz[i] += s.torque_z[i] * angular;
+  }
 }
 
 namespace {
@@ -134,7 +152,8 @@ void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std:
   const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
   for (std::size_t i = first; i < last; ++i) {
     if (!skip.empty() && skip[i]) continue;
-    const float movable = s.inv_mass[i] > 0.0f ? 1.0f : 0.0f;
+    // The sphere's gravity scale (1 by default, so a[] is bitwise what it was without scales).
+    const float movable = s.inv_mass[i] > 0.0f ? s.gravity_scale[i] : 0.0f;
     const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
     float x[3] = {s.px[i], s.py[i], s.pz[i]};
     // Velocity at the start of the (sub)step: the solved end velocity minus the gravity the

@@ -25,7 +25,13 @@ struct IntegrationParams {
   bool rotation = true;  ///< plane impacts' friction turns spheres (WorldSettings::rotation); off: linear only
 };
 
-/// v += g dt for movable spheres in [first, last); returns the largest speed after it among
+/// v += F inv_mass dt and, with `rotation`, w += T inv_inertia dt for spheres [first, last),
+/// F and T their accumulated force and torque (World::apply_force / apply_torque); static
+/// spheres (inv_mass 0) do not move. Leaves the accumulators as they are (a step applies
+/// them in each of its substeps; World::step zeroes them after the last).
+void apply_forces(SphereSoA& spheres, std::size_t first, std::size_t last, float dt, bool rotation);
+
+/// v += (g dt) gravity_scale for movable spheres in [first, last); returns the largest speed after it among
 /// the spheres that are not fast. With `fast` given, the movable spheres that travel more than
 /// fast_fraction of their radius this step (is_fast, kernel/ccd/continuous_collision.h) are
 /// appended to it in slot order.

@@ -88,6 +88,7 @@ struct StepPipeline {
   bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
   bool pair_margins = false;                   // pairs filtered by their own margin (pair_margin_travel > 0)
   bool rotation = true;  // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
+  bool forces = false;   // some sphere has a force or torque to apply (World::apply_force / apply_torque)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres;
@@ -99,6 +100,7 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
+      if (forces) apply_forces(s, first, last, params.dt, rotation);
       st.block_max_speed[b] =
           predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
       st.block_extremes[b] = block_extremes(first, last);
@@ -777,8 +779,9 @@ struct StepPipeline {
     for_ranges(n, [&](std::size_t first, std::size_t last) {
       for (std::size_t k = first; k < last; ++k) order[k] = static_cast<std::uint32_t>(keys[k]);
     });
-    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation,
-              for_ranges);                                                          // without rotation every w is 0
+    // Without rotation every w is 0, without forces pending every accumulator.
+    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation, /*accumulators=*/forces,
+              for_ranges);
     st.contact_cache.remap_slots(std::span<const std::uint32_t>(order.data(), n));  // its ranges are kept by slot
   }
 
@@ -894,13 +897,17 @@ void World::step(float dt) {
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
-  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) return;  // frozen (time_scale 0) or empty
-  const std::size_t lifted = lift_out_of_terrain();                     // spheres that start inside the terrain
+  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) {  // frozen (time_scale 0) or empty
+    clear_forces();
+    return;
+  }
+  const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
   // dt * time_scale in float where it is finite (bitwise what steps always took); in double
   // where the float product overflows yet each substep does not.
   const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
                                            : static_cast<float>(double(dt) * settings_.time_scale / substeps);
   for (int k = 0; k < substeps; ++k) substep(each);
+  clear_forces();  // forces and torques act over one step (each of its substeps), then are gone
   stats_.lifted_out = lifted;
 }
 
@@ -918,6 +925,7 @@ void World::substep(float scaled) {
   pipeline.sweeping = settings_.continuous_collision;
   pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
   pipeline.params.rotation = pipeline.rotation;
+  pipeline.forces = forces_pending_;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold =
       std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);

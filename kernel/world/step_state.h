@@ -5,6 +5,7 @@
 // (include/hail/world.h), so that only the step pipeline (kernel/world/step_pipeline.cpp) and
 // world.cpp see the kernel's internal types.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -36,7 +37,9 @@ struct StepState {
   std::vector<Contact> contacts;                   ///< World::last_contacts()
   std::vector<std::vector<Impact>> impact_blocks;  ///< integrate: plane impacts per sphere block
   std::vector<Impact> impacts;                     ///< World::last_impacts(): the sweep's, then impact_blocks in order
-  std::vector<std::size_t> merge_offsets;          ///< per detect block: where its contacts start in contacts
+  /// World::apply_impulses: each entry's velocity before it, to put back if a later one is refused.
+  std::vector<std::array<float, 3>> impulse_undo;
+  std::vector<std::size_t> merge_offsets;  ///< per detect block: where its contacts start in contacts
   // Solve.
   ContactColouring colouring;
   std::vector<std::uint32_t> tile_changed;  ///< per solver tile, the latest stamp of its bodies (changed_in_pass)

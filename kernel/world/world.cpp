@@ -1,5 +1,6 @@
 #include "hail/world.h"
 #include "kernel/world/step_state.h"
+#include "kernel/world/world_checks.h"
 
 #include <cmath>
 #include <cstdio>
@@ -12,47 +13,7 @@
 #include "kernel/terrain/terrain_parts.h"
 
 namespace hail {
-namespace {
-
-/// %g: limits such as 1e-12 read as 0.000000 in std::to_string.
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
-std::string describe(const char* what, float value) { return std::string(what) + " = " + std::to_string(value); }
-
-/// Throws InvalidArgument("hail: " + message) unless ok. `message` is a string, or a function
-/// that makes one: then it is made only on failure, so that a check that passes allocates
-/// nothing (add_sphere within reserve() and the accessors must not; tests/allocation/).
-template <class Message>
-void require(bool ok, Message&& message) {
-  if (ok) return;
-  if constexpr (std::is_invocable_v<Message>)
-    throw InvalidArgument("hail: " + std::string(message()));
-  else
-    throw InvalidArgument("hail: " + std::string(message));
-}
-
-void require_finite(const Vec3& v, const char* what) {
-  require(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()), [&] {
-    return std::string(what) + " must be finite, got (" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " +
-           std::to_string(v.z()) + ")";
-  });
-}
-
-void require_material(float restitution, float friction, const char* owner) {
-  require(std::isfinite(restitution) && restitution >= 0.0f && restitution <= 1.0f,
-          [&] { return std::string(owner) + " restitution must be in [0, 1], got " + std::to_string(restitution); });
-  require(std::isfinite(friction) && friction >= 0.0f,
-          [&] { return std::string(owner) + " friction must be finite and >= 0, got " + std::to_string(friction); });
-}
-
-/// Distance from a (>= 0) to the next float up: how finely a float places a point at a.
-float float_spacing(float a) { return std::nextafter(a, std::numeric_limits<float>::infinity()) - a; }
-
-}  // namespace
+using namespace checks;  // kernel/world/world_checks.h
 
 void World::validate(const WorldSettings& s) {
   require_finite(s.gravity, "WorldSettings::gravity");
@@ -150,52 +111,17 @@ SphereId World::add_sphere(const SphereDesc& d) {
   require_finite(d.position, "sphere position");
   require_finite(d.velocity, "sphere velocity");
   require_finite(d.angular_velocity, "sphere angular_velocity");
-  require(std::isfinite(d.radius) && d.radius > 0.0f,
-          [&] { return "sphere radius must be finite and > 0, got " + std::to_string(d.radius); });
-  require(d.radius >= kMinSphereRadius && d.radius <= kMaxSphereRadius, [&] {
-    return "sphere radius must be in [kMinSphereRadius, kMaxSphereRadius] = [" + number(kMinSphereRadius) + ", " +
-           number(kMaxSphereRadius) + "] m (include/hail/world.h), got " + number(d.radius);
-  });
+  require_sphere_radius(d.radius);
   if (!d.is_static) {
-    require(std::isfinite(d.mass) && d.mass > 0.0f, [&] {
-      return "sphere mass must be finite and > 0 (or the sphere marked is_static), got " + std::to_string(d.mass);
-    });
-    require(d.mass >= kMinSphereMass && d.mass <= kMaxSphereMass, [&] {
-      return "sphere mass must be in [kMinSphereMass, kMaxSphereMass] = [" + number(kMinSphereMass) + ", " +
-             number(kMaxSphereMass) + "] kg (include/hail/world.h), got " + number(d.mass);
-    });
-    // Compared squared in double: the float norm of a finite vector can overflow.
-    require(d.velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpeed) * kMaxSphereSpeed, [&] {
-      return "sphere velocity must be at most kMaxSphereSpeed = " + number(kMaxSphereSpeed) +
-             " m/s, got |v| = " + number(d.velocity.cast<double>().norm());
-    });
-    require(d.angular_velocity.cast<double>().squaredNorm() <= double(kMaxSphereSpin) * kMaxSphereSpin, [&] {
-      return "sphere angular_velocity must be at most kMaxSphereSpin = " + number(kMaxSphereSpin) +
-             " rad/s, got |w| = " + number(d.angular_velocity.cast<double>().norm());
-    });
+    require_sphere_mass(d.mass);
+    require_sphere_speed(d.velocity);
+    require_sphere_spin(d.angular_velocity);
   }
   require_material(d.restitution, d.friction, "sphere");
-  const bool spins =
-      !(d.angular_velocity.x() == 0.0f && d.angular_velocity.y() == 0.0f && d.angular_velocity.z() == 0.0f);
-  require(settings_.rotation || d.is_static || !spins, [&] {
-    return "sphere angular_velocity must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
-           std::to_string(d.angular_velocity.x()) + ", " + std::to_string(d.angular_velocity.y()) + ", " +
-           std::to_string(d.angular_velocity.z()) + ")";
-  });
+  require_spin_allowed(settings_.rotation || d.is_static, d.angular_velocity);
   const float inv_mass = d.is_static ? 0.0f : 1.0f / d.mass;
-  const float inertia = 0.4f * d.mass * d.radius * d.radius;  // solid sphere, 2/5 m r^2
-  const float inv_inertia = d.is_static ? 0.0f : 1.0f / inertia;
-  require(std::isfinite(inv_mass) && std::isfinite(inv_inertia), [&] {
-    return "sphere mass " + std::to_string(d.mass) + " and radius " + std::to_string(d.radius) +
-           " give an inertia outside float range";
-  });
-  const float farthest = d.position.cwiseAbs().maxCoeff();
-  require(float_spacing(farthest) <= d.radius / kSphereRadiusResolution, [&] {
-    return "sphere position " + number(farthest) + " m from the origin cannot resolve radius " + number(d.radius) +
-           " m: floats there are " + number(float_spacing(farthest)) + " m apart, more than radius / " +
-           "kSphereRadiusResolution = " + number(d.radius / kSphereRadiusResolution) +
-           " m (include/hail/world.h); move the scene nearer the origin or use larger spheres";
-  });
+  const float inv_inertia = d.is_static ? 0.0f : inverse_inertia(d.mass, d.radius);
+  require_resolvable(d.position, d.radius);
   unchecked_from_ = std::min(unchecked_from_, spheres_.size());
   const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
   const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
