@@ -20,7 +20,11 @@ const SphereRecord kPaddingRecord{kPaddingPosition,
                                   0.0f,
                                   0.0f,
                                   kSphereFlagNone,
-                                  0.0f};
+                                  0.0f,
+                                  {0.0f, 0.0f, 0.0f},
+                                  {0.0f, 0.0f, 0.0f},
+                                  0,
+                                  CollisionFilter{0, 0}};
 }  // namespace
 
 void SphereSoA::resize_arrays(std::size_t n) {
@@ -30,7 +34,7 @@ void SphereSoA::resize_arrays(std::size_t n) {
                   &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
                   &torque_z})
     a->resize(n);
-  flags.resize(n);
+  for (auto* a : {&flags, &collision_category, &collision_mask}) a->resize(n);
   user_data.resize(n);
 }
 
@@ -42,7 +46,7 @@ void SphereSoA::reserve(std::size_t n) {
                   &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
                   &torque_z})
     a->reserve(padded);
-  flags.reserve(padded);
+  for (auto* a : {&flags, &collision_category, &collision_mask}) a->reserve(padded);
   user_data.reserve(padded);
   slot_ids_.reserve(n);
   id_to_slot_.reserve(n);
@@ -69,6 +73,8 @@ void SphereSoA::write_slot(std::size_t s, const SphereRecord& r) {
   force_x[s] = r.force[0], force_y[s] = r.force[1], force_z[s] = r.force[2];
   torque_x[s] = r.torque[0], torque_y[s] = r.torque[1], torque_z[s] = r.torque[2];
   user_data[s] = r.user_data;
+  collision_category[s] = r.filter.category;
+  collision_mask[s] = r.filter.mask;
 }
 
 SphereRecord SphereSoA::read_slot(std::size_t s) const {
@@ -90,7 +96,8 @@ SphereRecord SphereSoA::read_slot(std::size_t s) const {
           gravity_scale[s],
           {force_x[s], force_y[s], force_z[s]},
           {torque_x[s], torque_y[s], torque_z[s]},
-          user_data[s]};
+          user_data[s],
+          {collision_category[s], collision_mask[s]}};
 }
 
 void SphereSoA::set_padding(std::size_t first) {

@@ -320,6 +320,8 @@ TEST_CASE("Every control call refuses a bad value or a stale handle and leaves t
            [&] { world.set_gravity_scale(gone, 0.0f); },
            [&] { world.set_user_data(gone, 7); },
            [&] { (void)world.user_data(gone); },
+           [&] { world.set_collision_filter(gone, {}); },
+           [&] { (void)world.collision_filter(gone); },
        })
     expect_rejected(world, call, "stale");
 }
@@ -398,7 +400,7 @@ TEST_CASE("handles() maps every dense slot to its sphere's handle", "[control]")
   for (const SphereId id : ids) CHECK(handles[static_cast<std::size_t>(world.slot_of(id))] == id);
 }
 
-TEST_CASE("User data, gravity scales and forces follow their spheres through the Morton re-sort and removals",
+TEST_CASE("User data, filters, gravity scales and forces follow their spheres through the Morton re-sort and removals",
           "[control]") {
   WorldSettings settings = settings_with({0, -9.81f, 0});
   settings.reorder_interval = 4;
@@ -410,6 +412,7 @@ TEST_CASE("User data, gravity scales and forces follow their spheres through the
   for (int k = 0; k < 300; ++k) {
     ids.push_back(world.add_sphere(ball({u(rng), 1.0f + 0.1f * float(k), u(rng)}, 1.0f, 0.4f)));
     world.set_user_data(ids.back(), 0x1000'0000'0000ull + std::uint64_t(k));
+    world.set_collision_filter(ids.back(), {1u << (k % 32), ~std::uint32_t(k)});
   }
   const SphereId floater = ids[5];
   world.set_gravity_scale(floater, 0.0f);
@@ -421,6 +424,7 @@ TEST_CASE("User data, gravity scales and forces follow their spheres through the
   for (std::size_t k = 0; k < ids.size(); ++k) {
     moved += world.slot_of(ids[k]) != first_slots[k] ? 1 : 0;
     CHECK(world.user_data(ids[k]) == 0x1000'0000'0000ull + k);
+    CHECK(world.collision_filter(ids[k]) == CollisionFilter{1u << (k % 32), ~std::uint32_t(k)});
   }
   CHECK(moved > 100);  // the re-sort did move them
   CHECK(world.position(floater) == Vec3(100, 50, 100));
@@ -433,6 +437,7 @@ TEST_CASE("User data, gravity scales and forces follow their spheres through the
   for (std::size_t k = 0; k < ids.size(); ++k) {
     if (k % 3 == 0 && ids[k] != floater) continue;
     CHECK(world.user_data(ids[k]) == 0x1000'0000'0000ull + k);
+    CHECK(world.collision_filter(ids[k]) == CollisionFilter{1u << (k % 32), ~std::uint32_t(k)});
   }
   CHECK(world.soa().gravity_scale[static_cast<std::size_t>(world.slot_of(floater))] == 0.0f);
 

@@ -9,6 +9,7 @@
 //   <hail/step_stats.h>      StepStats, StepParts, PhaseTimes: what the last step did
 //   <hail/terrain.h>         hail::Terrain: a heightmap's triangles and BVH; raycast()
 //   <hail/heightmap.h>       hail::Heightmap: from a function h(x, z), samples, PGM, PNG, raw files
+//   <hail/collision_filter.h> hail::CollisionFilter: category and mask bits, should_collide()
 //   <hail/contact.h>         hail::Contact, hail::Impact: what last_contacts()/last_impacts() hold
 //   <hail/sphere_soa.h>      hail::SphereSoA, SphereId: the sphere arrays World::soa() shows
 //   <hail/plane.h>           hail::Plane: a static plane as World::planes() shows it
@@ -25,6 +26,7 @@
 // Units are SI (m, s, kg, rad), y is up. Threads: hail runs World::step() inside a
 // tbb::task_arena (yours, or one it makes) and never starts threads of its own.
 
+#include "hail/collision_filter.h"
 #include "hail/contact.h"
 #include "hail/errors.h"
 #include "hail/features.h"

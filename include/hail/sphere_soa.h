@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hail/aligned_array.h"
+#include "hail/collision_filter.h"
 
 namespace hail {
 
@@ -49,6 +50,7 @@ struct SphereRecord {
   float force[3] = {0.0f, 0.0f, 0.0f};   ///< N, accumulated for the next step
   float torque[3] = {0.0f, 0.0f, 0.0f};  ///< N m, accumulated for the next step
   std::uint64_t user_data = 0;           ///< the game's, never read by hail
+  CollisionFilter filter{};              ///< category and mask bits (collision_filter.h)
 };
 
 class SphereSoA {
@@ -104,6 +106,9 @@ class SphereSoA {
   /// step, which applies them in predict (over each of its substeps) and then zeroes them.
   AlignedArray<float> force_x, force_y, force_z, torque_x, torque_y, torque_z;
   AlignedArray<std::uint64_t> user_data;  ///< the game's (World::set_user_data), never read by hail
+  /// Collision filter bits (collision_filter.h): what the sphere is, and what it collides with.
+  /// Padding lanes have 0 in both, so they pass no filter.
+  AlignedArray<std::uint32_t> collision_category, collision_mask;
 
  private:
   void set_padding(std::size_t first);
@@ -117,7 +122,7 @@ class SphereSoA {
   std::vector<std::uint32_t> generation_;  // id index -> current generation
   std::vector<std::uint32_t> free_ids_;
   AlignedArray<float> float_scratch_;         // permute(): one array's new order
-  AlignedArray<std::uint32_t> id_scratch_;    // permute(): flags in their new order
+  AlignedArray<std::uint32_t> id_scratch_;    // permute(): a uint32 array in its new order
   AlignedArray<std::uint64_t> user_scratch_;  // permute(): user data in its new order
   std::vector<SphereId> handle_scratch_;      // permute(): handles in their new order
 };
@@ -147,7 +152,7 @@ void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, bool
     permute_through(*a, float_scratch_);
   }
   id_scratch_.resize(size_);
-  permute_through(flags, id_scratch_);
+  for (auto* a : {&flags, &collision_category, &collision_mask}) permute_through(*a, id_scratch_);
   user_scratch_.resize(size_);
   permute_through(user_data, user_scratch_);
   handle_scratch_.resize(size_);

@@ -29,6 +29,7 @@
 #include <oneapi/tbb/task_arena.h>
 #include <Eigen/Core>
 
+#include "hail/collision_filter.h"
 #include "hail/contact.h"
 #include "hail/errors.h"
 #include "hail/features.h"
@@ -101,6 +102,9 @@ struct SphereDesc {
   float restitution = 0.5f;                 ///< [0, 1]
   float friction = 0.5f;                    ///< Coulomb coefficient, >= 0
   bool is_static = false;                   ///< infinite mass: collides but never moves
+  /// Category and mask bits: it collides with what its mask accepts and what accepts it
+  /// (collision_filter.h). The default collides with everything.
+  CollisionFilter filter{};
 };
 
 /// A static plane: the solid half-space {x : normal . x < offset}. The normal is normalised.
@@ -204,6 +208,8 @@ class World {
   [[nodiscard]] std::span<const SphereId> handles() const { return spheres_.handles(); }
   /// The game's 64-bit value for a sphere (set_user_data; 0 until set). Throws for a stale handle.
   [[nodiscard]] std::uint64_t user_data(SphereId id) const;
+  /// The sphere's category and mask bits. Throws for a stale handle.
+  [[nodiscard]] CollisionFilter collision_filter(SphereId id) const;
 
   // ---- Driving spheres from a game (kernel/world/world_control.cpp) ----
   // Each call checks its handle (a stale one throws InvalidArgument) and its value by the rule
@@ -246,6 +252,9 @@ class World {
   /// rises); |scale| <= kMaxGravityScale.
   void set_gravity_scale(SphereId id, float scale);
   void set_user_data(SphereId id, std::uint64_t value);
+  /// Category and mask bits (collision_filter.h); any bits are accepted (a category of 0
+  /// collides with nothing). Takes effect from the next step.
+  void set_collision_filter(SphereId id, CollisionFilter filter);
 
   /// Batch forms: handles[k] gets values[k]. Every handle and value is checked first, then all
   /// are applied: a refusal (sizes differ, a stale handle, a bad value, naming its index)

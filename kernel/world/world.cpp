@@ -125,8 +125,11 @@ SphereId World::add_sphere(const SphereDesc& d) {
   unchecked_from_ = std::min(unchecked_from_, spheres_.size());
   const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
   const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
-  return spheres_.add({d.position.x(), d.position.y(), d.position.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z(),
-                       d.radius, inv_mass, inv_inertia, d.restitution, d.friction, kSphereFlagNone});
+  SphereRecord record{d.position.x(), d.position.y(), d.position.z(), v.x(),      v.y(),
+                      v.z(),          w.x(),          w.y(),          w.z(),      d.radius,
+                      inv_mass,       inv_inertia,    d.restitution,  d.friction, kSphereFlagNone};
+  record.filter = d.filter;
+  return spheres_.add(record);
 }
 
 bool World::remove_sphere(SphereId id) {

@@ -57,6 +57,17 @@ std::size_t World::require_movable(SphereId id, const char* what) const {
 std::uint64_t World::user_data(SphereId id) const { return spheres_.user_data[require_slot(id)]; }
 void World::set_user_data(SphereId id, std::uint64_t value) { spheres_.user_data[require_slot(id)] = value; }
 
+CollisionFilter World::collision_filter(SphereId id) const {
+  const std::size_t i = require_slot(id);
+  return {spheres_.collision_category[i], spheres_.collision_mask[i]};
+}
+
+void World::set_collision_filter(SphereId id, CollisionFilter filter) {
+  const std::size_t i = require_slot(id);
+  spheres_.collision_category[i] = filter.category;
+  spheres_.collision_mask[i] = filter.mask;
+}
+
 void World::set_position(SphereId id, const Vec3& position) { set_positions({&id, 1}, {&position, 1}); }
 
 void World::set_positions(std::span<const SphereId> handles, std::span<const Vec3> positions) {
