@@ -27,6 +27,7 @@
 
 #include "hail/contact.h"
 #include "hail/errors.h"
+#include "hail/events.h"
 #include "hail/features.h"
 #include "hail/heightmap.h"
 #include "hail/phase_trace.h"
