@@ -302,9 +302,9 @@ class World {
   /// - Touching, in a step: in some substep, a contact that ended the solve with an impulse
   ///   (normal, friction or bounce) or began it overlapping (gap <= 0), or an impact of
   ///   last_impacts(). A sphere resting under gravity carries an impulse every step, so it
-  ///   begins once and never flickers (the gap after a step wobbles about 0 by rounding, so it
-  ///   is not the rule). A sphere that bounces within one step touches in that step and ends
-  ///   in the next.
+  ///   begins once and never flickers (the gap after a step is not the rule: in a settled pile
+  ///   it flickers with rounding, and misses a bounce within a step). A sphere that bounces
+  ///   within one step touches in that step and ends in the next.
   /// - touch_begin_events: touching now and not after the previous step; touch_end_events: the
   ///   reverse. Substeps are one step: a touch that begins and ends within a step's substeps
   ///   begins in it and ends in the next. A removed sphere's touches end at the next step
