@@ -29,6 +29,7 @@
 #include "hail/collision_filter.h"
 #include "hail/contact.h"
 #include "hail/errors.h"
+#include "hail/events.h"
 #include "hail/features.h"
 #include "hail/heightmap.h"
 #include "hail/phase_trace.h"

@@ -32,6 +32,7 @@
 #include "hail/collision_filter.h"
 #include "hail/contact.h"
 #include "hail/errors.h"
+#include "hail/events.h"
 #include "hail/features.h"
 #include "hail/phase_trace.h"
 #include "hail/plane.h"
@@ -301,6 +302,39 @@ class World {
   /// collision) are not contacts: last_impacts() lists them. No copy, no allocation; valid
   /// until the next step.
   [[nodiscard]] std::span<const Contact> last_contacts() const;
+  // ---- Touch and hit events (include/hail/events.h; kernel/world/world_events.cpp) ----
+
+  /// Turns touch and hit events on or off (both off by default; off, a step does nothing for
+  /// them). Throws InvalidArgument (nothing changed) unless hit_speed is finite and >= 0.
+  /// Turning touch on starts from nothing touching (the next step begins every touch it finds);
+  /// turning it off forgets the touches. After each step:
+  /// - Touching, in a step: in some substep, a contact that ended the solve with an impulse
+  ///   (normal, friction or bounce) or began it overlapping (gap <= 0), or an impact of
+  ///   last_impacts(). A sphere resting under gravity carries an impulse every step, so it
+  ///   begins once and never flickers (the gap after a step is not the rule: in a settled pile
+  ///   it flickers with rounding, and misses a bounce within a step). A sphere that bounces
+  ///   within one step touches in that step and ends in the next.
+  /// - touch_begin_events: touching now and not after the previous step; touch_end_events: the
+  ///   reverse. Substeps are one step: a touch that begins and ends within a step's substeps
+  ///   begins in it and ends in the next. A removed sphere's touches end at the next step
+  ///   (also a step with time_scale 0, which keeps every other touch).
+  /// - hit_events: every impact of the step (all substeps) that closed faster than hit_speed
+  ///   (strictly): each contact the collision passes bounced (Contact::bounce_impulse > 0),
+  ///   with the approach speed of its spheres' velocities as the solve began (after gravity)
+  ///   and the point a's radius plus the gap (half the gap between spheres) along the normal
+  ///   from a's centre; and each of last_impacts() (continuous collision, spheres meeting a
+  ///   plane mid-step), with the approach speed its impulse was made from (to float rounding)
+  ///   and its point.
+  /// Order: sphere pairs by (lower handle index, higher), then ground by (handle index, the
+  /// terrain before plane 0, 1, ...); hits of one key in the order they happened. The same on
+  /// any thread count, bitwise. Steady steps allocate nothing.
+  void set_events(const EventSettings& settings);
+  [[nodiscard]] const EventSettings& event_settings() const;
+  /// The last step's events: no copy; valid until the next step or set_events. Empty when off.
+  [[nodiscard]] std::span<const TouchEvent> touch_begin_events() const;
+  [[nodiscard]] std::span<const TouchEvent> touch_end_events() const;
+  [[nodiscard]] std::span<const HitEvent> hit_events() const;
+
   /// Impacts of the last step (of its last substep) resolved at their exact time outside the
   /// contact solve, each with its normal impulse: first those of continuous collision (fast
   /// spheres against terrain, planes and spheres; StepStats::sweep), in the order they were

@@ -848,6 +848,7 @@ struct StepPipeline {
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
       ScopedTraceRecord record(w.trace, Phase::Solve);
+      if (st.events.wants_hits()) st.events.remember_solve_start(w.spheres);  // approach speeds
       solve();
     } else {
       w.stats.colours = w.stats.tile_contacts = w.stats.shared_contacts = 0;
@@ -897,8 +898,10 @@ void World::step(float dt) {
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
+  ContactEventTracker& events = step_->events;
   if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) {  // frozen (time_scale 0) or empty
     clear_forces();
+    if (events.on()) events.finish_idle_step(spheres_);
     return;
   }
   const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
@@ -906,7 +909,9 @@ void World::step(float dt) {
   // where the float product overflows yet each substep does not.
   const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
                                            : static_cast<float>(double(dt) * settings_.time_scale / substeps);
+  if (events.on()) events.begin_step();
   for (int k = 0; k < substeps; ++k) substep(each);
+  if (events.on()) events.finish_step();
   clear_forces();  // forces and torques act over one step (each of its substeps), then are gone
   stats_.lifted_out = lifted;
 }
@@ -930,6 +935,9 @@ void World::substep(float scaled) {
   pipeline.params.restitution_threshold =
       std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
   arena_->execute([&] { pipeline.run(); });
+  if (step_->events.on())
+    step_->events.collect_substep(spheres_, step_->contacts, step_->impacts,
+                                  {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;
 }

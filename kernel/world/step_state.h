@@ -23,6 +23,7 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/shock_propagation.h"
 #include "kernel/solver/solver_body.h"
+#include "kernel/world/contact_events.h"
 
 namespace hail {
 
@@ -65,6 +66,8 @@ struct StepState {
   std::vector<std::uint64_t> reorder_keys;
   std::vector<std::uint32_t> reorder_slots;  ///< new slot k <- old slot
   std::vector<Aabb> reorder_bounds;          ///< box of each block's centres
+  // Touch and hit events (World::set_events); its touching keys persist between steps.
+  ContactEventTracker events;
 };
 
 }  // namespace hail

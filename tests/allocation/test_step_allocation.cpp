@@ -240,3 +240,24 @@ TEST_CASE("While spheres are added and contacts rise, steps reallocate O(log n) 
   CHECK(allocations < 1000);  // measured: 557, 522 with per-pair margins (437 without terrain)
   CHECK(world.nan_count() == 0);
 }
+
+TEST_CASE("Steps with touch and hit events on allocate nothing once warm", "[allocation][events]") {
+  World world({.threads = 2});
+  build_box(world);
+  for (int k = 0; k < 256; ++k) world.add_sphere(sphere_k(k, 2.0f));
+  world.set_events({.touch = true, .hits = true, .hit_speed = 0.1f});
+  std::size_t events = 0;
+  for (int step = 0; step < 300; ++step) {  // settled; the event arrays have grown
+    world.step(kDt);
+    events += world.touch_begin_events().size() + world.hit_events().size();
+  }
+  REQUIRE(events > 256);  // it made events
+  const std::size_t allocations = allocations_during([&] {
+    for (int step = 0; step < 64; ++step) {  // past several Morton re-sorts (every 16 steps)
+      world.step(kDt);
+      events += world.touch_begin_events().size() + world.touch_end_events().size() + world.hit_events().size();
+    }
+  });
+  CHECK(allocations == 0);
+  CHECK(world.nan_count() == 0);
+}
