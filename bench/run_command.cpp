@@ -13,6 +13,7 @@
 #include "bench/scenes/memory_use.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/scene_file.h"
+#include "bench/scenes/scene_filters.h"
 #include "bench/scenes/scene_run.h"
 #include "cli.h"
 
@@ -97,7 +98,11 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
   add_count(app, "--home-after", o.home_after, 1, 100'000'000,
             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
-  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both or --filters compare)");
+  app.add_option("--filters", o.filters,
+                 "collision filters given to every sphere: accept-all (filtered, nothing rejected), teams (two "
+                 "teams that pass through each other); compare: runs none, accept-all and teams in turn, one table")
+      ->check(CLI::IsMember({"none", "accept-all", "teams", "compare"}));
   app.add_option("--json", o.json_path, "every figure of the (last) run as JSON")->type_name("FILE");
   app.add_option("--trace", o.trace_path,
                  "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
@@ -171,7 +176,7 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
 }
 
 /// One run of the scene (named or from a file) with these parameters.
-RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last) {
+RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last, const std::string& filters) {
   RunOptions run_options{.steps = o.steps,
                          .trace_path = last ? o.trace_path : "",
                          .progress = !o.quiet,
@@ -184,8 +189,10 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
     run_options.after_step = [&](Scene& scene, int step) {
       if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
     };
+  const SceneFilters filter_mode = scene_filters_named(filters);
   auto moved = [&](Scene scene) {
     if (d != 0.0f) move_scene(scene, Vec3(d, 0.0f, d));
+    give_filters(scene, filter_mode);
     return scene;
   };
   if (o.scene_file.empty()) {
@@ -282,7 +289,7 @@ void run_both(const CommandOptions& o, RunCommandResult& result) {
     SceneParams params = o.params;
     params.continuous_collision = ccd;
     if (!o.quiet) std::fprintf(stderr, "  run %d/%d: continuous collision %s\n", k + 1, 2 * repeat, ccd ? "on" : "off");
-    (ccd ? result.ccd_on : result.ccd_off).push_back(run_once(o, params, k + 2 >= 2 * repeat));
+    (ccd ? result.ccd_on : result.ccd_off).push_back(run_once(o, params, k + 2 >= 2 * repeat, o.filters));
   }
 }
 
@@ -331,6 +338,31 @@ int report_both(const CommandOptions& o, const RunCommandResult& result) {
   return a.errors.nan_count == 0 && b.errors.nan_count == 0 ? 0 : 3;
 }
 
+/// --filters compare's table: each mode's median ms/step and its ratio to no filters.
+int report_filters(const RunCommandResult& result) {
+  const std::vector<std::string>& names = scene_filter_names();
+  const RunResult& first = result.by_filters[0].back();
+  std::printf("hail-bench run %s --filters compare\n", first.scene.c_str());
+  std::printf("  machine   %s, %d threads, SIMD %s; %zu spheres, %d steps; %zu runs each, order turned each round\n",
+              cpu_model().c_str(), first.threads, simd_description().c_str(), first.spheres, first.steps,
+              result.by_filters[0].size());
+  std::vector<double> medians;
+  for (const std::vector<RunResult>& runs : result.by_filters) {
+    std::vector<double> m;
+    for (const RunResult& r : runs) m.push_back(r.median_ms);
+    medians.push_back(median_of(m));
+  }
+  std::printf("  %-11s %10s %8s %10s  %s\n", "filters", "ms/step", "ratio", "contacts", "hash");
+  int status = 0;
+  for (std::size_t m = 0; m < names.size(); ++m) {
+    const RunResult& r = result.by_filters[m].back();
+    std::printf("  %-11s %10.3f %8.3f %10.0f  %s\n", names[m].c_str(), medians[m], medians[m] / medians[0],
+                r.sphere_contacts, r.state_hash.c_str());
+    if (r.errors.nan_count != 0) status = 3;
+  }
+  return status;
+}
+
 }  // namespace
 
 /// Refuses, before anything is built, a sphere count that could not fit the memory limit at
@@ -371,12 +403,27 @@ RunCommandResult run_runs(const RunCommandOptions& o) {
     return result;
   }
   const int repeat = o.repeat > 0 ? o.repeat : 1;
-  for (int k = 0; k < repeat; ++k) result.runs.push_back(run_once(o, o.params, k + 1 == repeat));
+  if (o.filters == "compare") {
+    // Each round runs every mode, the order turned each round, so that a drift in machine
+    // speed falls on all alike.
+    const std::vector<std::string>& names = scene_filter_names();
+    result.by_filters.resize(names.size());
+    const int rounds = o.repeat > 0 ? o.repeat : 3;
+    for (int k = 0; k < rounds; ++k)
+      for (std::size_t m = 0; m < names.size(); ++m) {
+        const std::size_t mode = (m + static_cast<std::size_t>(k)) % names.size();
+        if (!o.quiet) std::fprintf(stderr, "  round %d/%d: --filters %s\n", k + 1, rounds, names[mode].c_str());
+        result.by_filters[mode].push_back(run_once(o, o.params, false, names[mode]));
+      }
+    return result;
+  }
+  for (int k = 0; k < repeat; ++k) result.runs.push_back(run_once(o, o.params, k + 1 == repeat, o.filters));
   return result;
 }
 
 int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
   if (o.ccd_both) return report_both(o, result);
+  if (!result.by_filters.empty()) return report_filters(result);
   const std::vector<RunResult>& runs = result.runs;
   const int repeat = static_cast<int>(runs.size());
   const RunResult& r = runs.back();

@@ -30,6 +30,7 @@ struct RunCommandOptions {
   double memory_limit_gb = -1.0;   // --memory-limit GB (< 0: 80% of the memory available; 0: none)
   double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (bench/scenes/scene_origin.cpp)
   int home_after = 0;              // --home-after K: after step K, shift the scene back by (D, 0, D)
+  std::string filters = "none";    // --filters none|accept-all|teams|compare (bench/scenes/scene_filters.h)
 };
 
 /// Declares run's flags on `app`, writing `o`; the checks between flags run once `app` is parsed.
@@ -42,8 +43,9 @@ std::string summary_line(const RunResult& r);
 
 /// Every run `hail-bench run` made, in order.
 struct RunCommandResult {
-  std::vector<RunResult> runs;             ///< --repeat R runs (one by default)
-  std::vector<RunResult> ccd_on, ccd_off;  ///< --ccd both: the runs with continuous collision on, and off
+  std::vector<RunResult> runs;                     ///< --repeat R runs (one by default)
+  std::vector<RunResult> ccd_on, ccd_off;          ///< --ccd both: the runs with continuous collision on, and off
+  std::vector<std::vector<RunResult>> by_filters;  ///< --filters compare: the runs of each scene_filter_names() entry
 };
 
 /// Checks the outputs and the memory limit before anything is built, then run_runs and

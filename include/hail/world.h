@@ -180,6 +180,12 @@ class World {
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
   [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
+  /// The static world's collision filter: one for the terrain and every plane together
+  /// (collision_filter.h, Box2D's rule with each sphere's). A sphere whose filter rejects it
+  /// passes through the ground: no contacts, plane bounces, swept impacts, terrain guard or
+  /// lift-out. The default collides with everything. Takes effect from the next step.
+  void set_ground_filter(CollisionFilter filter);
+  [[nodiscard]] CollisionFilter ground_filter() const { return ground_filter_; }
   /// Reserves room for n spheres so that adding them does not reallocate.
   void reserve(std::size_t spheres);
 
@@ -354,6 +360,9 @@ class World {
   std::size_t require_movable(SphereId id, const char* what) const;
   /// Zeroes the force and torque accumulators if any call filled them (after each step).
   void clear_forces();
+  /// Recomputes gravity_scaled_ and filtered_ (one pass over the spheres) if a change may have
+  /// cleared them since the last step (the step start calls it).
+  void refresh_uses();
   /// Lifts the movable spheres of slots [unchecked_from_, n) whose centre is below the terrain
   /// surface out of it (see set_terrain); returns how many moved.
   std::size_t lift_out_of_terrain();
@@ -378,6 +387,14 @@ class World {
   /// apply_force / apply_torque filled an accumulator since the last step: the step applies
   /// them and re-sorts them (when false they are all zero, and both are skipped).
   bool forces_pending_ = false;
+  /// Some sphere's gravity scale is not 1: the step takes the scaled gravity loop. Some
+  /// sphere's collision filter, or the ground's, is not the default: the step filters. When
+  /// false the step runs exactly the code of a world without scales or filters (their cost is
+  /// paid only by scenes that use them). Set at once by a change that makes them true; a change
+  /// that may make them false marks them stale, and refresh_uses recounts at the next step.
+  bool gravity_scaled_ = false, filtered_ = false;
+  bool uses_stale_ = false;
+  CollisionFilter ground_filter_{};
   PhaseTimes times_;
   PhaseTrace trace_;
   StepStats stats_;

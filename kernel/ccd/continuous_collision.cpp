@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernel/broadphase/sphere_filters.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/ccd/path_box_scan.h"
 #include "kernel/dispatch/kernel_table.h"
@@ -153,8 +154,9 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
     hi[d] = std::max(c[d], c[d] + v[d] * t_left) + r;
   }
   const float pad = box_padding(lo, hi);
+  const bool meets_the_ground = !scene.filtering || meets_ground(s, slot, scene.ground);
 
-  if (scene.terrain) {
+  if (scene.terrain && meets_the_ground) {
     // The path walks the BVH as a ray whose node boxes are grown by the radius, pruned by the
     // earliest hit so far (float, conservative); the hits themselves are timed in double.
     const TerrainTriangles& tri = scene.terrain->triangles();
@@ -171,7 +173,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
       return static_cast<float>(hit.t);
     });
   }
-  for (std::uint32_t k = 0; k < scene.planes.size(); ++k) {
+  for (std::uint32_t k = 0; meets_the_ground && k < scene.planes.size(); ++k) {
     const Plane& p = scene.planes[k];
     const double n[3] = {p.nx, p.ny, p.nz};
     SweptHit hit;
@@ -183,7 +185,9 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   // along a path j took up only later. Such an impact, with where j never was, came before
   // events already taken and moved j back in time; and the grid, which lists a changed path
   // from its start on, could miss what the scan (every path over mo.t0..dt) found.
+  const CollisionFilter filter = sphere_filter(s, slot);
   auto try_sphere = [&](std::uint32_t j) {
+    if (scene.filtering && !should_collide(filter, sphere_filter(s, j))) return;
     const double start = std::max(mo.t0, path_start(j));
     double ci[3], cj[3], vj[3];
     centre_at(s, j, start, cj, vj);

@@ -40,6 +40,7 @@
 #include <span>
 #include <vector>
 
+#include "hail/collision_filter.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
 #include "kernel/bvh/flat_bvh.h"
@@ -66,6 +67,10 @@ struct SweepScene {
   std::span<const Plane> planes;
   bool sphere_collisions = true;
   bool rotation = true;  ///< impacts' friction turns spheres (WorldSettings::rotation); off: linear only
+  /// Some collision filter is not the default: filtered sphere pairs are not tried, and a
+  /// sphere whose filter rejects `ground` passes through the terrain and planes.
+  bool filtering = false;
+  CollisionFilter ground{};
 };
 
 class ContinuousCollision {

@@ -2,25 +2,31 @@
 
 #include <cmath>
 
+#include "kernel/broadphase/sphere_filters.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/geometry/fast_motion.h"
 #include "kernel/solver/contact_impulse.h"
 
 namespace hail {
 
-float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
-                         float fast_fraction, std::vector<std::uint32_t>* fast) {
+namespace {
+/// predict_velocities' first pass; `Scaled` false is the loop without the multiply by the
+/// gravity scale (every scale is 1 then, so the result is the same), kept separate so that
+/// scenes without scales run exactly the instructions they ran before scales existed.
+template <bool Scaled>
+float add_gravity(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p, float fast_fraction,
+                  float& fastest) {
   const float gx = p.gravity[0] * p.dt, gy = p.gravity[1] * p.dt, gz = p.gravity[2] * p.dt;
   const float dt2 = p.dt * p.dt;
-  float max_speed2 = 0.0f, fastest = -1.0f;  // fastest > 0: some sphere may be fast
+  float max_speed2 = 0.0f;
   // Branch-free (selects), so that the compiler vectorises it: this runs for every sphere.
   for (std::size_t i = first; i < last; ++i) {
     const bool movable = s.inv_mass[i] > 0.0f;
     // (g dt) scale: at the default scale 1 bitwise the g dt of a world without scales.
-    const float scale = s.gravity_scale[i];
-    const float vx = movable ? s.vx[i] + gx * scale : s.vx[i];
-    const float vy = movable ? s.vy[i] + gy * scale : s.vy[i];
-    const float vz = movable ? s.vz[i] + gz * scale : s.vz[i];
+    const float scale = Scaled ? s.gravity_scale[i] : 1.0f;
+    const float vx = movable ? s.vx[i] + (Scaled ? gx * scale : gx) : s.vx[i];
+    const float vy = movable ? s.vy[i] + (Scaled ? gy * scale : gy) : s.vy[i];
+    const float vz = movable ? s.vz[i] + (Scaled ? gz * scale : gz) : s.vz[i];
     s.vx[i] = vx, s.vy[i] = vy, s.vz[i] = vz;
     const float v2 = vx * vx + vy * vy + vz * vz;
     const float reach = fast_fraction * s.radius[i];
@@ -28,6 +34,15 @@ float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, cons
     max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
     fastest = movable && excess > fastest ? excess : fastest;
   }
+  return max_speed2;
+}
+}  // namespace
+
+float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
+                         float fast_fraction, std::vector<std::uint32_t>* fast) {
+  float fastest = -1.0f;  // fastest > 0: some sphere may be fast
+  float max_speed2 = p.gravity_scaled ? add_gravity<true>(s, first, last, p, fast_fraction, fastest)
+                                      : add_gravity<false>(s, first, last, p, fast_fraction, fastest);
   if (!fast || !(fastest > 0.0f)) return std::sqrt(max_speed2);
   // Some sphere is fast: list the fast ones and take the largest speed of the others.
   max_speed2 = 0.0f;
@@ -146,21 +161,26 @@ double earliest_root(double d0, double vn, double an, double limit) {
 
 }  // namespace
 
-void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
-                         const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
+namespace {
+/// integrate_positions' loop; `Scaled` as in add_gravity, `Filtered`: spheres whose filter
+/// rejects p.ground skip the planes.
+template <bool Scaled, bool Filtered>
+void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
+                     const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
   const bool uniform = p.integrator == Integrator::UniformAcceleration;
   const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
   for (std::size_t i = first; i < last; ++i) {
     if (!skip.empty() && skip[i]) continue;
     // The sphere's gravity scale (1 by default, so a[] is bitwise what it was without scales).
-    const float movable = s.inv_mass[i] > 0.0f ? s.gravity_scale[i] : 0.0f;
+    const float movable = s.inv_mass[i] > 0.0f ? (Scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
     const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
     float x[3] = {s.px[i], s.py[i], s.pz[i]};
     // Velocity at the start of the (sub)step: the solved end velocity minus the gravity the
     // uniform-acceleration integrator adds back along the parabola.
     float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
     float remaining = p.dt;
-    if (!planes.empty()) bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
+    if (!planes.empty() && (!Filtered || meets_ground(s, i, p.ground)))
+      bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
     for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
     s.px[i] = x[0];
     s.py[i] = x[1];
@@ -169,6 +189,17 @@ void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std:
     s.vy[i] = u[1] + a[1] * remaining;
     s.vz[i] = u[2] + a[2] * remaining;
   }
+}
+}  // namespace
+
+void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
+                         const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
+  if (p.gravity_scaled)
+    p.ground_filtered ? integrate_range<true, true>(s, first, last, planes, p, skip, impacts)
+                      : integrate_range<true, false>(s, first, last, planes, p, skip, impacts);
+  else
+    p.ground_filtered ? integrate_range<false, true>(s, first, last, planes, p, skip, impacts)
+                      : integrate_range<false, false>(s, first, last, planes, p, skip, impacts);
 }
 
 }  // namespace hail

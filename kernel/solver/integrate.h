@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "hail/collision_filter.h"
 #include "hail/sphere_soa.h"
 #include "hail/world_settings.h"
 #include "kernel/terrain/plane_contacts.h"
@@ -23,6 +24,13 @@ struct IntegrationParams {
   float dt = 0.0f;                     ///< time-scaled step
   float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
   bool rotation = true;  ///< plane impacts' friction turns spheres (WorldSettings::rotation); off: linear only
+  /// Some sphere's gravity scale is not 1. When false the loops skip the multiply by it (the
+  /// same result: the scale is 1): World keeps the flag, so scenes without scales pay nothing.
+  bool gravity_scaled = true;
+  /// Some collision filter is not the default: spheres whose filter rejects `ground` (the
+  /// planes' filter, World::set_ground_filter) pass through the planes.
+  bool ground_filtered = false;
+  CollisionFilter ground{};
 };
 
 /// v += F inv_mass dt and, with `rotation`, w += T inv_inertia dt for spheres [first, last),

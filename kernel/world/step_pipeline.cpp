@@ -31,6 +31,7 @@
 #include "jobs/phase_timer.h"
 #include "jobs/stage_crew.h"
 #include "kernel/broadphase/spatial_order.h"
+#include "kernel/broadphase/sphere_filters.h"
 #include "kernel/solver/contact_impulse.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/depenetrate.h"
@@ -87,8 +88,10 @@ struct StepPipeline {
   bool guarding = false;                       // terrain guard on (there is a terrain)
   bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
   bool pair_margins = false;                   // pairs filtered by their own margin (pair_margin_travel > 0)
-  bool rotation = true;  // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
-  bool forces = false;   // some sphere has a force or torque to apply (World::apply_force / apply_torque)
+  bool rotation = true;    // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
+  bool forces = false;     // some sphere has a force or torque to apply (World::apply_force / apply_torque)
+  bool filtering = false;  // some collision filter is not the default (World::set_collision_filter, set_ground_filter)
+  CollisionFilter ground{};  // the terrain's and planes' filter (World::set_ground_filter)
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres;
@@ -190,6 +193,9 @@ struct StepPipeline {
         beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > st.reach2[i]) &
                             static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
       }
+      if (filtering)  // a sphere that passes through the ground is not pushed out of it
+        for (std::size_t i = first; i < last; ++i)
+          if (!meets_ground(s, i, ground)) beyond[i - first] = 0;
       // Where masses differ (shock propagation runs), a light sphere between a heavy one and
       // the ground takes nearly all of their pair's depenetration, and is pressed into the
       // ground a little more each step; one struck while it had no ground contact is driven
@@ -205,7 +211,8 @@ struct StepPipeline {
         const Heightmap& ground = w.terrain->heightmap();
         for (std::size_t i = first; i < last; ++i)
           if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
-              s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i])
+              s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i] &&
+              (!filtering || meets_ground(s, i, this->ground)))
             beyond[i - first] = 1;
       }
       std::uint32_t flagged[kSphereBlock];
@@ -243,6 +250,8 @@ struct StepPipeline {
         w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
                                  st.contact_blocks[b], fast_fraction, sweeping);
 #endif
+      if (filtering)  // static contacts all have the sphere in a
+        std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, ground); });
     });
   }
 
@@ -271,6 +280,7 @@ struct StepPipeline {
       std::vector<SpherePair>& out = st.pair_blocks[b];
       std::vector<std::uint32_t>& row = st.pair_row_scratch[b];
       auto find = [&](std::size_t from, std::size_t to) {
+        const std::size_t found_before = out.size();
         switch (search) {
           case PairSearch::Grid:
             st.grid.find_pairs(s, from, to, margin, out, row);
@@ -285,6 +295,7 @@ struct StepPipeline {
             find_sphere_pairs_simd(s, from, to, margin, out);
             break;
         }
+        if (filtering) drop_filtered_pairs(s, out, found_before);
       };
       // The block's share of WorldSettings::max_sphere_contacts_per_sphere. A row has fewer
       // than n pairs, so a small world cannot reach it: one search. Otherwise the rows are
@@ -369,8 +380,14 @@ struct StepPipeline {
     SphereSoA& s = w.spheres;
     ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings.reorder_interval > 0);
     if (st.fast.empty()) return;
-    const SweepScene scene{w.terrain, w.terrain_restitution,        w.terrain_friction,
-                           w.planes,  w.settings.sphere_collisions, rotation};
+    const SweepScene scene{w.terrain,
+                           w.terrain_restitution,
+                           w.terrain_friction,
+                           w.planes,
+                           w.settings.sphere_collisions,
+                           rotation,
+                           filtering,
+                           ground};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
@@ -904,6 +921,7 @@ void World::step(float dt) {
     if (events.on()) events.finish_idle_step(spheres_);
     return;
   }
+  refresh_uses();
   const std::size_t lifted = lift_out_of_terrain();  // spheres that start inside the terrain
   // dt * time_scale in float where it is finite (bitwise what steps always took); in double
   // where the float product overflows yet each substep does not.
@@ -931,6 +949,11 @@ void World::substep(float scaled) {
   pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
   pipeline.params.rotation = pipeline.rotation;
   pipeline.forces = forces_pending_;
+  pipeline.filtering = filtered_;
+  pipeline.ground = ground_filter_;
+  pipeline.params.gravity_scaled = gravity_scaled_;
+  pipeline.params.ground_filtered = filtered_;
+  pipeline.params.ground = ground_filter_;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold =
       std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);

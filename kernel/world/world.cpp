@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "kernel/broadphase/sphere_filters.h"
 #include "kernel/dispatch/simd_dispatch.h"
 #include "kernel/terrain/terrain_parts.h"
 
@@ -129,6 +130,7 @@ SphereId World::add_sphere(const SphereDesc& d) {
                       v.z(),          w.x(),          w.y(),          w.z(),      d.radius,
                       inv_mass,       inv_inertia,    d.restitution,  d.friction, kSphereFlagNone};
   record.filter = d.filter;
+  if (d.filter != CollisionFilter{}) filtered_ = true;
   return spheres_.add(record);
 }
 
@@ -139,6 +141,7 @@ bool World::remove_sphere(SphereId id) {
   const std::int64_t slot = spheres_.slot_of(id);
   if (slot >= 0 && spheres_.size() - 1 >= unchecked_from_)
     unchecked_from_ = std::min(unchecked_from_, static_cast<std::size_t>(slot));
+  uses_stale_ = uses_stale_ || gravity_scaled_ || filtered_;  // it may have been the last one
   return spheres_.remove(id);
 }
 
@@ -254,7 +257,8 @@ std::size_t World::lift_out_of_terrain() {
   SphereSoA& s = spheres_;
   if (terrain_) {
     for (std::size_t i = unchecked_from_; i < s.size(); ++i) {
-      if (!(s.inv_mass[i] > 0.0f)) continue;  // a static sphere never moves
+      if (!(s.inv_mass[i] > 0.0f)) continue;                           // a static sphere never moves
+      if (filtered_ && !meets_ground(s, i, ground_filter_)) continue;  // it passes through the ground
       if (!terrain_->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i])) continue;
       terrain_->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i]);
       ++lifted;

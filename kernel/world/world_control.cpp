@@ -66,6 +66,31 @@ void World::set_collision_filter(SphereId id, CollisionFilter filter) {
   const std::size_t i = require_slot(id);
   spheres_.collision_category[i] = filter.category;
   spheres_.collision_mask[i] = filter.mask;
+  if (filter != CollisionFilter{})
+    filtered_ = true;
+  else
+    uses_stale_ = uses_stale_ || filtered_;
+}
+
+void World::set_ground_filter(CollisionFilter filter) {
+  ground_filter_ = filter;
+  if (filter != CollisionFilter{})
+    filtered_ = true;
+  else
+    uses_stale_ = uses_stale_ || filtered_;
+}
+
+void World::refresh_uses() {
+  if (!uses_stale_) return;
+  uses_stale_ = false;
+  const SphereSoA& s = spheres_;
+  bool scaled = false, filtered = ground_filter_ != CollisionFilter{};
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    scaled = scaled || s.gravity_scale[i] != 1.0f;
+    filtered = filtered || s.collision_category[i] != kDefaultCategory || s.collision_mask[i] != kAllCategories;
+  }
+  gravity_scaled_ = scaled;
+  filtered_ = filtered;
 }
 
 void World::set_position(SphereId id, const Vec3& position) { set_positions({&id, 1}, {&position, 1}); }
@@ -237,6 +262,10 @@ void World::set_gravity_scale(SphereId id, float scale) {
            " (include/hail/world.h), got " + std::to_string(scale);
   });
   spheres_.gravity_scale[i] = scale;
+  if (scale != 1.0f)
+    gravity_scaled_ = true;
+  else
+    uses_stale_ = uses_stale_ || gravity_scaled_;
 }
 
 }  // namespace hail
