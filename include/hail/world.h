@@ -352,21 +352,21 @@ class World {
   // planes; each takes a QueryFilter. Spheres are found through a BVH over their boxes
   // (kernel/bvh/sphere_query_bvh.h), built at the first query after any change to the spheres
   // (step, add/remove, set_position(s), set_radius, set_collision_filter, shift_origin) and
-  // reused until the next: O(n log n) on the calling thread, about 0.1 s per million spheres
+  // reused until the next: O(n log n) on the calling thread, 1.3 s for a million spheres (2-core EPYC)
   // (hail-bench rays prints it); query_cache_builds() counts the builds. Queries are const and
   // change no physics state; the cache is built under a mutex, so const methods, queries
   // included, may still run at the same time as each other. Bad input (a non-finite origin or
   // centre, a zero or non-finite direction, a NaN or negative distance or radius, a box with
   // min > max) throws InvalidArgument naming the value. A ray or sphere starting inside a
   // sphere or a plane's solid hits it at distance 0 (normal against the direction, or the
-  // plane's); the terrain is a surface (Terrain::raycast).
+  // plane's); the terrain is a surface: a ray meets either face, a swept sphere only the upper.
 
   /// Closest hit of the ray (hit_before breaks distance ties), or nullopt.
   [[nodiscard]] std::optional<QueryHit> raycast(const Ray& ray, const QueryFilter& filter = {}) const;
   /// Every hit along the ray, sorted by hit_before (each sphere, triangle and plane once).
   [[nodiscard]] std::vector<QueryHit> raycast_all(const Ray& ray, const QueryFilter& filter = {}) const;
   /// raycast for each ray: hits[k] for rays[k] (sizes must match). Blocks of rays run in parallel
-  /// in the World's arena; results are bitwise raycast's on any thread count. No allocation.
+  /// in the World's arena; results are bitwise raycast's on any thread count. Allocates only to build the BVH.
   void raycast_batch(std::span<const Ray> rays, std::span<std::optional<QueryHit>> hits,
                      const QueryFilter& filter = {}) const;
   /// First hit of a sphere of `radius` swept along the ray (point: where it touches, normal out
