@@ -121,8 +121,9 @@ int rays_command(const RaysOptions& o) {
   const std::vector<long long> sizes = parse_sizes(o.sizes);
   std::printf("# hail-bench rays: %d rays, %d threads, median of %d; %s, simd %s\n", o.rays, o.threads, o.repeats,
               cpu_model().c_str(), simd_path().c_str());
-  std::printf("# build: the query BVH over the spheres (first query after a change); batch: raycast_batch;\n"
-              "# brute: every sphere and plane per ray, one thread; mismatches: rays whose hit differs (of brute rays)\n");
+  std::printf(
+      "# build: the query BVH over the spheres (first query after a change); batch: raycast_batch;\n"
+      "# brute: every sphere and plane per ray, one thread; mismatches: rays whose hit differs (of brute rays)\n");
   std::printf("%10s %10s %14s %14s %11s %14s %11s\n", "spheres", "build_ms", "batch_rays/s", "brute_rays/s",
               "brute_rays", "speedup", "mismatches");
   int status = 0;
@@ -143,8 +144,8 @@ int rays_command(const RaysOptions& o) {
       world.raycast_batch(rays, hits);
       batch.push_back(seconds_since(t0));
     }
-    const std::size_t brute_rays = std::min<std::size_t>(
-        rays.size(), std::max<std::size_t>(64, static_cast<std::size_t>(o.brute_budget / n)));
+    const std::size_t brute_rays =
+        std::min<std::size_t>(rays.size(), std::max<std::size_t>(64, static_cast<std::size_t>(o.brute_budget / n)));
     std::vector<double> brute;
     std::size_t mismatches = 0;
     for (int r = 0; r < o.repeats; ++r) {

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <memory>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "catch.h"
@@ -32,7 +33,7 @@ Scene make_scene(int spheres, unsigned seed, int threads = 1) {
       33, 33, {.cell_x = 2.0f, .cell_z = 2.0f},
       [](float x, float z) { return 2.0f * std::sin(0.3f * x) * std::cos(0.2f * z) + 0.05f * x; }));
   s.world->set_terrain(s.terrain);
-  s.world->add_plane({.normal = {1, 0, 0}, .offset = -1.0f});   // wall: solid x < -1
+  s.world->add_plane({.normal = {1, 0, 0}, .offset = -1.0f});    // wall: solid x < -1
   s.world->add_plane({.normal = {0, -1, 0}, .offset = -40.0f});  // ceiling: solid y > 40
   s.world->add_plane({.normal = {0, 1, 0}, .offset = -6.0f});    // floor under the terrain
   std::mt19937 rng(seed);
@@ -371,4 +372,25 @@ TEST_CASE("queries refuse bad input and name the value", "[queries]") {
   const std::vector<Ray> rays{{{0, 0, 0}, {0, 1, 0}}, {{0, 0, 0}, {0, 0, 0}}};
   std::vector<std::optional<QueryHit>> hits(2);
   CHECK(refused([&] { w.raycast_batch(rays, hits); }, "ray 1"));
+}
+
+TEST_CASE("queries from two threads at once build the stale BVH once and agree", "[queries][threads]") {
+  const Scene s = make_scene(2000, 14);
+  World& w = *s.world;
+  const auto rays = random_rays(500, 15);
+  std::vector<std::optional<QueryHit>> expected(rays.size());
+  w.raycast_batch(rays, expected);
+  const std::uint64_t builds = w.query_cache_builds();
+  w.set_position(w.id_at(0), w.position(w.id_at(0)));  // stale again: both threads find it so
+  std::vector<std::optional<QueryHit>> first(rays.size()), second(rays.size());
+  std::thread other([&] {
+    for (std::size_t k = 0; k < rays.size(); ++k) second[k] = w.raycast(rays[k]);
+  });
+  for (std::size_t k = 0; k < rays.size(); ++k) first[k] = w.raycast(rays[k]);
+  other.join();
+  CHECK(w.query_cache_builds() == builds + 1);
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    REQUIRE(identical(first[k], expected[k]));
+    REQUIRE(identical(second[k], expected[k]));
+  }
 }

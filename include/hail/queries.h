@@ -32,8 +32,8 @@ enum class QueryHitKind : std::uint8_t {
 /// One hit of a ray or a swept sphere.
 struct QueryHit {
   QueryHitKind kind = QueryHitKind::Sphere;
-  SphereId sphere{};        ///< the sphere hit (kind Sphere), else the default handle
-  std::uint32_t index = 0;  ///< terrain triangle or plane index (kind Terrain, Plane), else 0
+  SphereId sphere{};              ///< the sphere hit (kind Sphere), else the default handle
+  std::uint32_t index = 0;        ///< terrain triangle or plane index (kind Terrain, Plane), else 0
   Vec3 point{0.0f, 0.0f, 0.0f};   ///< where the surface was met, m (a swept sphere: its contact point)
   Vec3 normal{0.0f, 0.0f, 0.0f};  ///< unit, out of what was hit, towards the ray's origin side
   float distance = 0.0f;          ///< along the (normalised) direction from the origin, m

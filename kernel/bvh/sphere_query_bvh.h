@@ -18,10 +18,10 @@ struct SphereQueryBvh {
   static constexpr int kLeafSize = 4;
 
   FlatBvh bvh;
-  std::vector<float> x, y, z, r;           ///< centre and radius, BVH order, m
-  std::vector<std::uint32_t> category;     ///< collision category, BVH order
-  std::vector<SphereId> handle;            ///< BVH order
-  std::vector<Aabb> bounds;                ///< build input, slot order (kept for its capacity)
+  std::vector<float> x, y, z, r;        ///< centre and radius, BVH order, m
+  std::vector<std::uint32_t> category;  ///< collision category, BVH order
+  std::vector<SphereId> handle;         ///< BVH order
+  std::vector<Aabb> bounds;             ///< build input, slot order (kept for its capacity)
 
   /// Rebuilds over spheres [0, size()): median split (deterministic, depends only on the
   /// boxes), O(n log n) on the calling thread; reuses capacity, so a rebuild at the same size

@@ -37,12 +37,12 @@ struct UnitRay {
 };
 
 UnitRay check_ray(const Ray& ray, const char* call) {
-  require(finite(ray.origin), [&] { return std::string(call) + ": ray origin " + vec_text(ray.origin) + " is not finite"; });
+  require(finite(ray.origin),
+          [&] { return std::string(call) + ": ray origin " + vec_text(ray.origin) + " is not finite"; });
   const Vec3& v = ray.direction;
   const float length = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
-  require(finite(v) && length > 0.0f && std::isfinite(length), [&] {
-    return std::string(call) + ": ray direction " + vec_text(v) + " must be finite and not zero";
-  });
+  require(finite(v) && length > 0.0f && std::isfinite(length),
+          [&] { return std::string(call) + ": ray direction " + vec_text(v) + " must be finite and not zero"; });
   require(ray.max_distance >= 0.0f, [&] {
     return std::string(call) + ": max_distance = " + number(ray.max_distance) + " must be >= 0 (infinity allowed)";
   });
@@ -273,9 +273,8 @@ std::vector<SphereId> World::overlap_sphere(const Vec3& centre, float radius, co
 }
 
 std::vector<SphereId> World::overlap_box(const Vec3& min, const Vec3& max, const QueryFilter& filter) const {
-  require(finite(min) && finite(max), [&] {
-    return "World::overlap_box: box " + vec_text(min) + " .. " + vec_text(max) + " is not finite";
-  });
+  require(finite(min) && finite(max),
+          [&] { return "World::overlap_box: box " + vec_text(min) + " .. " + vec_text(max) + " is not finite"; });
   require(min.x() <= max.x() && min.y() <= max.y() && min.z() <= max.z(),
           [&] { return "World::overlap_box: min " + vec_text(min) + " exceeds max " + vec_text(max); });
   const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
