@@ -12,6 +12,7 @@
 #include "kernel/dispatch/simd_dispatch.h"
 #include "pairs_command.h"
 #include "query_command.h"
+#include "rays_command.h"
 #include "run_command.h"
 #include "scale_command.h"
 #include "stress_command.h"
@@ -50,6 +51,7 @@ struct AllOptions {
   QueryOptions query;
   PairsOptions pairs;
   BvhBuildCommandOptions bvh_build;
+  RaysOptions rays;
 };
 
 /// One subcommand and what runs it once it is parsed.
@@ -90,6 +92,7 @@ int hail_bench(const std::vector<std::string>& args) {
   add_command(app, commands, "query", add_query_options, query_command, o.query);
   add_command(app, commands, "pairs", add_pairs_options, pairs_command, o.pairs);
   add_command(app, commands, "bvh-build", add_bvh_build_options, bvh_build_command, o.bvh_build);
+  add_command(app, commands, "rays", add_rays_options, rays_command, o.rays);
 
   if (args.empty() || (args.size() == 1 && args[0] == "help")) {
     std::fputs(app.help().c_str(), stdout);

@@ -912,6 +912,7 @@ struct StepPipeline {
 void World::step(float dt) {
   // Before anything changes: a refused step leaves the world as it was.
   const int substeps = static_cast<int>(check_step(settings_, dt));  // <= max_substeps, an int
+  step_->sphere_queries.invalidate();
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;

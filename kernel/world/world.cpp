@@ -131,10 +131,12 @@ SphereId World::add_sphere(const SphereDesc& d) {
                       inv_mass,       inv_inertia,    d.restitution,  d.friction, kSphereFlagNone};
   record.filter = d.filter;
   if (d.filter != CollisionFilter{}) filtered_ = true;
+  step_->sphere_queries.invalidate();
   return spheres_.add(record);
 }
 
 bool World::remove_sphere(SphereId id) {
+  step_->sphere_queries.invalidate();
   // Its id index may be reused by the next sphere added: warm-start data must not carry over.
   step_->contact_cache.clear();
   // The last sphere moves into the hole: if it was still unchecked, so is the hole's slot now.
@@ -237,6 +239,7 @@ void World::shift_origin(const Vec3& offset) {
   for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
   SphereSoA& m = spheres_;
   for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
+  step_->sphere_queries.invalidate();
   for (Impact& i : step_->impacts) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
 #if HAIL_WITH_TERRAIN
   if (moved_terrain) {

@@ -66,6 +66,7 @@ void World::set_collision_filter(SphereId id, CollisionFilter filter) {
   const std::size_t i = require_slot(id);
   spheres_.collision_category[i] = filter.category;
   spheres_.collision_mask[i] = filter.mask;
+  step_->sphere_queries.invalidate();
   if (filter != CollisionFilter{})
     filtered_ = true;
   else
@@ -111,6 +112,7 @@ void World::set_positions(std::span<const SphereId> handles, std::span<const Vec
     cache.forget(i);  // what it touched is not where it is now
   }
   if (!handles.empty()) cache.drop_forgotten(spheres_);
+  step_->sphere_queries.invalidate();
 }
 
 void World::set_velocity(SphereId id, const Vec3& velocity) { set_velocities({&id, 1}, {&velocity, 1}); }
@@ -253,6 +255,7 @@ void World::set_radius(SphereId id, float radius) {
   require_resolvable({spheres_.px[i], spheres_.py[i], spheres_.pz[i]}, radius);
   spheres_.radius[i] = radius;
   spheres_.inv_inertia[i] = inv_inertia;
+  step_->sphere_queries.invalidate();
 }
 
 void World::set_gravity_scale(SphereId id, float scale) {
