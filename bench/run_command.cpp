@@ -1,6 +1,8 @@
 #include "run_command.h"
 
 #include <algorithm>
+#include <cctype>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -115,6 +117,23 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
              "GB; a sphere count over it is refused before anything is built (default -1: 80% of the memory available; "
              "0: none)");
+  app.add_option_function<std::pair<int, std::string>>(
+         "--save-at",
+         [&o](const std::pair<int, std::string>& v) {
+           if (v.first < 1) usage_error("--save-at STEP must be >= 1, got " + std::to_string(v.first));
+           o.save_at = v.first, o.save_path = v.second;
+         },
+         "after step STEP, save a snapshot of the world to FILE (World::save_file; --restore reads it)")
+      ->type_name("STEP FILE");
+  app.add_option("--restore", o.restore_path,
+                 "restore the world from a snapshot once the scene is built (the same scene and terrain), then step "
+                 "it --steps more")
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
+  app.add_option("--expect-hash", o.expect_hash,
+                 "exit status 1 unless the final state hash is H (16 hex digits, as printed): a run checked on "
+                 "another machine")
+      ->type_name("H");
   app.add_flag("--quiet", o.quiet,
                "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
                "progress lines on stderr; with --ccd both, the table");
@@ -129,6 +148,10 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     if (o.dump_every > 0 && o.dump_state_path.empty())
       usage_error("--dump-every " + std::to_string(o.dump_every) +
                   " needs --dump-state FILE.csv (the files are named after it)");
+    if (o.ccd_both && (o.save_at > 0 || !o.restore_path.empty() || !o.expect_hash.empty()))
+      usage_error("--save-at, --restore and --expect-hash take one world: not with --ccd both");
+    if (o.save_at > 0 && o.save_path == o.restore_path)
+      usage_error("--save-at would overwrite the --restore snapshot '" + o.save_path + "'");
     if (o.scene_named && !o.scene_file.empty())
       usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   });
@@ -175,6 +198,30 @@ std::vector<std::string> scene_inputs(const std::string& scene_file) {
   return inputs;
 }
 
+/// What --save-at and --restore took, for the report: the snapshot's bytes, and ms to save or
+/// restore it (file I/O included).
+struct SnapshotFigures {
+  std::size_t bytes = 0;
+  double save_ms = 0.0, restore_ms = 0.0;
+};
+SnapshotFigures snapshot_figures;
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The scene's world made the snapshot's (--restore), its handles (for --dump-state) the
+/// restored world's, by index (the order a scene adds them in).
+void restore_scene(Scene& scene, const std::string& path) {
+  const auto start = std::chrono::steady_clock::now();
+  scene.world->restore_file(path);
+  snapshot_figures.restore_ms = ms_since(start);
+  snapshot_figures.bytes = std::filesystem::file_size(path);
+  const std::span<const SphereId> handles = scene.world->handles();
+  scene.ids.assign(handles.begin(), handles.end());
+  std::sort(scene.ids.begin(), scene.ids.end(), [](SphereId a, SphereId b) { return a.index < b.index; });
+}
+
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last, const std::string& filters) {
   RunOptions run_options{.steps = o.steps,
@@ -185,14 +232,22 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
                          .dump_every = last ? o.dump_every : 0,
                          .after_step = {}};
   const float d = static_cast<float>(o.origin);
-  if (o.home_after > 0)
+  const bool save = last && o.save_at > 0;
+  if (o.home_after > 0 || save)
     run_options.after_step = [&](Scene& scene, int step) {
       if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
+      if (save && step == o.save_at) {
+        const auto start = std::chrono::steady_clock::now();
+        scene.world->save_file(o.save_path);
+        snapshot_figures.save_ms = ms_since(start);
+        snapshot_figures.bytes = std::filesystem::file_size(o.save_path);
+      }
     };
   const SceneFilters filter_mode = scene_filters_named(filters);
   auto moved = [&](Scene scene) {
     if (d != 0.0f) move_scene(scene, Vec3(d, 0.0f, d));
     give_filters(scene, filter_mode);
+    if (!o.restore_path.empty()) restore_scene(scene, o.restore_path);
     return scene;
   };
   if (o.scene_file.empty()) {
@@ -393,7 +448,33 @@ int run_command(const RunCommandOptions& o) {
                       o.dump_every > 0 ? step_dump_path(o.dump_state_path, 0) : std::string()},
                      scene_inputs(o.scene_file));
   check_memory(o);
-  return report_runs(o, run_runs(o));
+  const RunCommandResult result = run_runs(o);
+  const int status = report_runs(o, result);
+  if (o.save_at > 0) {
+    const RunResult& r = result.runs.back();
+    if (o.save_at > r.steps)
+      throw std::invalid_argument("--save-at " + std::to_string(o.save_at) + " is past the run's " +
+                                  std::to_string(r.steps) + " steps: no snapshot was written");
+    if (!o.quiet)
+      std::printf("  snapshot  saved after step %d to %s: %zu bytes in %.2f ms (untimed in the steps)\n", o.save_at,
+                  o.save_path.c_str(), snapshot_figures.bytes, snapshot_figures.save_ms);
+  }
+  if (!o.restore_path.empty() && !o.quiet)
+    std::printf("  snapshot  restored from %s: %zu bytes in %.2f ms (in the set-up time)\n", o.restore_path.c_str(),
+                snapshot_figures.bytes, snapshot_figures.restore_ms);
+  if (!o.expect_hash.empty()) {
+    std::string expected = o.expect_hash;
+    if (expected.rfind("0x", 0) == 0) expected = expected.substr(2);
+    std::transform(expected.begin(), expected.end(), expected.begin(), [](unsigned char c) { return std::tolower(c); });
+    const std::string& got = result.runs.back().state_hash;
+    if (got != expected) {
+      std::fprintf(stderr, "hail-bench run: state hash %s differs from --expect-hash %s\n", got.c_str(),
+                   o.expect_hash.c_str());
+      return 1;
+    }
+    if (!o.quiet) std::printf("  check     state hash matches --expect-hash\n");
+  }
+  return status;
 }
 
 RunCommandResult run_runs(const RunCommandOptions& o) {

@@ -31,6 +31,10 @@ struct RunCommandOptions {
   double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (bench/scenes/scene_origin.cpp)
   int home_after = 0;              // --home-after K: after step K, shift the scene back by (D, 0, D)
   std::string filters = "none";    // --filters none|accept-all|teams|compare (bench/scenes/scene_filters.h)
+  int save_at = 0;                 // --save-at STEP FILE: World::save_file after step STEP (0: none)
+  std::string save_path;
+  std::string restore_path;  // --restore FILE: World::restore_file once the scene is built
+  std::string expect_hash;   // --expect-hash H: exit status 1 unless the final state hash is H
 };
 
 /// Declares run's flags on `app`, writing `o`; the checks between flags run once `app` is parsed.
@@ -49,7 +53,7 @@ struct RunCommandResult {
 };
 
 /// Checks the outputs and the memory limit before anything is built, then run_runs and
-/// report_runs; the process exit status (3 if a run ended with NaN).
+/// report_runs; the process exit status (3 if a run ended with NaN, 1 if --expect-hash differs).
 int run_command(const RunCommandOptions& o);
 /// Builds and steps the scene as often as `o` asks (progress on stderr unless --quiet).
 RunCommandResult run_runs(const RunCommandOptions& o);

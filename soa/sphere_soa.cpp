@@ -1,6 +1,9 @@
 #include "hail/sphere_soa.h"
 
 #include <algorithm>
+#include <string>
+
+#include "hail/errors.h"
 
 namespace hail {
 namespace {
@@ -27,30 +30,61 @@ const SphereRecord kPaddingRecord{kPaddingPosition,
                                   CollisionFilter{0, 0}};
 }  // namespace
 
+// Every per-sphere array is in for_each_array: a member added to SphereSoA (or a field to
+// SphereRecord) without it fails here, so that nothing sizes, re-sorts or saves all but it.
+static_assert(sizeof(SphereSoA) == (SphereSoA::kArrayCount + 3) * sizeof(AlignedArray<float>) + sizeof(std::size_t) +
+                                       5 * sizeof(std::vector<std::uint32_t>),
+              "a SphereSoA member was added: list a per-sphere array in SphereSoA::for_each_array (and raise "
+              "kArrayCount), and bump kSnapshotVersion (include/hail/snapshot.h)");
+static_assert(sizeof(SphereRecord) == 16 * 4 + 6 * 4 + 8 + sizeof(CollisionFilter),
+              "a SphereRecord field was added: give it a SphereSoA array in for_each_array");
+
 void SphereSoA::resize_arrays(std::size_t n) {
-  for (auto* a : {&px,       &py,          &pz,          &vx,       &vy,
-                  &vz,       &wx,          &wy,          &wz,       &radius,
-                  &inv_mass, &inv_inertia, &restitution, &friction, &gravity_scale,
-                  &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
-                  &torque_z})
-    a->resize(n);
-  for (auto* a : {&flags, &collision_category, &collision_mask}) a->resize(n);
-  user_data.resize(n);
+  for_each_array([n](const char*, auto& a) { a.resize(n); });
 }
 
 void SphereSoA::reserve(std::size_t n) {
   const std::size_t padded = padded_size_for(n);
-  for (auto* a : {&px,       &py,          &pz,          &vx,       &vy,
-                  &vz,       &wx,          &wy,          &wz,       &radius,
-                  &inv_mass, &inv_inertia, &restitution, &friction, &gravity_scale,
-                  &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
-                  &torque_z})
-    a->reserve(padded);
-  for (auto* a : {&flags, &collision_category, &collision_mask}) a->reserve(padded);
-  user_data.reserve(padded);
+  for_each_array([padded](const char*, auto& a) { a.reserve(padded); });
   slot_ids_.reserve(n);
   id_to_slot_.reserve(n);
   generation_.reserve(n);
+}
+
+void SphereSoA::restore_handles(std::span<const SphereId> handles, std::span<const std::uint32_t> generations,
+                                std::span<const std::uint32_t> free_indices) {
+  auto refuse = [](const std::string& what) { throw InvalidArgument("hail: sphere handles: " + what); };
+  const std::size_t indices = generations.size();
+  if (indices >= kFreeSlot) refuse(std::to_string(indices) + " handle indices, more than a SphereId can name");
+  if (handles.size() + free_indices.size() != indices)
+    refuse(std::to_string(handles.size()) + " live and " + std::to_string(free_indices.size()) +
+           " free handle indices, but " + std::to_string(indices) + " indices issued");
+  std::vector<std::uint32_t> id_to_slot(indices, kFreeSlot);
+  std::vector<std::uint8_t> seen(indices, 0);
+  for (std::size_t k = 0; k < handles.size(); ++k) {
+    const SphereId id = handles[k];
+    if (id.index >= indices || seen[id.index])
+      refuse("slot " + std::to_string(k) + "'s handle index " + std::to_string(id.index) +
+             (id.index >= indices ? " is out of range" : " is used twice"));
+    if (id.generation != generations[id.index])
+      refuse("slot " + std::to_string(k) + "'s handle " + std::to_string(id.index) + "/" +
+             std::to_string(id.generation) + " is not its index's generation " + std::to_string(generations[id.index]));
+    seen[id.index] = 1;
+    id_to_slot[id.index] = static_cast<std::uint32_t>(k);
+  }
+  for (std::uint32_t index : free_indices) {
+    if (index >= indices || seen[index])
+      refuse("free index " + std::to_string(index) +
+             (index >= indices ? " is out of range" : " is live or listed twice"));
+    seen[index] = 1;
+  }
+  size_ = 0;
+  set_padding(handles.size());
+  size_ = handles.size();
+  slot_ids_.assign(handles.begin(), handles.end());
+  id_to_slot_ = std::move(id_to_slot);
+  generation_.assign(generations.begin(), generations.end());
+  free_ids_.assign(free_indices.begin(), free_indices.end());
 }
 
 void SphereSoA::write_slot(std::size_t s, const SphereRecord& r) {

@@ -22,6 +22,7 @@ class AlignedArray {
   static_assert(std::is_trivially_copyable_v<T>);
 
  public:
+  using value_type = T;
   AlignedArray() = default;
   explicit AlignedArray(std::size_t n, T fill = T{}) { resize(n, fill); }
   AlignedArray(const AlignedArray& other) { *this = other; }

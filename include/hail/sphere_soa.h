@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "hail/aligned_array.h"
@@ -110,7 +111,48 @@ class SphereSoA {
   /// Padding lanes have 0 in both, so they pass no filter.
   AlignedArray<std::uint32_t> collision_category, collision_mask;
 
+  /// Calls f(name, array) for every per-sphere array above, in one fixed order: the one list
+  /// that resize, reserve, permute and snapshots (kernel/world/snapshot_*.cpp) walk, so that an
+  /// array added to SphereSoA is added here once and is then sized, re-sorted and saved with
+  /// the rest (sphere_soa.cpp checks sizeof(SphereSoA) against this list's length).
+  template <class F>
+  void for_each_array(F&& f) {
+    for_each_array_of(*this, f);
+  }
+  template <class F>
+  void for_each_array(F&& f) const {
+    for_each_array_of(*this, f);
+  }
+  /// How many arrays for_each_array visits.
+  static constexpr std::size_t kArrayCount = 25;
+
+  /// The handle tables, for snapshots: per handle index, its current generation (a removed
+  /// sphere's index has moved on to the next), and the free indices in the order add() reuses
+  /// them (from the back).
+  [[nodiscard]] std::span<const std::uint32_t> generations() const noexcept { return generation_; }
+  [[nodiscard]] std::span<const std::uint32_t> free_indices() const noexcept { return free_ids_; }
+  /// Makes this (an empty SphereSoA) hold handles.size() spheres with these handles (slot k's is
+  /// handles[k]), generations and free list, as generations() and free_indices() returned them;
+  /// the arrays are sized, padding lanes written, slots [0, size) left for the caller to fill.
+  /// Throws InvalidArgument naming the first inconsistency (a handle index out of range, used
+  /// twice, also free, or with another generation; an index neither live nor free).
+  void restore_handles(std::span<const SphereId> handles, std::span<const std::uint32_t> generations,
+                       std::span<const std::uint32_t> free_indices);
+
  private:
+  template <class Soa, class F>
+  static void for_each_array_of(Soa& s, F& f) {
+    f("px", s.px), f("py", s.py), f("pz", s.pz), f("vx", s.vx), f("vy", s.vy), f("vz", s.vz);
+    f("wx", s.wx), f("wy", s.wy), f("wz", s.wz);
+    f("radius", s.radius), f("inv_mass", s.inv_mass), f("inv_inertia", s.inv_inertia);
+    f("restitution", s.restitution), f("friction", s.friction), f("flags", s.flags);
+    f("gravity_scale", s.gravity_scale);
+    f("force_x", s.force_x), f("force_y", s.force_y), f("force_z", s.force_z);
+    f("torque_x", s.torque_x), f("torque_y", s.torque_y), f("torque_z", s.torque_z);
+    f("user_data", s.user_data);
+    f("collision_category", s.collision_category), f("collision_mask", s.collision_mask);
+  }
+
   void set_padding(std::size_t first);
   void resize_arrays(std::size_t n);
   void write_slot(std::size_t slot, const SphereRecord& r);
@@ -140,21 +182,22 @@ void SphereSoA::permute(std::span<const std::uint32_t> order, bool angular, bool
     });
   };
   float_scratch_.resize(size_);
-  for (auto* a : {&px,       &py,          &pz,          &vx,       &vy,
-                  &vz,       &wx,          &wy,          &wz,       &radius,
-                  &inv_mass, &inv_inertia, &restitution, &friction, &gravity_scale,
-                  &force_x,  &force_y,     &force_z,     &torque_x, &torque_y,
-                  &torque_z}) {
-    if (!angular && (a == &wx || a == &wy || a == &wz)) continue;
-    if (!accumulators &&
-        (a == &force_x || a == &force_y || a == &force_z || a == &torque_x || a == &torque_y || a == &torque_z))
-      continue;
-    permute_through(*a, float_scratch_);
-  }
   id_scratch_.resize(size_);
-  for (auto* a : {&flags, &collision_category, &collision_mask}) permute_through(*a, id_scratch_);
   user_scratch_.resize(size_);
-  permute_through(user_data, user_scratch_);
+  for_each_array([&](const char*, auto& a) {
+    const void* p = &a;
+    const bool spin = p == &wx || p == &wy || p == &wz;
+    const bool accumulator =
+        p == &force_x || p == &force_y || p == &force_z || p == &torque_x || p == &torque_y || p == &torque_z;
+    if ((!angular && spin) || (!accumulators && accumulator)) return;
+    using T = typename std::remove_reference_t<decltype(a)>::value_type;
+    if constexpr (std::is_same_v<T, float>)
+      permute_through(a, float_scratch_);
+    else if constexpr (std::is_same_v<T, std::uint32_t>)
+      permute_through(a, id_scratch_);
+    else
+      permute_through(a, user_scratch_);
+  });
   handle_scratch_.resize(size_);
   permute_through(slot_ids_, handle_scratch_);
   // Handles are distinct, so each range writes its own entries of id_to_slot_.

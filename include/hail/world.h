@@ -21,10 +21,12 @@
 // accessors return views or values and never allocate. The constructors, add_plane,
 // set_terrain and enable_trace allocate, and while a trace records it grows every step.
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <oneapi/tbb/task_arena.h>
@@ -38,6 +40,7 @@
 #include "hail/phase_trace.h"
 #include "hail/plane.h"
 #include "hail/queries.h"
+#include "hail/snapshot.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
 #include "hail/terrain.h"
@@ -342,6 +345,26 @@ class World {
   [[nodiscard]] std::span<const TouchEvent> touch_begin_events() const;
   [[nodiscard]] std::span<const TouchEvent> touch_end_events() const;
   [[nodiscard]] std::span<const HitEvent> hit_events() const;
+
+  // ---- Snapshots (include/hail/snapshot.h; kernel/world/snapshot_writer.cpp, snapshot_reader.cpp) ----
+
+  /// Replaces `out`'s contents with a snapshot of everything that decides the world's future:
+  /// the sphere arrays, handles and free list, the warm-start cache, the step count (the
+  /// re-sort's phase), pending forces, the settings (all but threads), planes, the touch-event
+  /// state and the terrain's content hash (docs/embedding.md, "Snapshots"). O(spheres +
+  /// remembered contacts); allocates `out`'s room only when it grows.
+  void save(std::vector<std::byte>& out) const;
+  /// save() into a file; throws FileError (naming the file) when it cannot be written.
+  void save_file(const std::string& path) const;
+  /// Makes this World the one saved: after it, N steps give bitwise the state the saved world
+  /// had after N steps, on any thread count (this World keeps its own threads or arena) and any
+  /// SIMD path. The same terrain must be attached (set_terrain; or none, if it had none).
+  /// Throws InvalidArgument naming the problem, with the world unchanged, for a snapshot that
+  /// is truncated, corrupt (checksum), of a newer format version, of another terrain, or
+  /// inconsistent. The last step's contacts, impacts, events and stats are emptied.
+  void restore(std::span<const std::byte> snapshot);
+  /// restore() from a file; throws FileError (naming the file) when it cannot be read.
+  void restore_file(const std::string& path);
 
   /// Impacts of the last step (of its last substep) resolved at their exact time outside the
   /// contact solve, each with its normal impulse: first those of continuous collision (fast

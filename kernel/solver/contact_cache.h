@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "hail/contact.h"
@@ -79,7 +80,6 @@ class ContactImpulseCache {
   }
   void drop_forgotten(const SphereSoA& spheres);
 
- private:
   struct Entry {
     std::uint32_t partner;  // the other sphere's id index, or the static feature
     float normal_impulse, tx, ty, tz;
@@ -91,6 +91,18 @@ class ContactImpulseCache {
     std::uint32_t static_begin = 0, static_end = 0, pair_begin = 0, pair_end = 0;
   };
   static constexpr std::uint32_t kNoId = 0xFFFFFFFFu;
+
+  /// What the next step reads (snapshots): the remembered impulses and each slot's range of them.
+  [[nodiscard]] std::span<const Entry> entries() const { return entries_; }
+  [[nodiscard]] std::span<const Range> ranges() const { return ranges_; }
+  /// Puts back what entries() and ranges() returned. The caller has checked that every range
+  /// lies within `entries` (load() reads them unchecked).
+  void assign(std::vector<Entry> entries, std::vector<Range> ranges) {
+    entries_ = std::move(entries);
+    ranges_ = std::move(ranges);
+  }
+
+ private:
   /// Sets (scratch_[a].*run_begin, scratch_[a].*run_end) of each contacts[begin, end)'s first sphere a to its run.
   void mark_runs(std::span<const Contact> contacts, std::size_t begin, std::size_t end, std::uint32_t Range::*run_begin,
                  std::uint32_t Range::*run_end);

@@ -1,0 +1,29 @@
+#pragma once
+// Snapshots: World::save writes everything that decides a world's future into bytes (or a
+// file), World::restore puts it back, into this World or another, on any thread count and SIMD
+// path; N steps later the two worlds have the same state, bitwise (rollback netcode, replays, a
+// run checked on another machine). What is saved, the guarantees and the calls:
+// docs/embedding.md, "Snapshots"; the byte layout: docs/snapshot_format.md.
+//
+// The terrain is not embedded (it may be hundreds of MB and is shared): a snapshot names it by
+// a content hash (terrain_content_hash), and restore refuses a world whose terrain differs.
+
+#include <cstdint>
+
+namespace hail {
+
+class Terrain;
+
+/// The first 8 bytes of every snapshot.
+inline constexpr char kSnapshotMagic[8] = {'H', 'A', 'I', 'L', 'S', 'N', 'A', 'P'};
+/// The format this hail writes. restore reads this version and refuses a newer one (the
+/// message names both). Raised whenever the layout changes, e.g. a sphere array is added
+/// (SphereSoA::for_each_array).
+inline constexpr std::uint32_t kSnapshotVersion = 1;
+
+/// FNV-1a 64 over everything that decides how spheres meet the terrain: the heightmap's size,
+/// cell sizes, origin and heights, and the BVH (its nodes and triangle order, which number the
+/// triangles that warm starting remembers). Equal hashes: the same terrain, to a step.
+[[nodiscard]] std::uint64_t terrain_content_hash(const Terrain& terrain);
+
+}  // namespace hail

@@ -1,0 +1,171 @@
+#pragma once
+// The snapshot byte layout (docs/snapshot_format.md), shared by the writer
+// (kernel/world/snapshot_writer.cpp), the reader (snapshot_reader.cpp) and the reader's fuzzer
+// (tests/fuzz/fuzz_snapshot.cpp):
+//
+//   header   magic "HAILSNAP" (8 bytes), u32 version, u32 0, u64 payload bytes, u64 FNV-1a 64
+//            of the payload
+//   payload  sections in a fixed order, each u32 tag (4 ASCII), u32 0, u64 length, then that
+//            many bytes: WRLD (settings, step count, ...), PLNS, SPHR, CACH, EVNT
+//
+// Little-endian, no padding, no alignment: every value is copied byte by byte. Each list of
+// fields is written and read by one function over the fields (for_each_setting,
+// SphereSoA::for_each_array), so that the two sides cannot disagree.
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "hail/errors.h"
+#include "hail/snapshot.h"
+#include "hail/world_settings.h"
+
+namespace hail::snapshot {
+
+static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian, byte for byte");
+
+inline constexpr std::size_t kHeaderBytes = 32;
+inline constexpr std::size_t kPayloadBytesAt = 16;  ///< where the header keeps the payload length
+inline constexpr std::size_t kChecksumAt = 24;      ///< where the header keeps the payload's FNV-1a 64
+inline constexpr std::size_t kSectionHeaderBytes = 16;
+inline constexpr char kWorldTag[4] = {'W', 'R', 'L', 'D'};
+inline constexpr char kPlanesTag[4] = {'P', 'L', 'N', 'S'};
+inline constexpr char kSpheresTag[4] = {'S', 'P', 'H', 'R'};
+inline constexpr char kCacheTag[4] = {'C', 'A', 'C', 'H'};
+inline constexpr char kEventsTag[4] = {'E', 'V', 'N', 'T'};
+
+/// FNV-1a 64, continued from `h` (the FNV offset basis to start).
+inline std::uint64_t fnv1a(std::span<const std::byte> bytes, std::uint64_t h = 1469598103934665603ull) {
+  for (std::byte b : bytes) {
+    h ^= static_cast<std::uint64_t>(b);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+/// Appends values to a byte buffer.
+class Writer {
+ public:
+  explicit Writer(std::vector<std::byte>& out) : out_(out) {}
+  template <class T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof v);
+  }
+  void bytes(const void* data, std::size_t n) {
+    const auto* p = static_cast<const std::byte*>(data);
+    out_.insert(out_.end(), p, p + n);
+  }
+  /// Starts a section; end_section writes its length.
+  void begin_section(const char (&tag)[4]) {
+    bytes(tag, 4);
+    value(std::uint32_t{0});
+    section_at_ = out_.size();
+    value(std::uint64_t{0});
+  }
+  void end_section() {
+    const std::uint64_t length = out_.size() - section_at_ - sizeof(std::uint64_t);
+    std::memcpy(out_.data() + section_at_, &length, sizeof length);
+  }
+
+ private:
+  std::vector<std::byte>& out_;
+  std::size_t section_at_ = 0;
+};
+
+/// Reads values from a byte range; every read past its end, and every value out of its
+/// domain, throws InvalidArgument("hail: snapshot: ..."), naming what was being read.
+class Reader {
+ public:
+  explicit Reader(std::span<const std::byte> bytes, std::string where) : bytes_(bytes), where_(std::move(where)) {}
+
+  [[noreturn]] void refuse(const std::string& problem) const {
+    throw InvalidArgument("hail: snapshot: " + where_ + ": " + problem);
+  }
+  template <class T>
+  T value(const char* what) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T v;
+    std::memcpy(&v, take(sizeof v, what).data(), sizeof v);
+    return v;
+  }
+  /// A count of items of `item_bytes` each that must fit in what is left (so that nothing is
+  /// allocated for a count the bytes cannot hold).
+  std::size_t count(const char* what, std::size_t item_bytes) {
+    const auto n = value<std::uint64_t>(what);
+    if (item_bytes > 0 && n > left() / item_bytes)
+      refuse(std::string(what) + " is " + std::to_string(n) + ", more than the " + std::to_string(left()) +
+             " bytes left hold (truncated or corrupt)");
+    return static_cast<std::size_t>(n);
+  }
+  bool flag(const char* what) {
+    const auto b = value<std::uint8_t>(what);
+    if (b > 1) refuse(std::string(what) + " must be 0 or 1, got " + std::to_string(b));
+    return b == 1;
+  }
+  std::span<const std::byte> take(std::size_t n, const char* what) {
+    if (n > left())
+      refuse(std::string("truncated: ") + what + " needs " + std::to_string(n) + " bytes, " + std::to_string(left()) +
+             " left");
+    const std::span<const std::byte> part = bytes_.subspan(at_, n);
+    at_ += n;
+    return part;
+  }
+  /// The next section, which must have this tag; a Reader over its bytes.
+  Reader section(const char (&tag)[4]) {
+    const std::string name(tag, 4);
+    const std::span<const std::byte> found = take(4, ("the tag of section " + name).c_str());
+    if (std::memcmp(found.data(), tag, 4) != 0)
+      refuse("expected section " + name + ", found '" + printable(found) + "'");
+    if (value<std::uint32_t>("a section's reserved word") != 0) refuse("section " + name + "'s reserved word is not 0");
+    const auto length = value<std::uint64_t>("a section length");
+    if (length > left())
+      refuse("truncated: section " + name + " says " + std::to_string(length) + " bytes, " + std::to_string(left()) +
+             " left");
+    return Reader(take(static_cast<std::size_t>(length), "a section"), "section " + name);
+  }
+  /// Refuses bytes left over (a section longer than its fields: another layout).
+  void finish() const {
+    if (left() != 0) refuse(std::to_string(left()) + " bytes left over after its last field");
+  }
+  [[nodiscard]] std::size_t left() const { return bytes_.size() - at_; }
+
+ private:
+  static std::string printable(std::span<const std::byte> b) {
+    std::string s;
+    for (std::byte c : b) s += (c >= std::byte{32} && c < std::byte{127}) ? static_cast<char>(c) : '?';
+    return s;
+  }
+  std::span<const std::byte> bytes_;
+  std::size_t at_ = 0;
+  std::string where_;
+};
+
+/// Calls f(field, name) for every WorldSettings field that a snapshot keeps: all but threads
+/// (a restored world keeps its own threads or arena; the result does not depend on them).
+template <class Settings, class F>
+void for_each_setting(Settings& s, F&& f) {
+  // A field added to WorldSettings changes its size (mostly): list it here, and raise
+  // kSnapshotVersion.
+  static_assert(sizeof(WorldSettings) == 128, "a WorldSettings field was added: list it in for_each_setting");
+  f(s.gravity, "gravity"), f(s.time_scale, "time_scale"), f(s.max_substep, "max_substep");
+  f(s.max_substeps, "max_substeps"), f(s.integrator, "integrator");
+  f(s.collision_iterations, "collision_iterations"), f(s.resting_iterations, "resting_iterations");
+  f(s.depenetration_iterations, "depenetration_iterations"), f(s.solver_tile_spheres, "solver_tile_spheres");
+  f(s.depenetration.fraction, "depenetration.fraction");
+  f(s.depenetration.slop_fraction, "depenetration.slop_fraction");
+  f(s.restitution_threshold, "restitution_threshold"), f(s.sphere_collisions, "sphere_collisions");
+  f(s.pair_search, "pair_search"), f(s.speculative_radii, "speculative_radii");
+  f(s.max_sphere_contacts_per_sphere, "max_sphere_contacts_per_sphere");
+  f(s.pair_margin_travel, "pair_margin_travel"), f(s.reorder_interval, "reorder_interval");
+  f(s.warm_start, "warm_start"), f(s.warm_start_factor, "warm_start_factor");
+  f(s.continuous_collision, "continuous_collision"), f(s.fast_travel_fraction, "fast_travel_fraction");
+  f(s.max_sweep_events, "max_sweep_events"), f(s.shock_mass_ratio, "shock_mass_ratio"), f(s.rotation, "rotation");
+}
+
+}  // namespace hail::snapshot

@@ -1,0 +1,265 @@
+// World::restore: the snapshot layout of kernel/world/snapshot_format.h, read. Everything is
+// parsed and checked into temporaries first (the header, the checksum, each section, the
+// settings by World::validate, the handle tables, the cache's ranges, the touching keys), and
+// only then moved into the World, by steps that cannot throw: a refused snapshot leaves the
+// world as it was.
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include "hail/world.h"
+#include "kernel/world/snapshot_format.h"
+#include "kernel/world/step_state.h"
+#include "kernel/world/world_checks.h"
+
+namespace hail {
+namespace {
+
+/// An InvalidArgument's message without its "hail: ", to be quoted inside another.
+std::string reason(const InvalidArgument& e) {
+  const std::string text = e.what();
+  return text.rfind("hail: ", 0) == 0 ? text.substr(6) : text;
+}
+
+std::string hex(std::uint64_t v) {
+  char text[24];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
+  return text;
+}
+
+/// Reads one setting as save wrote it (snapshot_writer.cpp), refusing bools other than 0 or 1
+/// and enums out of range; World::validate checks the values afterwards.
+template <class T>
+void read_setting(snapshot::Reader& r, T& field, const char* name) {
+  if constexpr (std::is_same_v<T, bool>) {
+    field = r.flag(name);
+  } else if constexpr (std::is_enum_v<T>) {
+    const auto v = r.value<std::uint32_t>(name);
+    constexpr std::uint32_t kCount = std::is_same_v<T, Integrator> ? 2u : 5u;  // Integrator, PairSearch
+    static_assert(std::is_same_v<T, Integrator> || std::is_same_v<T, PairSearch>);
+    if (v >= kCount) r.refuse(std::string("setting ") + name + " is " + std::to_string(v) + ", not one of its values");
+    field = static_cast<T>(v);
+  } else if constexpr (std::is_same_v<T, std::size_t>) {
+    field = static_cast<std::size_t>(r.value<std::uint64_t>(name));
+  } else if constexpr (std::is_same_v<T, Vec3>) {
+    const auto x = r.value<float>(name), y = r.value<float>(name), z = r.value<float>(name);
+    field = Vec3(x, y, z);
+  } else {
+    field = r.value<T>(name);
+  }
+}
+
+/// A sphere's values that the step divides by or takes roots of, by add_sphere's rules
+/// (positions and velocities are kept as they are: a world that blew up restores as it was).
+void check_sphere(const snapshot::Reader& r, const SphereSoA& s, std::size_t k) {
+  const SphereId id = s.id_at(k);
+  auto refuse = [&](const std::string& what) {
+    r.refuse("sphere " + std::to_string(id.index) + "/" + std::to_string(id.generation) + " (slot " +
+             std::to_string(k) + "): " + what);
+  };
+  const float radius = s.radius[k];
+  if (!(radius >= kMinSphereRadius && radius <= kMaxSphereRadius))
+    refuse("radius " + checks::number(radius) + " is out of [kMinSphereRadius, kMaxSphereRadius]");
+  for (float v : {s.inv_mass[k], s.inv_inertia[k]})
+    if (!(std::isfinite(v) && v >= 0.0f)) refuse("inverse mass or inertia " + checks::number(v) + " is not >= 0");
+  if (!(s.restitution[k] >= 0.0f && s.restitution[k] <= 1.0f)) refuse("restitution is out of [0, 1]");
+  if (!(std::isfinite(s.friction[k]) && s.friction[k] >= 0.0f)) refuse("friction is not finite and >= 0");
+  if (!(std::fabs(s.gravity_scale[k]) <= kMaxGravityScale)) refuse("gravity_scale is out of range");
+}
+
+/// Everything a snapshot holds, parsed and checked, ready to be moved into a World.
+struct Parsed {
+  WorldSettings settings;
+  std::uint64_t steps_taken = 0, unchecked_from = 0;
+  bool forces_pending = false;
+  float terrain_restitution = 0.5f, terrain_friction = 0.5f;
+  std::vector<Plane> planes;
+  SphereSoA spheres;
+  ContactImpulseCache cache;
+  ContactEventTracker events;
+};
+
+void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain) {
+  snapshot::for_each_setting(p.settings, [&](auto& field, const char* name) { read_setting(r, field, name); });
+  p.steps_taken = r.value<std::uint64_t>("steps taken");
+  p.unchecked_from = r.value<std::uint64_t>("unchecked_from");
+  p.forces_pending = r.flag("forces pending");
+  const bool had_terrain = r.flag("terrain attached");
+  const auto saved_hash = r.value<std::uint64_t>("terrain hash");
+  p.terrain_restitution = r.value<float>("terrain restitution");
+  p.terrain_friction = r.value<float>("terrain friction");
+  r.finish();
+  if (had_terrain != (terrain != nullptr))
+    r.refuse(had_terrain ? "it was saved with a terrain (content hash " + hex(saved_hash) +
+                               ") and this World has none: set_terrain the same terrain first"
+                         : "it was saved without a terrain and this World has one: restore into a World without one");
+  if (!had_terrain && saved_hash != 0) r.refuse("a terrain hash without a terrain");
+  if (terrain) {
+    const std::uint64_t hash = terrain_content_hash(*terrain);
+    if (hash != saved_hash)
+      r.refuse("wrong terrain: it was saved with terrain content hash " + hex(saved_hash) +
+               ", this World's terrain has " + hex(hash) + " (attach the terrain it was saved with)");
+  }
+  checks::require_material(p.terrain_restitution, p.terrain_friction, "snapshot: terrain");
+}
+
+void read_planes(snapshot::Reader r, Parsed& p) {
+  constexpr std::size_t kPlaneBytes = 6 * sizeof(float);
+  p.planes.resize(r.count("plane count", kPlaneBytes));
+  for (Plane& plane : p.planes) {
+    for (float* v : {&plane.nx, &plane.ny, &plane.nz, &plane.offset, &plane.restitution, &plane.friction})
+      *v = r.value<float>("a plane");
+    if (!(std::isfinite(plane.nx) && std::isfinite(plane.ny) && std::isfinite(plane.nz) && std::isfinite(plane.offset)))
+      r.refuse("a plane's normal or offset is not finite");
+    checks::require_material(plane.restitution, plane.friction, "snapshot: plane");
+  }
+  r.finish();
+}
+
+void read_spheres(snapshot::Reader r, Parsed& p) {
+  const std::size_t n = r.count("sphere count", 2 * sizeof(std::uint32_t));
+  std::vector<SphereId> handles(n);
+  const std::size_t indices = r.count("handle index count", sizeof(std::uint32_t));
+  const std::size_t free_count = r.count("free index count", sizeof(std::uint32_t));
+  for (SphereId& id : handles) {
+    id.index = r.value<std::uint32_t>("a handle");
+    id.generation = r.value<std::uint32_t>("a handle");
+  }
+  std::vector<std::uint32_t> generations(indices), free_indices(free_count);
+  for (std::uint32_t& g : generations) g = r.value<std::uint32_t>("a generation");
+  for (std::uint32_t& f : free_indices) f = r.value<std::uint32_t>("a free index");
+  try {
+    p.spheres.restore_handles(handles, generations, free_indices);
+  } catch (const InvalidArgument& e) {
+    r.refuse(reason(e));
+  }
+  const auto arrays = r.value<std::uint32_t>("sphere array count");
+  if (arrays != SphereSoA::kArrayCount)
+    r.refuse(std::to_string(arrays) + " sphere arrays, this hail has " + std::to_string(SphereSoA::kArrayCount));
+  p.spheres.for_each_array([&](const char* name, auto& array) {
+    const std::size_t length = r.value<std::uint8_t>("a sphere array's name length");
+    const std::span<const std::byte> found = r.take(length, "a sphere array's name");
+    if (length != std::strlen(name) || std::memcmp(found.data(), name, length) != 0)
+      r.refuse(std::string("expected sphere array '") + name + "', found another");
+    const auto element = r.value<std::uint8_t>("a sphere array's element size");
+    if (element != sizeof array[0])
+      r.refuse(std::string("sphere array '") + name + "' has elements of " + std::to_string(element) + " bytes, not " +
+               std::to_string(sizeof array[0]));
+    const std::span<const std::byte> values = r.take(n * sizeof array[0], name);
+    if (n) std::memcpy(array.data(), values.data(), values.size());
+  });
+  r.finish();
+  for (std::size_t k = 0; k < n; ++k) check_sphere(r, p.spheres, k);
+  if (p.unchecked_from > n) r.refuse("unchecked_from " + std::to_string(p.unchecked_from) + " is past the spheres");
+}
+
+void read_cache(snapshot::Reader r, Parsed& p, std::size_t spheres) {
+  std::vector<ContactImpulseCache::Entry> entries(r.count("warm-start entry count", 20));
+  for (ContactImpulseCache::Entry& e : entries) {
+    e.partner = r.value<std::uint32_t>("a warm-start entry");
+    for (float* v : {&e.normal_impulse, &e.tx, &e.ty, &e.tz}) *v = r.value<float>("a warm-start entry");
+  }
+  std::vector<ContactImpulseCache::Range> ranges(r.count("warm-start range count", 20));
+  if (ranges.size() > spheres)
+    r.refuse(std::to_string(ranges.size()) + " warm-start ranges for " + std::to_string(spheres) + " spheres");
+  for (ContactImpulseCache::Range& g : ranges) {
+    for (std::uint32_t* v : {&g.id, &g.static_begin, &g.static_end, &g.pair_begin, &g.pair_end})
+      *v = r.value<std::uint32_t>("a warm-start range");
+    if (!(g.static_begin <= g.static_end && g.static_end <= entries.size() && g.pair_begin <= g.pair_end &&
+          g.pair_end <= entries.size()))
+      r.refuse("a warm-start range lies outside its " + std::to_string(entries.size()) + " entries");
+  }
+  r.finish();
+  p.cache.assign(std::move(entries), std::move(ranges));
+}
+
+void read_events(snapshot::Reader r, Parsed& p) {
+  EventSettings settings;
+  settings.touch = r.flag("touch events on");
+  settings.hits = r.flag("hit events on");
+  settings.hit_speed = r.value<float>("hit speed");
+  if (!(std::isfinite(settings.hit_speed) && settings.hit_speed >= 0.0f)) r.refuse("hit speed is not finite and >= 0");
+  std::vector<TouchKey> keys[2];
+  for (std::vector<TouchKey>& list : keys) {
+    list.resize(r.count("touching key count", 16));
+    for (TouchKey& k : list) {
+      k.key = r.value<std::uint64_t>("a touching key");
+      k.generations = r.value<std::uint64_t>("a touching key");
+    }
+  }
+  r.finish();
+  if (!settings.touch && !(keys[0].empty() && keys[1].empty())) r.refuse("touching keys with touch events off");
+  p.events.configure(settings);
+  if (!p.events.restore_touching(keys[0], keys[1])) r.refuse("touching keys not in strictly increasing order");
+}
+
+}  // namespace
+
+void World::restore(std::span<const std::byte> bytes) {
+  snapshot::Reader header(bytes, "header");
+  const std::span<const std::byte> magic = header.take(sizeof kSnapshotMagic, "the magic");
+  if (std::memcmp(magic.data(), kSnapshotMagic, sizeof kSnapshotMagic) != 0)
+    header.refuse("not a hail snapshot (its first bytes are not \"HAILSNAP\")");
+  const auto version = header.value<std::uint32_t>("the format version");
+  if (version > kSnapshotVersion)
+    header.refuse("format version " + std::to_string(version) + " is newer than this hail reads (" +
+                  std::to_string(kSnapshotVersion) + "): restore it with the hail that saved it, or a newer one");
+  if (version != kSnapshotVersion) header.refuse("format version " + std::to_string(version) + " is unknown");
+  if (header.value<std::uint32_t>("the reserved word") != 0) header.refuse("the reserved word is not 0");
+  const auto length = header.value<std::uint64_t>("the payload length");
+  const auto checksum = header.value<std::uint64_t>("the checksum");
+  if (length != header.left())
+    header.refuse(length > header.left() ? "truncated: the payload should be " + std::to_string(length) + " bytes, " +
+                                               std::to_string(header.left()) + " present"
+                                         : std::to_string(header.left() - length) + " bytes after the payload");
+  const std::span<const std::byte> payload = bytes.subspan(snapshot::kHeaderBytes);
+  if (snapshot::fnv1a(payload) != checksum)
+    header.refuse("checksum mismatch (the bytes are corrupt): the header says " + hex(checksum) + ", the payload has " +
+                  hex(snapshot::fnv1a(payload)));
+
+  snapshot::Reader r(payload, "payload");
+  Parsed p;
+  read_world(r.section(snapshot::kWorldTag), p, terrain_.get());
+  try {
+    validate(p.settings);
+  } catch (const InvalidArgument& e) {
+    r.refuse("its settings: " + reason(e));
+  }
+  read_planes(r.section(snapshot::kPlanesTag), p);
+  read_spheres(r.section(snapshot::kSpheresTag), p);
+  read_cache(r.section(snapshot::kCacheTag), p, p.spheres.size());
+  read_events(r.section(snapshot::kEventsTag), p);
+  r.finish();
+
+  // Commit: nothing below throws.
+  const int threads = settings_.threads;
+  settings_ = p.settings;
+  settings_.threads = threads;  // this World keeps its own threads (or arena)
+  spheres_ = std::move(p.spheres);
+  planes_.swap(p.planes);
+  terrain_restitution_ = p.terrain_restitution, terrain_friction_ = p.terrain_friction;
+  steps_taken_ = p.steps_taken;
+  unchecked_from_ = static_cast<std::size_t>(p.unchecked_from);
+  forces_pending_ = p.forces_pending;
+  std::swap(step_->contact_cache, p.cache);
+  std::swap(step_->events, p.events);
+  step_->contacts.clear();
+  step_->impacts.clear();
+  stats_ = {};
+  times_ = {};
+}
+
+void World::restore_file(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw FileError("hail: World::restore_file: cannot open '" + path + "'");
+  std::vector<char> chars((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (file.bad()) throw FileError("hail: World::restore_file: cannot read '" + path + "'");
+  try {
+    restore(std::as_bytes(std::span<const char>(chars)));
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(std::string(e.what()) + " (file '" + path + "')");
+  }
+}
+
+}  // namespace hail

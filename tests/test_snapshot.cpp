@@ -1,0 +1,341 @@
+// Snapshots (include/hail/snapshot.h, World::save / restore): a world saved and restored into
+// another, on another thread count or SIMD path, steps on bitwise as the original (state hash,
+// events, and its own snapshot after the steps: every saved byte); the free list, pending
+// forces, planes, static spheres and touching keys carry over; a truncated, corrupt,
+// future-version, wrong-terrain or inconsistent snapshot is refused naming the problem, with
+// the world unchanged.
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bench/scenes/scene_run.h"
+#include "bench/scenes/scenes.h"
+#include "catch.h"
+#include "fuzz/snapshot_harness.h"
+#include "hail/world.h"
+#include "kernel/world/snapshot_format.h"
+#include "simd_paths.h"
+
+using namespace hail;
+
+namespace {
+
+using Bytes = std::vector<std::byte>;
+
+Bytes saved(const World& world) {
+  Bytes bytes;
+  world.save(bytes);
+  return bytes;
+}
+
+bench::Scene terrain_rain(int threads, std::size_t spheres = 4000) {
+  bench::SceneParams params;
+  params.spheres = spheres;
+  params.threads = threads;
+  return bench::find_scene("terrain-rain").build(params);
+}
+
+void step(World& world, int steps, float dt = 1.0f / 60.0f) {
+  for (int k = 0; k < steps; ++k) world.step(dt);
+}
+
+/// Puts a correct checksum on bytes changed after save (to reach the checks past it).
+void rechecksum(Bytes& bytes) {
+  const std::uint64_t sum = snapshot::fnv1a(std::span<const std::byte>(bytes).subspan(snapshot::kHeaderBytes));
+  std::memcpy(bytes.data() + snapshot::kChecksumAt, &sum, sizeof sum);
+}
+
+/// restore(bytes) must throw InvalidArgument containing `needle`, leaving `world` as it was (every byte it saves).
+void expect_refused(World& world, const Bytes& bytes, const std::string& needle) {
+  const Bytes before = saved(world);
+  const std::uint64_t hash = world.state_hash();
+  try {
+    world.restore(bytes);
+    FAIL("expected hail::InvalidArgument mentioning '" << needle << "'");
+  } catch (const InvalidArgument& e) {
+    INFO("message: " << e.what());
+    CHECK(std::string(e.what()).find(needle) != std::string::npos);
+  }
+  CHECK(world.state_hash() == hash);
+  CHECK(saved(world) == before);
+}
+
+/// A small world with everything a snapshot keeps: a plane, static spheres, removed spheres
+/// (a free list), touch and hit events on, user data, filters, gravity scales, forces pending.
+std::unique_ptr<World> busy_world(int threads) {
+  auto world = std::make_unique<World>(WorldSettings{.threads = threads, .reorder_interval = 8});
+  world->add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.3f});
+  world->add_plane({.normal = {1, 0, 0}, .offset = -6, .restitution = 0.8f});
+  std::vector<SphereId> ids;
+  for (int k = 0; k < 6; ++k)
+    ids.push_back(world->add_sphere({.position = {-4.0f + 1.6f * float(k), 0.5f, 0.0f}, .is_static = true}));
+  for (int k = 0; k < 240; ++k) {
+    const float x = -3.0f + 0.55f * float(k % 12), z = -1.5f + 0.55f * float((k / 12) % 6);
+    const float y = 1.5f + 0.6f * float(k / 72);
+    ids.push_back(world->add_sphere({.position = {x, y, z},
+                                     .velocity = {0.1f * float(k % 5), -1.0f, 0.0f},
+                                     .radius = 0.22f + 0.01f * float(k % 4),
+                                     .mass = 1.0f + float(k % 3),
+                                     .restitution = 0.4f,
+                                     .friction = 0.5f,
+                                     .filter = {.category = 1u << (k % 3), .mask = k % 7 == 0 ? 0x3u : 0xFFFFFFFFu}}));
+  }
+  world->set_events({.touch = true, .hits = true, .hit_speed = 0.3f});
+  for (int k = 0; k < 240; k += 9) world->set_user_data(ids[6 + k], 1000u + k);
+  for (int k = 0; k < 240; k += 11) world->set_gravity_scale(ids[6 + k], 0.5f);
+  step(*world, 30);
+  for (int k = 3; k < 240; k += 17) world->remove_sphere(ids[6 + k]);  // a free list, in this order
+  step(*world, 20);
+  for (int k = 1; k < 240; k += 13)
+    if (world->slot_of(ids[6 + k]) >= 0) world->apply_force(ids[6 + k], {3.0f, 20.0f, -2.0f});
+  return world;
+}
+
+bool same_touches(std::span<const TouchEvent> x, std::span<const TouchEvent> y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (!(x[k].a == y[k].a && x[k].b == y[k].b && x[k].with == y[k].with && x[k].surface == y[k].surface)) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("terrain-rain 4k saved at step 100 and restored on 1 and 2 threads steps on to the same state",
+          "[snapshot][threads]") {
+  bench::Scene original = terrain_rain(2);
+  World& a = *original.world;
+  step(a, 100);
+  const Bytes at_100 = saved(a);
+  step(a, 200);
+  const std::uint64_t expected = a.state_hash();
+  const Bytes at_300 = saved(a);
+
+  for (int threads : {1, 2}) {
+    INFO(threads << " threads");
+    bench::Scene copy = terrain_rain(threads);  // same terrain; its own spheres are replaced
+    step(*copy.world, 7);                       // not a fresh World: its scratch has been used
+    copy.world->restore(at_100);
+    CHECK(copy.world->thread_count() == threads);
+    step(*copy.world, 200);
+    CHECK(copy.world->state_hash() == expected);
+    CHECK(saved(*copy.world) == at_300);
+  }
+}
+
+TEST_CASE("A snapshot restored under another SIMD path steps on to the same state", "[snapshot]") {
+  bench::Scene original = terrain_rain(1, 1000);
+  step(*original.world, 40);
+  const Bytes at_40 = saved(*original.world);
+  step(*original.world, 60);
+  const std::uint64_t expected = original.world->state_hash();
+  for (SimdPath path : testing::supported_paths()) {
+    testing::ScopedSimdPath scoped(path);
+    INFO("SIMD " << simd_path_name(path));
+    bench::Scene copy = terrain_rain(1, 1000);
+    copy.world->restore(at_40);
+    step(*copy.world, 60);
+    CHECK(copy.world->state_hash() == expected);
+  }
+}
+
+TEST_CASE("Free list, static spheres, planes, forces pending and touch events carry over a snapshot",
+          "[snapshot][threads]") {
+  std::unique_ptr<World> a = busy_world(2);
+  const Bytes bytes = saved(*a);
+  World b(WorldSettings{.threads = 1});  // fresh, other settings: all replaced but threads
+  b.restore(bytes);
+  CHECK(saved(b) == bytes);
+  CHECK(b.settings().threads == 1);
+  CHECK(b.settings().reorder_interval == 8);
+  CHECK(b.planes().size() == 2);
+  CHECK(b.event_settings().touch);
+  REQUIRE(b.sphere_count() == a->sphere_count());
+  for (std::size_t k = 0; k < a->sphere_count(); ++k) {
+    CHECK(b.id_at(k) == a->id_at(k));
+    CHECK(b.user_data(b.id_at(k)) == a->user_data(a->id_at(k)));
+  }
+  std::size_t touches = 0;
+  for (int k = 0; k < 120; ++k) {
+    a->step(1.0f / 60.0f);
+    b.step(1.0f / 60.0f);
+    REQUIRE(b.state_hash() == a->state_hash());
+    CHECK(same_touches(a->touch_begin_events(), b.touch_begin_events()));
+    CHECK(same_touches(a->touch_end_events(), b.touch_end_events()));
+    CHECK(a->hit_events().size() == b.hit_events().size());
+    touches += a->touch_begin_events().size() + a->touch_end_events().size();
+    if (k == 10) {  // a sphere added after the restore takes the same freed handle in both
+      const SphereDesc d{.position = {0.0f, 6.0f, 0.0f}};
+      CHECK(a->add_sphere(d) == b.add_sphere(d));
+    }
+  }
+  CHECK(touches > 0);  // the touching keys were saved: a restore that lost them begins every touch again
+  CHECK(saved(b) == saved(*a));
+}
+
+TEST_CASE("A world restored from a snapshot saves the same bytes, and a file round trip is the same", "[snapshot]") {
+  std::unique_ptr<World> a = busy_world(1);
+  const Bytes bytes = saved(*a);
+  const std::string path = (std::filesystem::temp_directory_path() / "hail-test-snapshot.bin").string();
+  a->save_file(path);
+  World b(WorldSettings{.threads = 1});
+  b.restore_file(path);
+  CHECK(saved(b) == bytes);
+  std::filesystem::remove(path);
+  CHECK_THROWS_AS(b.restore_file(path), FileError);
+  CHECK_THROWS_AS(a->save_file((std::filesystem::temp_directory_path() / "no-such-dir" / "x.bin").string()), FileError);
+  CHECK(saved(b) == bytes);
+}
+
+TEST_CASE("A truncated, corrupt, future-version or foreign snapshot is refused, the world unchanged", "[snapshot]") {
+  std::unique_ptr<World> source = busy_world(1);
+  const Bytes good = saved(*source);
+  std::unique_ptr<World> target = busy_world(1);
+  target->step(1.0f / 60.0f);  // differs from source
+
+  SECTION("truncated") {
+    for (std::size_t length : {std::size_t{0}, std::size_t{5}, std::size_t{20}, std::size_t{40}, good.size() - 1})
+      expect_refused(*target, Bytes(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(length)), "truncated");
+  }
+  SECTION("not a snapshot") {
+    Bytes bad = good;
+    bad[0] = std::byte{'X'};
+    expect_refused(*target, bad, "not a hail snapshot");
+  }
+  SECTION("corrupt: one bit of the payload flipped") {
+    for (std::size_t at : {snapshot::kHeaderBytes + 3, good.size() / 2, good.size() - 1}) {
+      Bytes bad = good;
+      bad[at] ^= std::byte{0x10};
+      expect_refused(*target, bad, "checksum mismatch");
+    }
+  }
+  SECTION("a newer format version") {
+    Bytes bad = good;
+    const std::uint32_t future = kSnapshotVersion + 1;
+    std::memcpy(bad.data() + 8, &future, sizeof future);
+    expect_refused(*target, bad, "newer than this hail reads");
+  }
+  SECTION("bytes after the payload") {
+    Bytes bad = good;
+    bad.push_back(std::byte{0});
+    expect_refused(*target, bad, "bytes after the payload");
+  }
+  SECTION("inconsistent handles (checksum made right)") {
+    // The first handle of the sphere section: WRLD's header and body, PLNS, then SPHR's
+    // header and its three counts.
+    Bytes bad = good;
+    std::uint64_t world_length, planes_length;
+    std::memcpy(&world_length, bad.data() + snapshot::kHeaderBytes + 8, 8);
+    const std::size_t planes_at = snapshot::kHeaderBytes + snapshot::kSectionHeaderBytes + world_length;
+    std::memcpy(&planes_length, bad.data() + planes_at + 8, 8);
+    const std::size_t spheres_at = planes_at + snapshot::kSectionHeaderBytes + planes_length;
+    REQUIRE(std::memcmp(bad.data() + spheres_at, "SPHR", 4) == 0);
+    const std::size_t first_handle = spheres_at + snapshot::kSectionHeaderBytes + 3 * sizeof(std::uint64_t);
+    const std::uint32_t generation = 999;
+    std::memcpy(bad.data() + first_handle + 4, &generation, 4);
+    rechecksum(bad);
+    expect_refused(*target, bad, "is not its index's generation");
+  }
+  SECTION("another terrain, or none") {
+    bench::Scene rain = terrain_rain(1, 200);
+    const Bytes with_terrain = saved(*rain.world);
+    expect_refused(*target, with_terrain, "has none");  // target has no terrain
+    bench::SceneParams params;
+    params.spheres = 200;
+    params.threads = 1;
+    bench::Scene dem = bench::find_scene("terrain-rain-dem").build(params);
+    expect_refused(*dem.world, with_terrain, "wrong terrain");
+    expect_refused(*rain.world, good, "without a terrain");
+  }
+}
+
+TEST_CASE("SphereSoA::for_each_array lists every per-sphere array once", "[snapshot][soa]") {
+  SphereSoA soa;
+  soa.add({1, 2, 3, 0, 0, 0, 0, 0, 0, 0.5f, 1, 1, 0.5f, 0.5f, kSphereFlagNone});
+  std::set<std::string> names;
+  std::set<const void*> arrays;
+  std::size_t visited = 0;
+  soa.for_each_array([&](const char* name, const auto& array) {
+    ++visited;
+    names.insert(name);
+    arrays.insert(&array);
+    CHECK(array.size() == soa.padded_size());
+  });
+  CHECK(visited == SphereSoA::kArrayCount);
+  CHECK(names.size() == visited);
+  CHECK(arrays.size() == visited);
+}
+
+namespace {
+
+const std::filesystem::path kCorpus = std::filesystem::path(HAIL_SOURCE_DIR) / "tests/fuzz/corpus/snapshot";
+
+/// The seed corpus of the snapshot fuzzer: small valid snapshots of the fuzzer's two worlds.
+std::vector<std::pair<std::string, Bytes>> corpus_seeds() {
+  std::vector<std::pair<std::string, Bytes>> seeds;
+  seeds.emplace_back("empty.snap", saved(*fuzz::snapshot_fuzz_world(false)));
+  {
+    std::unique_ptr<World> w = fuzz::snapshot_fuzz_world(false);
+    w->add_plane({});
+    std::vector<SphereId> ids;
+    for (int k = 0; k < 8; ++k)
+      ids.push_back(w->add_sphere(
+          {.position = {0.3f * float(k % 3), 0.6f + 1.1f * float(k), 0.2f * float(k % 2)}, .radius = 0.5f}));
+    w->set_events({.touch = true, .hits = true});
+    step(*w, 40);
+    w->remove_sphere(ids[2]);
+    w->remove_sphere(ids[5]);
+    step(*w, 3);
+    w->apply_force(ids[0], {1.0f, 2.0f, 3.0f});
+    seeds.emplace_back("planes-events-8.snap", saved(*w));
+  }
+  {
+    std::unique_ptr<World> w = fuzz::snapshot_fuzz_world(true);
+    for (int k = 0; k < 6; ++k) w->add_sphere({.position = {-2.0f + 0.8f * float(k), 1.0f, 0.5f}, .radius = 0.3f});
+    step(*w, 30);
+    seeds.emplace_back("terrain-6.snap", saved(*w));
+  }
+  return seeds;
+}
+
+Bytes read_bytes(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  const std::vector<char> chars((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto* p = reinterpret_cast<const std::byte*>(chars.data());
+  return Bytes(p, p + chars.size());
+}
+
+}  // namespace
+
+TEST_CASE("Write the snapshot fuzzer's seed corpus", "[.write-snapshot-corpus]") {
+  std::filesystem::create_directories(kCorpus);
+  for (const auto& [name, bytes] : corpus_seeds()) {
+    std::ofstream file(kCorpus / name, std::ios::binary | std::ios::trunc);
+    file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+}
+
+TEST_CASE("The snapshot fuzzer's seeds are what this hail saves, and each restores and saves back",
+          "[snapshot][fuzz]") {
+  for (const auto& [name, bytes] : corpus_seeds()) {
+    INFO(name << " (after a format change: hail-tests \"[.write-snapshot-corpus]\" rewrites the seeds)");
+    CHECK(read_bytes(kCorpus / name) == bytes);
+  }
+  std::size_t restored = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kCorpus)) {
+    const Bytes bytes = read_bytes(entry.path());
+    for (bool terrain : {false, true}) {
+      const fuzz::SnapshotOutcome outcome = fuzz::restore_and_compare(*fuzz::snapshot_fuzz_world(terrain), bytes);
+      CHECK(outcome != fuzz::SnapshotOutcome::Misread);
+      restored += outcome == fuzz::SnapshotOutcome::Restored ? 1 : 0;
+    }
+  }
+  CHECK(restored == 3);
+}
