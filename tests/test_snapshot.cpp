@@ -89,6 +89,9 @@ std::unique_ptr<World> busy_world(int threads) {
                                      .filter = {.category = 1u << (k % 3), .mask = k % 7 == 0 ? 0x3u : 0xFFFFFFFFu}}));
   }
   world->set_events({.touch = true, .hits = true, .hit_speed = 0.3f});
+  // Category 0x4 (every third sphere) falls through the planes: a restore that lost the ground
+  // filter would stop them there.
+  world->set_ground_filter({.category = kDefaultCategory, .mask = ~0x4u});
   for (int k = 0; k < 240; k += 9) world->set_user_data(ids[6 + k], 1000u + k);
   for (int k = 0; k < 240; k += 11) world->set_gravity_scale(ids[6 + k], 0.5f);
   step(*world, 30);
@@ -157,6 +160,7 @@ TEST_CASE("Free list, static spheres, planes, forces pending and touch events ca
   CHECK(b.settings().reorder_interval == 8);
   CHECK(b.planes().size() == 2);
   CHECK(b.event_settings().touch);
+  CHECK(b.ground_filter() == a->ground_filter());
   REQUIRE(b.sphere_count() == a->sphere_count());
   for (std::size_t k = 0; k < a->sphere_count(); ++k) {
     CHECK(b.id_at(k) == a->id_at(k));

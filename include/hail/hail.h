@@ -10,6 +10,9 @@
 //   <hail/terrain.h>         hail::Terrain: a heightmap's triangles and BVH; raycast()
 //   <hail/heightmap.h>       hail::Heightmap: from a function h(x, z), samples, PGM, PNG, raw files
 //   <hail/collision_filter.h> hail::CollisionFilter: category and mask bits, should_collide()
+//   <hail/events.h>          TouchEvent, HitEvent, EventSettings: World::set_events, touch_*_events(), hit_events()
+//   <hail/queries.h>         Ray, QueryHit, QueryFilter: World::raycast, sphere_cast, overlap_sphere/box
+//   <hail/snapshot.h>        terrain_content_hash: what World::save/restore check the terrain by
 //   <hail/contact.h>         hail::Contact, hail::Impact: what last_contacts()/last_impacts() hold
 //   <hail/sphere_soa.h>      hail::SphereSoA, SphereId: the sphere arrays World::soa() shows
 //   <hail/plane.h>           hail::Plane: a static plane as World::planes() shows it
@@ -34,6 +37,8 @@
 #include "hail/heightmap.h"
 #include "hail/phase_trace.h"
 #include "hail/plane.h"
+#include "hail/queries.h"
+#include "hail/snapshot.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
 #include "hail/terrain.h"

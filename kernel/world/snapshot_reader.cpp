@@ -73,6 +73,7 @@ struct Parsed {
   WorldSettings settings;
   std::uint64_t steps_taken = 0, unchecked_from = 0;
   bool forces_pending = false;
+  CollisionFilter ground_filter{};
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   std::vector<Plane> planes;
   SphereSoA spheres;
@@ -85,6 +86,8 @@ void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain) {
   p.steps_taken = r.value<std::uint64_t>("steps taken");
   p.unchecked_from = r.value<std::uint64_t>("unchecked_from");
   p.forces_pending = r.flag("forces pending");
+  p.ground_filter.category = r.value<std::uint32_t>("ground filter category");
+  p.ground_filter.mask = r.value<std::uint32_t>("ground filter mask");
   const bool had_terrain = r.flag("terrain attached");
   const auto saved_hash = r.value<std::uint64_t>("terrain hash");
   p.terrain_restitution = r.value<float>("terrain restitution");
@@ -242,6 +245,10 @@ void World::restore(std::span<const std::byte> bytes) {
   steps_taken_ = p.steps_taken;
   unchecked_from_ = static_cast<std::size_t>(p.unchecked_from);
   forces_pending_ = p.forces_pending;
+  ground_filter_ = p.ground_filter;
+  uses_stale_ = true;                  // which filters and gravity scales the step must honour: recounted next step
+  gravity_scaled_ = filtered_ = true;  // until then, the general loops (exact either way)
+  step_->sphere_queries.invalidate();
   std::swap(step_->contact_cache, p.cache);
   std::swap(step_->events, p.events);
   step_->contacts.clear();

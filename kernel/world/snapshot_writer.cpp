@@ -5,7 +5,7 @@
 // bodies and batches, the sweep, the terrain guard's start positions, the re-sort's keys):
 //   World      settings (but threads), planes, terrain material and (by hash) the terrain,
 //              steps_taken_ (the Morton re-sort's phase), unchecked_from_ (spheres not yet
-//              checked against the terrain), forces_pending_
+//              checked against the terrain), forces_pending_, ground_filter_
 //   SphereSoA  every array of for_each_array, the handles, generations and free list
 //   StepState  the warm-start cache (ContactImpulseCache::entries, ranges) and the touch-event
 //              state (ContactEventTracker::settings, touching_pairs, touching_ground)
@@ -59,6 +59,7 @@ void World::save(std::vector<std::byte>& out) const {
   });
   w.value(std::uint64_t{steps_taken_}), w.value(std::uint64_t{unchecked_from_});
   w.value(std::uint8_t{forces_pending_});
+  w.value(ground_filter_.category), w.value(ground_filter_.mask);
   w.value(std::uint8_t{terrain_ != nullptr});
   w.value(terrain_ ? terrain_content_hash(*terrain_) : std::uint64_t{0});
   w.value(terrain_restitution_), w.value(terrain_friction_);
