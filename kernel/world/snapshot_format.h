@@ -24,6 +24,7 @@
 #include "hail/errors.h"
 #include "hail/snapshot.h"
 #include "hail/world_settings.h"
+#include "kernel/world/fnv1a.h"
 
 namespace hail::snapshot {
 
@@ -39,14 +40,7 @@ inline constexpr char kSpheresTag[4] = {'S', 'P', 'H', 'R'};
 inline constexpr char kCacheTag[4] = {'C', 'A', 'C', 'H'};
 inline constexpr char kEventsTag[4] = {'E', 'V', 'N', 'T'};
 
-/// FNV-1a 64, continued from `h` (the FNV offset basis to start).
-inline std::uint64_t fnv1a(std::span<const std::byte> bytes, std::uint64_t h = 1469598103934665603ull) {
-  for (std::byte b : bytes) {
-    h ^= static_cast<std::uint64_t>(b);
-    h *= 1099511628211ull;
-  }
-  return h;
-}
+using hail::fnv1a;  // kernel/world/fnv1a.h, shared with World::state_hash
 
 /// Appends values to a byte buffer.
 class Writer {

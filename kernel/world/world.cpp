@@ -12,6 +12,7 @@
 #include "kernel/broadphase/sphere_filters.h"
 #include "kernel/dispatch/simd_dispatch.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "kernel/world/fnv1a.h"
 
 namespace hail {
 using namespace checks;  // kernel/world/world_checks.h
@@ -338,17 +339,10 @@ std::size_t World::nan_count() const {
 
 std::uint64_t World::state_hash() const {
   const SphereSoA& s = spheres_;
-  std::uint64_t h = 1469598103934665603ull;
-  for (const AlignedArray<float>* a : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz}) {
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      std::uint32_t bits;
-      std::memcpy(&bits, &(*a)[i], sizeof bits);
-      for (int byte = 0; byte < 4; ++byte) {
-        h ^= (bits >> (8 * byte)) & 0xFFu;
-        h *= 1099511628211ull;
-      }
-    }
-  }
+  // Each float's bytes low byte first: x86-64's memory order, which hail's SIMD paths assume.
+  std::uint64_t h = kFnvOffsetBasis;
+  for (const AlignedArray<float>* a : {&s.px, &s.py, &s.pz, &s.vx, &s.vy, &s.vz})
+    h = fnv1a(std::as_bytes(std::span<const float>(a->data(), s.size())), h);
   return h;
 }
 
