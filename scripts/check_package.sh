@@ -138,25 +138,30 @@ done
 # --- 3. examples/ against the installed package -------------------------------------------------
 # Runs the example and checks what the tree's compile commands say about flags.
 check_example_flags() {  # <example build dir> <route>
-  local dir=$1 route=$2 cmd
-  cmd=$(grep '"command".*drop_spheres\.cpp' "$dir/compile_commands.json") || fail "$route: no compile command"
-  if grep -qE -- '-march|-ffp-contract|-Wall|-Wextra' <<<"$cmd"; then
-    fail "$route: the example was compiled with hail's flags: $cmd"
-  fi
-  # It sees the public headers only: hail's source root (kernel/, soa/, jobs/) is not on its path.
-  if grep -qE -- "-I$src( |\"|$)|-isystem $src( |\"|$)" <<<"$cmd"; then
-    fail "$route: the example sees hail's internal folders (-I$src): $cmd"
-  fi
+  local dir=$1 route=$2 cmd file
+  for file in drop_spheres paddle_game; do
+    cmd=$(grep "\"command\".*$file\\.cpp" "$dir/compile_commands.json") || fail "$route: no compile command for $file.cpp"
+    if grep -qE -- '-march|-ffp-contract|-Wall|-Wextra' <<<"$cmd"; then
+      fail "$route: the example was compiled with hail's flags: $cmd"
+    fi
+    # It sees the public headers only: hail's source root (kernel/, soa/, jobs/) is not on its path.
+    if grep -qE -- "-I$src( |\"|$)|-isystem $src( |\"|$)" <<<"$cmd"; then
+      fail "$route: the example sees hail's internal folders (-I$src): $cmd"
+    fi
+  done
 }
 check_example() {  # <example build dir> <route>
   local dir=$1 route=$2
   check_example_flags "$dir" "$route"
-  if grep -rqE -- '(^| )(-lxtl|xtl)( |$)' "$dir/CMakeFiles/hail-example.dir/link.txt"; then
+  if grep -rqE -- '(^| )(-lxtl|xtl)( |$)' "$dir"/CMakeFiles/hail-{example,game}.dir/link.txt; then
     fail "$route: the example links xtl (the xsimd fix-up is missing)"
   fi
   step "$route: running hail-example (function heightmap)"
   "$dir/hail-example" > "$dir/run.log" || { cat "$dir/run.log"; fail "$route: hail-example failed"; }
   tail -3 "$dir/run.log" | sed 's/^/    /'
+  step "$route: running hail-game (kinematic paddle, filters, ray picks, events, rollback)"
+  "$dir/hail-game" > "$dir/game.log" || { cat "$dir/game.log"; fail "$route: hail-game failed"; }
+  tail -5 "$dir/game.log" | sed 's/^/    /'
 }
 
 step "package: configuring examples/ with find_package(hail CONFIG REQUIRED)"
@@ -193,7 +198,9 @@ for route in "${routes[@]}"; do
     check_example "$dir" "$route"
   else
     step "$route: compiling the example's own file (--full also builds hail this way and runs it)"
-    cmake --build "$dir" --target drop_spheres.cpp.o >/dev/null || fail "$route: compiling the example"
+    for file in drop_spheres paddle_game; do
+      cmake --build "$dir" --target $file.cpp.o >/dev/null || fail "$route: compiling the example $file.cpp"
+    done
     check_example_flags "$dir" "$route"
   fi
 done

@@ -179,4 +179,5 @@ case "$(cat "$check-racy.log")" in
   *) cat "$check-racy.log"; fail "the planted race failed without a ThreadSanitizer report" ;;
 esac
 
+export HAIL_TEST_SAMPLE_DIVISOR=${HAIL_TEST_SAMPLE_DIVISOR:-5}  # as in asan (tests/sample_count.h)
 timed "ctest (tests labelled threads)" "${run[@]}" ctest --preset tsan -j "$jobs" --no-tests=error --timeout 1200

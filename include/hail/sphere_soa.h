@@ -34,7 +34,13 @@ struct SphereId {
 /// Per-sphere flag bits.
 enum SphereFlags : std::uint32_t {
   kSphereFlagNone = 0,
+  /// Moved by the velocity the game sets (World::set_velocity, move_kinematic), never by
+  /// contacts, gravity or forces: inv_mass 0 like a static sphere, so every impulse rule gives
+  /// it none, while its velocity enters the contacts it makes. Passes through terrain and planes.
+  kSphereFlagKinematic = 1u << 0,
 };
+/// Every flag bit above: a snapshot with any other bit set is refused.
+inline constexpr std::uint32_t kKnownSphereFlags = kSphereFlagKinematic;
 
 /// Everything a new sphere is made of, already validated and converted to inverse quantities.
 struct SphereRecord {

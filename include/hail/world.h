@@ -97,8 +97,8 @@ inline constexpr float kSphereRadiusResolution = 64.0f;
 /// every value turned NaN once a sphere landed. 1 m cells may lie up to 2^18 = 262,144 m out.
 inline constexpr float kTerrainCellResolution = 64.0f;
 
-/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves). Radius, mass,
-/// speed and spin within the limits above.
+/// A new sphere. Mass must be > 0 unless `is_static` (then it never moves) or `is_kinematic`
+/// (then the game moves it). Radius, mass, speed and spin within the limits above.
 struct SphereDesc {
   Vec3 position{0.0f, 0.0f, 0.0f};          ///< m; resolvable for the radius (kSphereRadiusResolution)
   Vec3 velocity{0.0f, 0.0f, 0.0f};          ///< m/s
@@ -108,6 +108,10 @@ struct SphereDesc {
   float restitution = 0.5f;                 ///< [0, 1]
   float friction = 0.5f;                    ///< Coulomb coefficient, >= 0
   bool is_static = false;                   ///< infinite mass: collides but never moves
+  /// Infinite mass, moved by its velocity (set_velocity, move_kinematic) alone: it pushes
+  /// dynamic spheres and is not pushed, feels no gravity or force, and passes through terrain
+  /// and planes (a paddle, a moving platform, a wrecking ball). Not together with is_static.
+  bool is_kinematic = false;
   /// Category and mask bits: it collides with what its mask accepts and what accepts it
   /// (collision_filter.h). The default collides with everything.
   CollisionFilter filter{};
@@ -232,6 +236,8 @@ class World {
   // Static spheres stay static: set_velocity, set_angular_velocity and set_mass on one throw
   // (it has no mass and never moves), while impulses, forces and torques on one are checked
   // and then ignored (a push on the immovable: the game need not ask what it hit first).
+  // Kinematic spheres take set_velocity and set_angular_velocity (that is how they move) and,
+  // like static ones, refuse set_mass and ignore impulses, forces and torques.
 
   /// Teleports a sphere. Its warm-start impulses are dropped (ContactImpulseCache::forget), so
   /// the next step gives it nothing it had where it was; its velocity is kept. Costs
@@ -267,6 +273,23 @@ class World {
   /// Category and mask bits (collision_filter.h); any bits are accepted (a category of 0
   /// collides with nothing). Takes effect from the next step.
   void set_collision_filter(SphereId id, CollisionFilter filter);
+
+  /// Whether the sphere is kinematic (SphereDesc::is_kinematic). Throws for a stale handle.
+  [[nodiscard]] bool is_kinematic(SphereId id) const;
+  /// Makes a dynamic or static sphere kinematic: infinite mass from now on, its velocity kept
+  /// (a static one's is zero), its pending force and torque dropped.
+  void set_kinematic(SphereId id);
+  /// Makes a kinematic or static sphere dynamic with this mass (inertia 0.4 m r^2), its
+  /// velocities kept; on a dynamic sphere it is set_mass.
+  void set_dynamic(SphereId id, float mass);
+  /// Sets a kinematic sphere's velocity to (target - position) / dt, so that a step covering dt
+  /// of simulated time (step(dt) at time_scale 1) ends it at `target`, pushing what is in the
+  /// way (Jolt's MoveKinematic). The velocity stays after the step: call again each step, or
+  /// set_velocity to zero to stop it. Refused (nothing changed) for a sphere that is not
+  /// kinematic, dt not finite and > 0, a target not finite or not resolvable for the radius,
+  /// or a velocity over kMaxSphereSpeed. A kinematic sphere that meets more than
+  /// WorldSettings::max_sweep_events spheres in one swept step stops short (SweepStats::capped).
+  void move_kinematic(SphereId id, const Vec3& target, float dt);
 
   /// Batch forms: handles[k] gets values[k]. Every handle and value is checked first, then all
   /// are applied: a refusal (sizes differ, a stale handle, a bad value, naming its index)
@@ -417,6 +440,8 @@ class World {
   std::size_t require_slot(SphereId id) const;
   /// require_slot, also refusing a static sphere for `what` (it has no mass, never moves).
   std::size_t require_movable(SphereId id, const char* what) const;
+  /// require_slot, also refusing a static sphere or a kinematic one (neither has a mass).
+  std::size_t require_dynamic(SphereId id, const char* what) const;
   /// Zeroes the force and torque accumulators if any call filled them (after each step).
   void clear_forces();
   /// Recomputes gravity_scaled_ and filtered_ (one pass over the spheres) if a change may have
@@ -447,7 +472,8 @@ class World {
   /// them and re-sorts them (when false they are all zero, and both are skipped).
   bool forces_pending_ = false;
   /// Some sphere's gravity scale is not 1: the step takes the scaled gravity loop. Some
-  /// sphere's collision filter, or the ground's, is not the default: the step filters. When
+  /// sphere's collision filter, or the ground's, is not the default, or some sphere is
+  /// kinematic (it passes through the ground as a filtered sphere does): the step filters. When
   /// false the step runs exactly the code of a world without scales or filters (their cost is
   /// paid only by scenes that use them). Set at once by a change that makes them true; a change
   /// that may make them false marks them stale, and refresh_uses recounts at the next step.

@@ -185,9 +185,8 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   // along a path j took up only later. Such an impact, with where j never was, came before
   // events already taken and moved j back in time; and the grid, which lists a changed path
   // from its start on, could miss what the scan (every path over mo.t0..dt) found.
-  const CollisionFilter filter = sphere_filter(s, slot);
   auto try_sphere = [&](std::uint32_t j) {
-    if (scene.filtering && !should_collide(filter, sphere_filter(s, j))) return;
+    if (scene.filtering && !pair_collides(s, slot, j)) return;
     const double start = std::max(mo.t0, path_start(j));
     double ci[3], cj[3], vj[3];
     centre_at(s, j, start, cj, vj);

@@ -32,7 +32,9 @@ float add_gravity(SphereSoA& s, std::size_t first, std::size_t last, const Integ
     const float reach = fast_fraction * s.radius[i];
     const float excess = v2 * dt2 - reach * reach;
     max_speed2 = v2 > max_speed2 ? v2 : max_speed2;
-    fastest = movable && excess > fastest ? excess : fastest;
+    // Any sphere may be fast, immovable ones included: a static sphere's velocity is zero, and
+    // a kinematic one moving far in a step is swept like a dynamic one.
+    fastest = excess > fastest ? excess : fastest;
   }
   return max_speed2;
 }
@@ -49,7 +51,7 @@ float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, cons
   for (std::size_t i = first; i < last; ++i) {
     // The same expression as the terrain's per-sphere margin, so both agree on who is fast.
     const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-    if (s.inv_mass[i] > 0.0f && is_fast(v2, p.dt, s.radius[i], fast_fraction))
+    if (is_fast(v2, p.dt, s.radius[i], fast_fraction))
       fast->push_back(static_cast<std::uint32_t>(i));
     else
       max_speed2 = v2 > max_speed2 ? v2 : max_speed2;

@@ -66,6 +66,8 @@ void check_sphere(const snapshot::Reader& r, const SphereSoA& s, std::size_t k) 
   if (!(s.restitution[k] >= 0.0f && s.restitution[k] <= 1.0f)) refuse("restitution is out of [0, 1]");
   if (!(std::isfinite(s.friction[k]) && s.friction[k] >= 0.0f)) refuse("friction is not finite and >= 0");
   if (!(std::fabs(s.gravity_scale[k]) <= kMaxGravityScale)) refuse("gravity_scale is out of range");
+  if ((s.flags[k] & ~kKnownSphereFlags) != 0) refuse("flags " + std::to_string(s.flags[k]) + " has unknown bits");
+  if ((s.flags[k] & kSphereFlagKinematic) && s.inv_mass[k] != 0.0f) refuse("is kinematic with an inverse mass > 0");
 }
 
 /// Everything a snapshot holds, parsed and checked, ready to be moved into a World.

@@ -114,24 +114,28 @@ SphereId World::add_sphere(const SphereDesc& d) {
   require_finite(d.velocity, "sphere velocity");
   require_finite(d.angular_velocity, "sphere angular_velocity");
   require_sphere_radius(d.radius);
+  require(!(d.is_static && d.is_kinematic),
+          [] { return std::string("a sphere cannot be both is_static and is_kinematic"); });
   if (!d.is_static) {
-    require_sphere_mass(d.mass);
+    if (!d.is_kinematic) require_sphere_mass(d.mass);
     require_sphere_speed(d.velocity);
     require_sphere_spin(d.angular_velocity);
   }
   require_material(d.restitution, d.friction, "sphere");
   require_spin_allowed(settings_.rotation || d.is_static, d.angular_velocity);
-  const float inv_mass = d.is_static ? 0.0f : 1.0f / d.mass;
-  const float inv_inertia = d.is_static ? 0.0f : inverse_inertia(d.mass, d.radius);
+  const bool dynamic = !d.is_static && !d.is_kinematic;
+  const float inv_mass = dynamic ? 1.0f / d.mass : 0.0f;
+  const float inv_inertia = dynamic ? inverse_inertia(d.mass, d.radius) : 0.0f;
   require_resolvable(d.position, d.radius);
   unchecked_from_ = std::min(unchecked_from_, spheres_.size());
   const Vec3 v = d.is_static ? Vec3::Zero() : d.velocity;
   const Vec3 w = d.is_static ? Vec3::Zero() : d.angular_velocity;
+  const std::uint32_t flags = d.is_kinematic ? kSphereFlagKinematic : kSphereFlagNone;
   SphereRecord record{d.position.x(), d.position.y(), d.position.z(), v.x(),      v.y(),
                       v.z(),          w.x(),          w.y(),          w.z(),      d.radius,
-                      inv_mass,       inv_inertia,    d.restitution,  d.friction, kSphereFlagNone};
+                      inv_mass,       inv_inertia,    d.restitution,  d.friction, flags};
   record.filter = d.filter;
-  if (d.filter != CollisionFilter{}) filtered_ = true;
+  if (d.filter != CollisionFilter{} || d.is_kinematic) filtered_ = true;
   step_->sphere_queries.invalidate();
   return spheres_.add(record);
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hail/world.h"
+#include "kernel/broadphase/sphere_filters.h"
 #include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
 
@@ -47,11 +48,59 @@ void check_entry(const char* call, std::size_t k, std::size_t count, Check&& che
 
 std::size_t World::require_movable(SphereId id, const char* what) const {
   const std::size_t i = require_slot(id);
-  require(spheres_.inv_mass[i] > 0.0f, [&] {
+  require(spheres_.inv_mass[i] > 0.0f || hail::is_kinematic(spheres_, i), [&] {
     return std::string(what) + ": sphere " + std::to_string(id.index) +
            " is static (no mass, never moves); it stays static";
   });
   return i;
+}
+
+std::size_t World::require_dynamic(SphereId id, const char* what) const {
+  const std::size_t i = require_movable(id, what);
+  require(!hail::is_kinematic(spheres_, i), [&] {
+    return std::string(what) + ": sphere " + std::to_string(id.index) +
+           " is kinematic (no mass; set_dynamic gives it one)";
+  });
+  return i;
+}
+
+bool World::is_kinematic(SphereId id) const { return hail::is_kinematic(spheres_, require_slot(id)); }
+
+void World::set_kinematic(SphereId id) {
+  const std::size_t i = require_slot(id);
+  SphereSoA& s = spheres_;
+  s.flags[i] |= kSphereFlagKinematic;
+  s.inv_mass[i] = 0.0f;
+  s.inv_inertia[i] = 0.0f;
+  for (auto* a : {&s.force_x, &s.force_y, &s.force_z, &s.torque_x, &s.torque_y, &s.torque_z}) (*a)[i] = 0.0f;
+  filtered_ = true;  // it passes through the ground (sphere_filters.h)
+}
+
+void World::set_dynamic(SphereId id, float mass) {
+  const std::size_t i = require_slot(id);
+  require_sphere_mass(mass);
+  SphereSoA& s = spheres_;
+  const float inv_inertia = inverse_inertia(mass, s.radius[i]);
+  if (hail::is_kinematic(s, i)) uses_stale_ = true;  // it may have been the last kinematic sphere
+  s.flags[i] &= ~static_cast<std::uint32_t>(kSphereFlagKinematic);
+  s.inv_mass[i] = 1.0f / mass;
+  s.inv_inertia[i] = inv_inertia;
+}
+
+void World::move_kinematic(SphereId id, const Vec3& target, float dt) {
+  const std::size_t i = require_slot(id);
+  require(hail::is_kinematic(spheres_, i), [&] {
+    return "World::move_kinematic: sphere " + std::to_string(id.index) + " is not kinematic (set_kinematic first)";
+  });
+  require(std::isfinite(dt) && dt > 0.0f,
+          [&] { return "World::move_kinematic: dt must be finite and > 0, got " + std::to_string(dt); });
+  require_finite(target, "kinematic target");
+  require_resolvable(target, spheres_.radius[i]);
+  const Vec3 here(spheres_.px[i], spheres_.py[i], spheres_.pz[i]);
+  const Vec3 velocity = (target - here) / dt;
+  require_finite(velocity, "kinematic velocity (target - position) / dt");
+  require_sphere_speed(velocity);
+  spheres_.vx[i] = velocity.x(), spheres_.vy[i] = velocity.y(), spheres_.vz[i] = velocity.z();
 }
 
 std::uint64_t World::user_data(SphereId id) const { return spheres_.user_data[require_slot(id)]; }
@@ -88,7 +137,8 @@ void World::refresh_uses() {
   bool scaled = false, filtered = ground_filter_ != CollisionFilter{};
   for (std::size_t i = 0; i < s.size(); ++i) {
     scaled = scaled || s.gravity_scale[i] != 1.0f;
-    filtered = filtered || s.collision_category[i] != kDefaultCategory || s.collision_mask[i] != kAllCategories;
+    filtered = filtered || s.collision_category[i] != kDefaultCategory || s.collision_mask[i] != kAllCategories ||
+               (s.flags[i] & kSphereFlagKinematic) != 0;
   }
   gravity_scaled_ = scaled;
   filtered_ = filtered;
@@ -240,7 +290,7 @@ void World::set_friction(SphereId id, float friction) {
 }
 
 void World::set_mass(SphereId id, float mass) {
-  const std::size_t i = require_movable(id, "World::set_mass");
+  const std::size_t i = require_dynamic(id, "World::set_mass");
   require_sphere_mass(mass);
   const float inv_inertia = inverse_inertia(mass, spheres_.radius[i]);
   spheres_.inv_mass[i] = 1.0f / mass;
