@@ -8,7 +8,20 @@
 #   sse4.2   HAIL_SIMD_PATH_SSE4_2    -march=x86-64-v2      sse4_2       4
 #   avx2     HAIL_SIMD_PATH_AVX2      -march=x86-64-v3      avx2         8
 #   avx512   HAIL_SIMD_PATH_AVX512    -march=x86-64-v4      avx512bw     16   (F, BW, CD, DQ, VL)
-set(HAIL_SIMD_PATHS sse4_2 avx2 avx512)
+#
+# HAIL_SIMD_PATHS may leave out avx2 and avx512 (sse4_2, the floor, is always built): a path left
+# out is reported unsupported at run time, as on a CPU without it. Releases build all three; the
+# sanitizer and fuzz builds (scripts/sanitizers.sh, scripts/fuzz.sh) leave out the paths the
+# machine cannot run, since code no test there can execute only costs them compile time.
+set(HAIL_SIMD_PATHS "sse4_2;avx2;avx512" CACHE STRING "SIMD paths to compile: sse4_2 and any of avx2, avx512")
+foreach(path IN LISTS HAIL_SIMD_PATHS)
+  if(NOT path MATCHES "^(sse4_2|avx2|avx512)$")
+    message(FATAL_ERROR "hail: HAIL_SIMD_PATHS names '${path}'; expected sse4_2, avx2 or avx512")
+  endif()
+endforeach()
+if(NOT "sse4_2" IN_LIST HAIL_SIMD_PATHS)
+  message(FATAL_ERROR "hail: HAIL_SIMD_PATHS must include sse4_2, the path every x86-64-v2 CPU runs")
+endif()
 set(hail_simd_flags_sse4_2 -march=x86-64-v2)
 set(hail_simd_flags_avx2 -march=x86-64-v3)
 # GCC 12's own avx512fintrin.h starts _mm512_sqrt_ps and others from `__m512 __Y = __Y;`, which

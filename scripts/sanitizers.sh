@@ -45,6 +45,10 @@ timed() {  # timed LABEL COMMAND...: runs COMMAND, then prints how long it took
 }
 
 need_packages "${hail_test_packages[@]}"
+# Only the SIMD paths this machine runs (scripts/host_simd_paths.sh): the others' code would be
+# compiled under the sanitizer and never executed.
+simd_paths=$(scripts/host_simd_paths.sh)
+say "SIMD paths built: $simd_paths"
 
 # Every hail-bench command once, small: a scene by name and one from a file, with --json and
 # --trace; compare; accuracy at one dt; one stress case (tests/test_stress.cpp runs them all);
@@ -76,7 +80,7 @@ bench_smoke() {
 
 if [ "$mode" = asan ]; then
   timed "configure + build (hail-tests, hail-bench)" bash -c \
-    "cmake --preset asan > /dev/null && cmake --build --preset asan -j $jobs --target hail-tests hail-bench"
+    "cmake --preset asan -DHAIL_SIMD_PATHS='$simd_paths' > /dev/null && cmake --build --preset asan -j $jobs --target hail-tests hail-bench"
   # halt_on_error: the first report of either sanitizer ends the process with an error.
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
@@ -150,7 +154,7 @@ case "$(ldd "$tbb_lib")" in *libtsan*) ;; *) fail "$tbb_lib is not built with -f
 
 # --- tsan: hail against it --------------------------------------------------------------------
 timed "configure + build (hail-tests)" bash -c \
-  "cmake --preset tsan -DTBB_DIR='$tbb_prefix/lib/cmake/TBB' > /dev/null && cmake --build --preset tsan -j $jobs --target hail-tests"
+  "cmake --preset tsan -DTBB_DIR='$tbb_prefix/lib/cmake/TBB' -DHAIL_SIMD_PATHS='$simd_paths' > /dev/null && cmake --build --preset tsan -j $jobs --target hail-tests"
 loaded=$(ldd build/tsan/tests/hail-tests | grep -E 'libtbb\.so' || true)
 say "hail-tests loads: ${loaded//$'\t'/}"
 case "$loaded" in

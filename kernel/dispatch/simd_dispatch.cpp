@@ -51,21 +51,42 @@ const CpuFeatures& cpu_features() {
   return features;
 }
 
+// The paths this build compiled (HAIL_SIMD_PATHS, kernel/CMakeLists.txt); sse4.2 always.
+#ifdef HAIL_BUILT_SIMD_PATH_AVX2
+constexpr bool kBuiltAvx2 = true;
+#else
+constexpr bool kBuiltAvx2 = false;
+#endif
+#ifdef HAIL_BUILT_SIMD_PATH_AVX512
+constexpr bool kBuiltAvx512 = true;
+#else
+constexpr bool kBuiltAvx512 = false;
+#endif
+
+/// Only for a path simd_path_supported accepts (so one that was built).
 const SimdKernels& table_of(SimdPath path) {
   switch (path) {
     case SimdPath::Sse42:
-      return simd_kernels_sse4_2();
-    case SimdPath::Avx2:
-      return simd_kernels_avx2();
-    case SimdPath::Avx512:
       break;
+    case SimdPath::Avx2:
+#ifdef HAIL_BUILT_SIMD_PATH_AVX2
+      return simd_kernels_avx2();
+#else
+      break;
+#endif
+    case SimdPath::Avx512:
+#ifdef HAIL_BUILT_SIMD_PATH_AVX512
+      return simd_kernels_avx512();
+#else
+      break;
+#endif
   }
-  return simd_kernels_avx512();
+  return simd_kernels_sse4_2();
 }
 
 [[noreturn]] void unsupported(SimdPath path, const char* asked_by) {
   throw InvalidArgument(std::string("hail: ") + asked_by + " asks for the SIMD path " + simd_path_name(path) +
-                        ", which this CPU does not support (it supports: " + supported_simd_paths() + ")");
+                        ", which this CPU or build does not support (it supports: " + supported_simd_paths() + ")");
 }
 
 // The active table. Null until the first active_simd_path() resolves it; the mutex only
@@ -124,9 +145,9 @@ bool simd_path_supported(SimdPath path) {
     case SimdPath::Sse42:
       return f.v2;
     case SimdPath::Avx2:
-      return f.v3;
+      return kBuiltAvx2 && f.v3;
     case SimdPath::Avx512:
-      return f.v4;
+      return kBuiltAvx512 && f.v4;
   }
   return false;
 }

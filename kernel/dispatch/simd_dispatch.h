@@ -37,8 +37,8 @@ inline constexpr SimdPath kSimdPaths[] = {SimdPath::Sse42, SimdPath::Avx2, SimdP
 [[nodiscard]] SimdPath parse_simd_path(std::string_view name);
 /// Floats per SIMD batch on `path`: 4, 8 or 16.
 [[nodiscard]] std::size_t simd_path_width(SimdPath path);
-/// True when this CPU has every instruction `path` was compiled for and the OS saves its
-/// registers (cpuid and xgetbv).
+/// True when this build compiled `path` (HAIL_SIMD_PATHS, cmake/HailSimdPaths.cmake) and this
+/// CPU has every instruction it was compiled for and the OS saves its registers (cpuid and xgetbv).
 [[nodiscard]] bool simd_path_supported(SimdPath path);
 /// The widest path simd_path_supported accepts. Every x86-64-v2 CPU supports sse4.2.
 [[nodiscard]] SimdPath best_simd_path();
