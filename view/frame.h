@@ -1,0 +1,24 @@
+#pragma once
+// What the renderer draws: one whole step's spheres (centres, radii, speeds, in any order) and
+// the figures the panel plots. The simulation thread fills one and hands it over whole, so a
+// frame never mixes two steps.
+
+#include <cstdint>
+#include <vector>
+
+#include "hail/step_stats.h"
+
+namespace hail::view {
+
+struct Frame {
+  std::uint64_t step = 0;     ///< steps taken
+  std::vector<float> centre;  ///< x, y, z per sphere
+  std::vector<float> radius;  ///< m, per sphere
+  std::vector<float> speed;   ///< m/s, per sphere (the colour)
+  PhaseTimes phase_ms;        ///< of the step that made it
+  double step_ms = 0.0;       ///< wall time of that step
+  double kinetic_energy = 0.0;
+  [[nodiscard]] std::size_t size() const { return radius.size(); }
+};
+
+}  // namespace hail::view

@@ -1,0 +1,91 @@
+#include "view/panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace hail::view {
+
+void Plots::push(std::vector<float>& v, float x) {
+  if (v.size() == kLength) v.erase(v.begin());
+  v.push_back(x);
+}
+
+void Plots::add_step(const Frame& f) {
+  const PhaseTimes& p = f.phase_ms;
+  const double values[kPhases] = {p.reorder, p.predict, p.detect_terrain, p.detect_pairs,
+                                  p.solve,   p.sweep,   p.integrate,      p.depenetrate};
+  for (int k = 0; k < kPhases; ++k) push(phases_[std::size_t(k)], float(values[k]));
+  push(step_ms_, float(f.step_ms));
+  push(energy_, float(f.kinetic_energy));
+}
+
+void Plots::add_draw(double ms) { push(draw_ms_, float(ms)); }
+
+void Plots::draw() const {
+  auto plot = [](const char* label, const std::vector<float>& v, const char* unit) {
+    const float last = v.empty() ? 0.0f : v.back();
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "%.3g %s", last, unit);
+    ImGui::PlotLines(label, v.data(), int(v.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(0, 50));
+  };
+  plot("step", step_ms_, "ms");
+  plot("draw", draw_ms_, "ms");
+  if (ImGui::CollapsingHeader("step phases (ms)"))
+    for (int k = 0; k < kPhases; ++k) plot(kPhaseNames[std::size_t(k)], phases_[std::size_t(k)], "ms");
+  if (!energy_.empty()) plot("kinetic", energy_, "J");
+}
+
+void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& c, Renderer& renderer,
+                const Plots& plots) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("hail");
+  ImGui::Text("%s", title.c_str());
+  ImGui::Text("%zu spheres, step %llu, %d threads", frame.size(), static_cast<unsigned long long>(frame.step),
+              sim.thread_count());
+  if (ImGui::Checkbox("pause", &c.paused)) sim.set_paused(c.paused);
+  ImGui::SameLine();
+  if (ImGui::Button("step")) {
+    c.paused = true;
+    sim.set_paused(true);
+    sim.step_once();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("reset")) sim.reset();
+  if (ImGui::SliderFloat("time scale", &c.speed, 0.02f, 4.0f, "%.2f x real time", ImGuiSliderFlags_Logarithmic))
+    sim.set_speed(c.speed);
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  ImGui::SliderInt("threads", &c.threads, 1, cores);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_threads(c.threads);
+  ImGui::SliderFloat("restitution", &c.restitution, 0.0f, 1.0f);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_material(c.restitution, c.friction);
+  ImGui::SliderFloat("friction", &c.friction, 0.0f, 2.0f);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_material(c.restitution, c.friction);
+  ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
+  plots.draw();
+  ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::End();
+}
+
+bool replay_panel(const std::string& title, const std::string& note, int frame_count, const Frame& frame,
+                  ReplayControls& c, Renderer& renderer, const Plots& plots) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("hail replay");
+  ImGui::Text("%s", title.c_str());
+  if (!note.empty()) ImGui::TextWrapped("%s", note.c_str());
+  ImGui::Text("%zu spheres, step %llu", frame.size(), static_cast<unsigned long long>(frame.step));
+  ImGui::Checkbox("play", &c.playing);
+  const bool scrubbed = ImGui::SliderInt("frame", &c.frame, 0, std::max(frame_count - 1, 0));
+  if (scrubbed) c.playing = false;
+  ImGui::SliderFloat("frames/s", &c.frames_per_second, 1.0f, 120.0f, "%.0f");
+  ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
+  plots.draw();
+  ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::End();
+  return scrubbed;
+}
+
+}  // namespace hail::view
