@@ -1,6 +1,7 @@
 #include "view/camera.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -25,6 +26,17 @@ void OrbitCamera::pan(float dx, float dy, float viewport_height) {
 }
 
 void OrbitCamera::zoom(float wheel_steps) { distance = std::clamp(distance * std::pow(0.9f, wheel_steps), 0.1f, 1e6f); }
+
+std::pair<Eigen::Vector3f, Eigen::Vector3f> OrbitCamera::ray_through(double x, double y, int width, int height) const {
+  const Eigen::Matrix4f inverse = (projection(float(width) / float(std::max(height, 1))) * view()).inverse();
+  const float nx = float(2.0 * x / std::max(width, 1) - 1.0), ny = float(1.0 - 2.0 * y / std::max(height, 1));
+  auto unproject = [&](float z) {
+    const Eigen::Vector4f p = inverse * Eigen::Vector4f(nx, ny, z, 1.0f);
+    return Eigen::Vector3f(p.head<3>() / p.w());
+  };
+  const Eigen::Vector3f near_point = unproject(-1.0f), far_point = unproject(1.0f);
+  return {near_point, (far_point - near_point).normalized()};
+}
 
 Eigen::Vector3f OrbitCamera::eye() const {
   return target +

@@ -3,6 +3,7 @@
 // orbits (left drag), pans (right or middle drag) and zooms (wheel).
 
 #include <Eigen/Core>
+#include <utility>
 
 namespace hail::view {
 
@@ -18,6 +19,11 @@ struct OrbitCamera {
   void orbit(float dx_pixels, float dy_pixels);
   void pan(float dx_pixels, float dy_pixels, float viewport_height);
   void zoom(float wheel_steps);
+
+  /// The ray from the eye through pixel (x, y) of a width x height view (from its top left):
+  /// {origin on the near plane, unit direction}.
+  [[nodiscard]] std::pair<Eigen::Vector3f, Eigen::Vector3f> ray_through(double x, double y, int width,
+                                                                        int height) const;
 
   [[nodiscard]] Eigen::Vector3f eye() const;
   [[nodiscard]] Eigen::Matrix4f view() const;

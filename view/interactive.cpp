@@ -38,6 +38,8 @@ class Source {
   /// Updates `frame` when there is a newer one; true if it did.
   virtual bool update(Frame& frame, double now_s) = 0;
   virtual void panel(const Frame& frame, Renderer& renderer, const Plots& plots) = 0;
+  /// Mouse and keys beyond the camera's.
+  virtual void input(GLFWwindow* window, const OrbitCamera& camera) {}
 };
 
 class LiveSource final : public Source {
@@ -47,6 +49,24 @@ class LiveSource final : public Source {
     controls_.threads = sim_.thread_count();
   }
   bool update(Frame& frame, double) override { return sim_.latest(frame); }
+  /// Shift + left click: spheres dropped where the cursor points; F: a fast sphere from the eye.
+  void input(GLFWwindow* window, const OrbitCamera& camera) override {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.WantCaptureMouse || io.WantCaptureKeyboard) return;
+    double x = 0, y = 0;
+    glfwGetCursorPos(window, &x, &y);
+    int window_w = 0, window_h = 0;
+    glfwGetWindowSize(window, &window_w, &window_h);
+    if (io.KeyShift && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+      const auto [origin, direction] = camera.ray_through(x, y, window_w, window_h);
+      sim_.spawn_at(origin, direction);
+    }
+    if (ImGui::IsKeyPressed(GLFW_KEY_F, /*repeat=*/false)) {
+      const auto [origin, direction] = camera.ray_through(x, y, window_w, window_h);
+      sim_.fire(origin + direction * 2.0f, direction, kFireSpeed);
+    }
+  }
+  static constexpr float kFireSpeed = 80.0f;  ///< m/s: over a metre a step at 60 steps/s
   void panel(const Frame& frame, Renderer& renderer, const Plots& plots) override {
     live_panel(title_, frame, sim_, controls_, renderer, plots);
   }
@@ -135,6 +155,7 @@ int run_window(const ViewOptions& o) {
       int width = 0, height = 0;
       glfwGetFramebufferSize(window, &width, &height);
       move_camera(window, camera, height);
+      source->input(window, camera);
       // The draw time: the spheres' upload and the scene's draw calls, waited for (glFinish),
       // without the panel.
       const auto start = std::chrono::steady_clock::now();

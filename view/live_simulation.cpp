@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace hail::view {
@@ -75,12 +76,44 @@ void LiveSimulation::set_material(float restitution, float friction) {
   wake_.notify_all();
 }
 
+namespace {
+
+/// The radius new spheres get: the scene's first sphere's, or 0.5 m.
+float typical_radius(const World& world) { return world.sphere_count() > 0 ? world.spheres().radius[0] : 0.5f; }
+
+}  // namespace
+
+void LiveSimulation::spawn_at(const Vec3& origin, const Vec3& direction) {
+  std::lock_guard lock(mutex_);
+  edits_.push_back([origin, direction](World& world) {
+    const std::optional<QueryHit> hit = world.raycast({.origin = origin, .direction = direction});
+    if (!hit) return;
+    const float r = typical_radius(world);
+    const Vec3 base = hit->point + hit->normal * (4.0f * r);
+    for (int k = 0; k < 27; ++k) {
+      const Vec3 offset(float(k % 3 - 1), float(k / 9), float((k / 3) % 3 - 1));
+      world.add_sphere({.position = base + 2.2f * r * offset, .radius = r});
+    }
+  });
+  wake_.notify_all();
+}
+
+void LiveSimulation::fire(const Vec3& origin, const Vec3& direction, float speed) {
+  std::lock_guard lock(mutex_);
+  edits_.push_back([origin, direction, speed](World& world) {
+    world.add_sphere({.position = origin, .velocity = direction.normalized() * speed, .radius = typical_radius(world)});
+  });
+  wake_.notify_all();
+}
+
 void LiveSimulation::apply_requests() {
   bool reset = false, material = false;
   int threads = -1;
   float restitution = 0, friction = 0;
+  std::vector<std::function<void(World&)>> edits;
   {
     std::lock_guard lock(mutex_);
+    std::swap(edits, edits_);
     std::swap(reset, reset_requested_);
     std::swap(threads, threads_requested_);
     std::swap(material, material_requested_);
@@ -106,7 +139,14 @@ void LiveSimulation::apply_requests() {
       scene_.world->set_friction(id, friction);
     }
   }
-  if (reset || threads >= 0 || material) {
+  for (const auto& edit : edits) {
+    try {
+      edit(*scene_.world);
+    } catch (const InvalidArgument&) {
+      // A sphere that would overlap the limits (too far out for its radius, say) is not added.
+    }
+  }
+  if (reset || threads >= 0 || material || !edits.empty()) {
     Frame frame;
     capture_frame(*scene_.world, 0.0, steps_, frame);
     std::lock_guard lock(mutex_);

@@ -10,6 +10,7 @@
 #include <functional>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "bench/scenes/scenes.h"
 #include "view/frame.h"
@@ -43,6 +44,12 @@ class LiveSimulation {
   void set_threads(int threads);
   /// Restitution and friction of every sphere.
   void set_material(float restitution, float friction);
+  /// A 3 x 3 x 3 block of spheres dropped a few radii above where the ray first meets the scene
+  /// (World::raycast); nothing if it meets nothing.
+  void spawn_at(const Vec3& origin, const Vec3& direction);
+  /// One sphere shot from `origin` along `direction` at `speed` m/s (fast enough for continuous
+  /// collision: it should stop on the terrain, not pass through).
+  void fire(const Vec3& origin, const Vec3& direction, float speed);
 
   [[nodiscard]] bool paused() const { return paused_.load(); }
   [[nodiscard]] float dt() const { return dt_; }
@@ -67,6 +74,7 @@ class LiveSimulation {
   int threads_requested_ = -1;
   bool material_requested_ = false;
   float restitution_ = 0.5f, friction_ = 0.5f;
+  std::vector<std::function<void(World&)>> edits_;  // spawn and fire, in the order asked
   Frame published_;
   std::uint64_t version_ = 0;       // raised on every publish
   std::uint64_t seen_version_ = 0;  // the last version latest() handed out

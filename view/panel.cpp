@@ -66,6 +66,7 @@ void live_panel(const std::string& title, const Frame& frame, LiveSimulation& si
   ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
   plots.draw();
   ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::TextDisabled("shift + click: drop spheres there; F: fire a fast sphere at the cursor");
   ImGui::End();
 }
 

@@ -1,0 +1,144 @@
+// hail-view's parts that need no OpenGL (hail-view-tests, ctest label "view"): the simulation
+// thread hands over whole steps and its controls (pause, single step, reset, threads, spawn,
+// fire) do what they say, a thread change carrying the run on bitwise; the camera's cursor ray;
+// a replay's frames and speeds.
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "bench/scenes/scene_run.h"
+#include "hail/recording.h"
+#include "tests/catch.h"
+#include "view/camera.h"
+#include "view/live_simulation.h"
+#include "view/replay.h"
+
+using namespace hail;
+using namespace hail::view;
+
+namespace {
+
+SceneFactory rain(std::size_t spheres) {
+  return [spheres](int threads) {
+    bench::SceneParams p;
+    p.spheres = spheres;
+    p.threads = threads;
+    return bench::find_scene("terrain-rain").build(p);
+  };
+}
+
+/// Polls sim.latest until `done(frame)` (10 s at most).
+template <class Done>
+Frame wait_for(LiveSimulation& sim, Frame frame, Done done) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!done(frame) && std::chrono::steady_clock::now() < until) {
+    sim.latest(frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return frame;
+}
+
+/// The frame a plain run of the scene gives after `steps` steps.
+Frame reference(std::size_t spheres, int threads, std::uint64_t steps) {
+  bench::Scene scene = rain(spheres)(threads);
+  for (std::uint64_t k = 0; k < steps; ++k) scene.world->step(scene.dt);
+  Frame frame;
+  capture_frame(*scene.world, 0.0, steps, frame);
+  return frame;
+}
+
+/// Paused, with nothing more in flight: the step it stopped at.
+Frame paused_frame(LiveSimulation& sim) {
+  sim.set_paused(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a step under way ends
+  Frame frame;
+  sim.latest(frame);
+  return frame;
+}
+
+}  // namespace
+
+TEST_CASE("The live simulation steps whole steps, and single steps, resets and thread changes keep the run", "[view]") {
+  LiveSimulation sim(rain(300), 1);
+  sim.set_speed(100.0f);  // as fast as it goes
+  Frame frame = paused_frame(sim);
+  const std::uint64_t stopped = frame.step;
+  CHECK(frame.centre == reference(300, 1, stopped).centre);  // a whole step, the plain run's
+
+  sim.set_threads(2);
+  for (int k = 0; k < 10; ++k) sim.step_once();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == stopped + 10; });
+  REQUIRE(frame.step == stopped + 10);
+  CHECK(sim.thread_count() == 2);
+  CHECK(frame.centre == reference(300, 1, stopped + 10).centre);  // bitwise, across the thread change
+
+  sim.reset();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == 0; });
+  CHECK(frame.step == 0);
+  CHECK(frame.centre == reference(300, 2, 0).centre);
+}
+
+TEST_CASE("Spawning drops a block of spheres where the ray meets the terrain; firing adds one fast sphere", "[view]") {
+  LiveSimulation sim(rain(100), 1);
+  Frame frame = paused_frame(sim);
+  const std::size_t n = frame.size();
+  sim.spawn_at(Vec3(0.0f, 200.0f, 0.0f), Vec3(0.0f, -1.0f, 0.0f));
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.size() == n + 27; });
+  REQUIRE(frame.size() == n + 27);
+  const float ground = bench::terrain_rain_height(0.0f, 0.0f);
+  for (std::size_t k = n; k < n + 27; ++k) {
+    CHECK(std::abs(frame.centre[3 * k]) < 3.0f);
+    CHECK(frame.centre[3 * k + 1] > ground);
+  }
+  sim.spawn_at(Vec3(0.0f, 200.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f));  // up: meets nothing
+  sim.fire(Vec3(0.0f, 40.0f, 0.0f), Vec3(1.0f, -1.0f, 0.0f), 80.0f);
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.size() == n + 28; });
+  REQUIRE(frame.size() == n + 28);
+  CHECK(frame.speed.back() == Approx(80.0f));
+}
+
+TEST_CASE("The camera's ray through the middle of the view points at its target", "[view]") {
+  OrbitCamera camera;
+  camera.target = Eigen::Vector3f(3.0f, 1.0f, -2.0f);
+  camera.distance = 25.0f;
+  const auto [origin, direction] = camera.ray_through(400.0, 300.0, 800, 600);
+  const Eigen::Vector3f towards = (camera.target - camera.eye()).normalized();
+  CHECK(direction.dot(towards) == Approx(1.0f).margin(1e-5));
+  CHECK((origin - camera.eye()).norm() < 0.1f);
+  const auto [left_origin, left] = camera.ray_through(0.0, 300.0, 800, 600);
+  const Eigen::Vector3f right_axis = camera.view().block<1, 3>(0, 0).transpose();
+  CHECK(left.dot(right_axis) < -0.1f);  // the left edge of the view looks left
+}
+
+TEST_CASE("A replay shows the recorded positions, with speeds from velocities or frame differences", "[view]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hail-view-test";
+  std::filesystem::create_directories(dir);
+  World world(WorldSettings{.threads = 1});
+  world.add_sphere({.position = {0, 0, 0}, .velocity = {3, 0, 4}, .radius = 0.5f});
+  world.set_gravity_scale(world.handles()[0], 0.0f);
+  for (const bool velocities : {false, true}) {
+    const auto path = dir / (velocities ? "v.hailrec" : "p.hailrec");
+    {
+      std::ofstream file(path, std::ios::binary);
+      RecordingWriter writer(file, recording_header(world, {}, "one", 0.5f, 2, velocities));
+      writer.write_frame(recording_frame(world, writer.header(), 0));
+      RecordingFrame moved = recording_frame(world, writer.header(), 2);
+      moved.positions = {3.0f, 0.0f, 4.0f};  // 5 m in 2 steps of 0.5 s: 5 m/s
+      writer.write_frame(moved);
+      writer.finish();
+    }
+    Replay replay(path.string());
+    Frame frame;
+    replay.load(1, frame);
+    CHECK(frame.step == 2);
+    CHECK(frame.centre == std::vector<float>{3.0f, 0.0f, 4.0f});
+    CHECK(frame.radius == std::vector<float>{0.5f});
+    CHECK(frame.speed[0] == Approx(5.0f));
+    replay.load(0, frame);
+    CHECK(frame.speed[0] == Approx(velocities ? 5.0f : 0.0f));
+  }
+  std::filesystem::remove_all(dir);
+}
