@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 
 #include "view/camera.h"
 #include "view/live_simulation.h"
@@ -23,9 +25,65 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// --frames DIR --every K: pictures of the run at step 0, K, 2K, ... up to --steps (or of every
+/// K-th recorded frame), the camera fixed where it framed the first.
+int write_sequence(const ViewOptions& o) {
+  std::filesystem::create_directories(o.frames_dir);
+  bench::Scene scene;
+  std::optional<Replay> replay;
+  std::string note;
+  Frame frame;
+  if (!o.replay_path.empty()) {
+    replay.emplace(o.replay_path);
+    if (replay->frame_count() == 0) throw std::runtime_error("the recording has no frames");
+    scene = scene_of_recording(replay->header(), note);
+    replay->load(0, frame);
+  } else {
+    scene = scene_factory(o)(o.params.threads);
+    capture_frame(*scene.world, 0.0, 0, frame);
+  }
+  if (!note.empty()) std::fprintf(stderr, "hail-view: %s\n", note.c_str());
+  GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
+  int pictures = 0;
+  {
+    const Bounds bounds = scene_bounds(scene, frame);
+    const Heightmap* heightmap = scene.world->terrain() ? &scene.world->terrain()->heightmap() : nullptr;
+    Renderer renderer(heightmap, scene.world->planes(), bounds.centre(), bounds.extent());
+    OrbitCamera camera;
+    const Bounds focus = focus_bounds(bounds, frame);
+    camera.frame_box(focus.min, focus.max);
+    OffscreenTarget target(o.width, o.height);
+    auto picture = [&] {
+      target.bind();
+      renderer.draw(frame, true, camera, o.width, o.height);
+      char name[32];
+      std::snprintf(name, sizeof name, "frame-%06d.png", pictures++);
+      write_png((std::filesystem::path(o.frames_dir) / name).string(), o.width, o.height, target.read_rgb());
+    };
+    if (replay) {
+      for (std::size_t k = 0; k < replay->frame_count(); k += std::size_t(o.every)) {
+        replay->load(k, frame);
+        picture();
+      }
+    } else {
+      picture();
+      for (int step = 1; step <= o.steps; ++step) {
+        scene.world->step(scene.dt);
+        if (step % o.every != 0) continue;
+        capture_frame(*scene.world, 0.0, std::uint64_t(step), frame);
+        picture();
+      }
+    }
+  }
+  close_window(window);
+  std::printf("hail-view: %d pictures written to %s (frame-000000.png ...)\n", pictures, o.frames_dir.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int run_headless(const ViewOptions& o) {
+  if (!o.frames_dir.empty()) return write_sequence(o);
   bench::Scene scene;
   Frame frame;
   std::string title, note;

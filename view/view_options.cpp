@@ -20,6 +20,12 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   app.add_option("--steps", o.steps, "headless: steps before the picture; replay: the frame to show first")
       ->check(CLI::Range(0, 100'000'000));
   app.add_option("--screenshot", o.screenshot_path, "headless: the PNG to write")->type_name("FILE.png");
+  app.add_option("--frames", o.frames_dir,
+                 "headless: an image sequence into DIR, frame-000000.png, ..., at step 0 and every --every K steps "
+                 "up to --steps (a replay: every K-th recorded frame)")
+      ->type_name("DIR");
+  app.add_option("--every", o.every, "with --frames: steps (or recorded frames) between pictures")
+      ->check(CLI::Range(1, 100'000'000));
   app.add_option("--width", o.width, "pixels")->check(CLI::Range(64, 8192));
   app.add_option("--height", o.height, "pixels")->check(CLI::Range(64, 8192));
   try {
@@ -30,8 +36,12 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     throw std::invalid_argument(e.what());
   }
-  if (o.headless && o.screenshot_path.empty()) throw std::invalid_argument("--headless needs --screenshot FILE.png");
-  if (!o.headless && !o.screenshot_path.empty()) throw std::invalid_argument("--screenshot needs --headless");
+  if (o.headless && o.screenshot_path.empty() && o.frames_dir.empty())
+    throw std::invalid_argument("--headless needs --screenshot FILE.png or --frames DIR");
+  if (!o.headless && (!o.screenshot_path.empty() || !o.frames_dir.empty()))
+    throw std::invalid_argument("--screenshot and --frames need --headless");
+  if (!o.screenshot_path.empty() && !o.frames_dir.empty())
+    throw std::invalid_argument("give --screenshot FILE.png or --frames DIR, not both");
   if (!o.scene_file.empty() && !o.replay_path.empty())
     throw std::invalid_argument("give --scene FILE.json or --replay FILE, not both");
   return o;

@@ -17,6 +17,8 @@ struct ViewOptions {
   bool headless = false;               ///< --headless: no window shown; render --steps N, write --screenshot
   int steps = 0;                       ///< --steps N before the picture (headless), or the frame shown (replay)
   std::string screenshot_path;         ///< --screenshot FILE.png
+  std::string frames_dir;              ///< --frames DIR: headless, a picture every --every K steps (or recorded frames)
+  int every = 10;                      ///< --every K
   int width = 1280, height = 720;      ///< window or picture size, pixels
 };
 
