@@ -158,6 +158,14 @@ TEST_CASE("A corrupt, foreign or future-version recording is refused, naming the
   const std::size_t frame1 = r.bytes.size() - recording::kEndBytes - recording::frame_bytes(150, true) + 100;
   expect_refused(changed(frame1, std::byte{0x5a}), "frame 2's checksum does not match");
   expect_refused(changed(r.bytes.size() - 12, std::byte{'x'}), "no end marker");
+  // An empty header payload with its (right) checksum: refused at its first field (the fuzzer's
+  // first find was this input reading from an empty buffer).
+  Bytes empty_header(r.bytes.begin(), r.bytes.begin() + recording::kHeaderBytes);
+  const std::uint64_t zero = 0, sum = fnv1a({});
+  std::memcpy(empty_header.data() + recording::kPayloadBytesAt, &zero, sizeof zero);
+  std::memcpy(empty_header.data() + recording::kChecksumAt, &sum, sizeof sum);
+  empty_header.insert(empty_header.end(), r.bytes.end() - recording::kEndBytes, r.bytes.end());
+  expect_refused(empty_header, "truncated: the scene name's length needs 8 bytes, 0 left");
 }
 
 TEST_CASE("The recording writer refuses a header or a frame out of its domain", "[recording]") {

@@ -65,6 +65,7 @@ RecordingReader RecordingReader::open_file(const std::string& path) {
 }
 
 void RecordingReader::read_at(std::uint64_t offset, std::span<std::byte> out) const {
+  if (out.empty()) return;  // (an empty header payload: memcpy from an empty vector's null data is undefined)
   if (!file_.is_open()) {
     std::memcpy(out.data(), bytes_.data() + offset, out.size());  // parse checked the range
     return;
