@@ -46,9 +46,9 @@ int write_sequence(const ViewOptions& o) {
   GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
   int pictures = 0;
   {
-    const Bounds bounds = scene_bounds(scene, frame);
-    const Heightmap* heightmap = scene.world->terrain() ? &scene.world->terrain()->heightmap() : nullptr;
-    Renderer renderer(heightmap, scene.world->planes(), bounds.centre(), bounds.extent());
+    const StaticGeometry geometry = StaticGeometry::of(*scene.world);
+    const Bounds bounds = scene_bounds(geometry, frame);
+    Renderer renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent());
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);
@@ -107,9 +107,9 @@ int run_headless(const ViewOptions& o) {
   GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
   int status = 0;
   {
-    const Bounds bounds = scene_bounds(scene, frame);
-    const Heightmap* heightmap = scene.world->terrain() ? &scene.world->terrain()->heightmap() : nullptr;
-    Renderer renderer(heightmap, scene.world->planes(), bounds.centre(), bounds.extent());
+    const StaticGeometry geometry = StaticGeometry::of(*scene.world);
+    const Bounds bounds = scene_bounds(geometry, frame);
+    Renderer renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent());
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);

@@ -49,6 +49,7 @@ class LiveSource final : public Source {
     controls_.threads = sim_.thread_count();
   }
   bool update(Frame& frame, double) override { return sim_.latest(frame); }
+  [[nodiscard]] const LiveSimulation& simulation() const { return sim_; }
   /// Shift + left click: spheres dropped where the cursor points; F: a fast sphere from the eye.
   void input(GLFWwindow* window, const OrbitCamera& camera) override {
     const ImGuiIO& io = ImGui::GetIO();
@@ -113,16 +114,17 @@ class ReplaySource final : public Source {
 int run_window(const ViewOptions& o) {
   // The scene is built before the window opens: a bad scene file fails without a flash of window.
   std::unique_ptr<Source> source;
-  bench::Scene geometry;  // the terrain and planes drawn (a live run's own scene is on its thread)
+  StaticGeometry geometry;  // the terrain and planes drawn
   std::string note;
   if (!o.replay_path.empty()) {
     auto replay = std::make_unique<ReplaySource>(o);
-    geometry = scene_of_recording(replay->replay().header(), note);
+    geometry = StaticGeometry::of(*scene_of_recording(replay->replay().header(), note).world);
     replay->set_note(note);
     source = std::move(replay);
   } else {
-    geometry = scene_factory(o)(1);
-    source = std::make_unique<LiveSource>(o, o.scene_file.empty() ? o.scene : o.scene_file);
+    auto live = std::make_unique<LiveSource>(o, o.scene_file.empty() ? o.scene : o.scene_file);
+    geometry = live->simulation().geometry();
+    source = std::move(live);
   }
   Frame frame;
   source->update(frame, 0.0);
@@ -136,8 +138,7 @@ int run_window(const ViewOptions& o) {
   ImGui_ImplOpenGL3_Init("#version 330");
   {
     const Bounds bounds = scene_bounds(geometry, frame);
-    const Heightmap* heightmap = geometry.world->terrain() ? &geometry.world->terrain()->heightmap() : nullptr;
-    Renderer renderer(heightmap, geometry.world->planes(), bounds.centre(), bounds.extent());
+    Renderer renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent());
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);

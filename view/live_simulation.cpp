@@ -26,6 +26,7 @@ void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame
 
 LiveSimulation::LiveSimulation(SceneFactory factory, int threads) : factory_(std::move(factory)) {
   scene_ = factory_(threads);
+  geometry_ = StaticGeometry::of(*scene_.world);
   dt_ = scene_.dt;
   thread_count_ = scene_.world->thread_count();
   capture_frame(*scene_.world, 0.0, 0, published_);

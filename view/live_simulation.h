@@ -14,6 +14,7 @@
 
 #include "bench/scenes/scenes.h"
 #include "view/frame.h"
+#include "view/static_geometry.h"
 
 namespace hail::view {
 
@@ -51,6 +52,8 @@ class LiveSimulation {
   /// collision: it should stop on the terrain, not pass through).
   void fire(const Vec3& origin, const Vec3& direction, float speed);
 
+  /// The scene's terrain and planes, as built (a reset builds the same scene again).
+  [[nodiscard]] const StaticGeometry& geometry() const { return geometry_; }
   [[nodiscard]] bool paused() const { return paused_.load(); }
   [[nodiscard]] float dt() const { return dt_; }
   [[nodiscard]] int thread_count() const { return thread_count_.load(); }
@@ -61,6 +64,7 @@ class LiveSimulation {
 
   SceneFactory factory_;
   bench::Scene scene_;
+  StaticGeometry geometry_;
   float dt_ = 1.0f / 60.0f;
   std::uint64_t steps_ = 0;
   std::atomic<bool> paused_{false}, stop_{false};

@@ -30,9 +30,9 @@ void Plots::draw() const {
     std::snprintf(overlay, sizeof overlay, "%.3g %s", last, unit);
     ImGui::PlotLines(label, v.data(), int(v.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(0, 50));
   };
-  plot("step", step_ms_, "ms");
+  if (!step_ms_.empty()) plot("step", step_ms_, "ms");  // (a replay has no steps)
   plot("draw", draw_ms_, "ms");
-  if (ImGui::CollapsingHeader("step phases (ms)"))
+  if (!step_ms_.empty() && ImGui::CollapsingHeader("step phases (ms)"))
     for (int k = 0; k < kPhases; ++k) plot(kPhaseNames[std::size_t(k)], phases_[std::size_t(k)], "ms");
   if (!energy_.empty()) plot("kinetic", energy_, "J");
 }
@@ -41,7 +41,7 @@ void live_panel(const std::string& title, const Frame& frame, LiveSimulation& si
                 const Plots& plots) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("hail");
+  ImGui::Begin("hail", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::Text("%s", title.c_str());
   ImGui::Text("%zu spheres, step %llu, %d threads", frame.size(), static_cast<unsigned long long>(frame.step),
               sim.thread_count());
@@ -74,7 +74,7 @@ bool replay_panel(const std::string& title, const std::string& note, int frame_c
                   ReplayControls& c, Renderer& renderer, const Plots& plots) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("hail replay");
+  ImGui::Begin("hail replay", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::Text("%s", title.c_str());
   if (!note.empty()) ImGui::TextWrapped("%s", note.c_str());
   ImGui::Text("%zu spheres, step %llu", frame.size(), static_cast<unsigned long long>(frame.step));

@@ -51,10 +51,10 @@ bool finite(const Bounds& b) { return b.min.allFinite() && b.max.allFinite(); }
 
 }  // namespace
 
-Bounds scene_bounds(const bench::Scene& scene, const Frame& frame) {
+Bounds scene_bounds(const StaticGeometry& geometry, const Frame& frame) {
   Bounds b = sphere_box(frame);
-  if (const Terrain* terrain = scene.world ? scene.world->terrain() : nullptr) {
-    const Heightmap& h = terrain->heightmap();
+  if (const Heightmap* heightmap = geometry.heightmap()) {
+    const Heightmap& h = *heightmap;
     b.min = b.min.cwiseMin(Eigen::Vector3f(h.x_of(0), h.min_height(), h.z_of(0)));
     b.max = b.max.cwiseMax(Eigen::Vector3f(h.max_x(), h.max_height(), h.max_z()));
   }

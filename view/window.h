@@ -5,8 +5,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "bench/scenes/scenes.h"
 #include "view/frame.h"
+#include "view/static_geometry.h"
 
 struct GLFWwindow;
 
@@ -24,7 +24,7 @@ struct Bounds {
   [[nodiscard]] Eigen::Vector3f centre() const { return 0.5f * (min + max); }
   [[nodiscard]] float extent() const { return (max - min).maxCoeff(); }
 };
-Bounds scene_bounds(const bench::Scene& scene, const Frame& frame);
+Bounds scene_bounds(const StaticGeometry& geometry, const Frame& frame);
 /// What the camera first frames: the spheres' box, grown about its centre to at least a third
 /// of `scene`'s (so a pile on a large terrain is seen close, with the ground around it).
 Bounds focus_bounds(const Bounds& scene, const Frame& frame);
