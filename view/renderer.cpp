@@ -84,6 +84,16 @@ void icosphere(int subdivisions, std::vector<float>& vertices, std::vector<unsig
   indices = std::move(f);
 }
 
+/// A new buffer bound to `target` (an index buffer so joins the bound vertex array) holding `data`.
+template <class T>
+GLuint static_buffer(GLenum target, const std::vector<T>& data) {
+  GLuint buffer = 0;
+  glGenBuffers(1, &buffer);
+  glBindBuffer(target, buffer);
+  glBufferData(target, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
+  return buffer;
+}
+
 }  // namespace
 
 Renderer::Renderer(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre,
@@ -110,14 +120,10 @@ void Renderer::build_sphere_mesh(int subdivisions) {
   sphere_index_count_ = static_cast<GLsizei>(indices.size());
   glGenVertexArrays(1, &sphere_vao_);
   glBindVertexArray(sphere_vao_);
-  glGenBuffers(1, &sphere_vertices_);
-  glBindBuffer(GL_ARRAY_BUFFER, sphere_vertices_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+  sphere_vertices_ = static_buffer(GL_ARRAY_BUFFER, vertices);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
-  glGenBuffers(1, &sphere_indices_);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, sphere_indices_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(unsigned)), indices.data(), GL_STATIC_DRAW);
+  sphere_indices_ = static_buffer(GL_ELEMENT_ARRAY_BUFFER, indices);
   glGenBuffers(1, &instances_);
   glBindBuffer(GL_ARRAY_BUFFER, instances_);
   constexpr GLsizei kStride = 5 * sizeof(float);
@@ -179,16 +185,12 @@ void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane
   plane_index_count_ = static_cast<GLsizei>(idx.size()) - terrain_index_count_;
   glGenVertexArrays(1, &mesh_vao_);
   glBindVertexArray(mesh_vao_);
-  glGenBuffers(1, &mesh_vertices_);
-  glBindBuffer(GL_ARRAY_BUFFER, mesh_vertices_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
+  mesh_vertices_ = static_buffer(GL_ARRAY_BUFFER, v);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
-  glGenBuffers(1, &mesh_indices_);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * sizeof(unsigned)), idx.data(), GL_STATIC_DRAW);
+  mesh_indices_ = static_buffer(GL_ELEMENT_ARRAY_BUFFER, idx);
   glBindVertexArray(0);
 }
 
