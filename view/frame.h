@@ -18,6 +18,10 @@ struct Frame {
   PhaseTimes phase_ms;        ///< of the step that made it
   double step_ms = 0.0;       ///< wall time of that step
   double kinetic_energy = 0.0;
+  /// m, the deepest overlap of two spheres or of a sphere and the ground, and the centres below
+  /// the ground (bench's measure_errors); live runs of up to kErrorFiguresUpTo spheres only, else 0.
+  double deepest_overlap = 0.0;
+  std::size_t tunnelled = 0;
   [[nodiscard]] std::size_t size() const { return radius.size(); }
 };
 

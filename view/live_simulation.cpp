@@ -1,9 +1,12 @@
 #include "view/live_simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <vector>
+
+#include "bench/scenes/metrics.h"
 
 namespace hail::view {
 
@@ -176,6 +179,11 @@ void LiveSimulation::run() {
     const double ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
     ++steps_;
     capture_frame(*scene_.world, ms, steps_, frame);
+    if (frame.size() <= kErrorFiguresUpTo) {
+      const bench::ErrorFigures errors = bench::measure_errors(scene_);
+      frame.deepest_overlap = std::max(errors.max_sphere_penetration, errors.max_terrain_penetration);
+      frame.tunnelled = errors.tunnelled;
+    }
     {
       std::lock_guard lock(mutex_);
       std::swap(published_, frame);

@@ -24,6 +24,10 @@ using SceneFactory = std::function<bench::Scene(int threads)>;
 /// The World's state now, as a Frame (slot order), with the last step's figures.
 void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out);
 
+/// Up to this many spheres a live run measures its error figures after every step (untimed;
+/// O(spheres) with a pair search): beyond it they would slow the run they describe.
+inline constexpr std::size_t kErrorFiguresUpTo = 100'000;
+
 class LiveSimulation {
  public:
   LiveSimulation(SceneFactory factory, int threads);

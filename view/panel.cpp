@@ -19,6 +19,8 @@ void Plots::add_step(const Frame& f) {
   for (int k = 0; k < kPhases; ++k) push(phases_[std::size_t(k)], float(values[k]));
   push(step_ms_, float(f.step_ms));
   push(energy_, float(f.kinetic_energy));
+  push(overlap_, float(f.deepest_overlap));
+  push(tunnelled_, float(f.tunnelled));
 }
 
 void Plots::add_draw(double ms) { push(draw_ms_, float(ms)); }
@@ -34,7 +36,11 @@ void Plots::draw() const {
   plot("draw", draw_ms_, "ms");
   if (!step_ms_.empty() && ImGui::CollapsingHeader("step phases (ms)"))
     for (int k = 0; k < kPhases; ++k) plot(kPhaseNames[std::size_t(k)], phases_[std::size_t(k)], "ms");
-  if (!energy_.empty()) plot("kinetic", energy_, "J");
+  if (!energy_.empty()) {
+    plot("kinetic", energy_, "J");
+    plot("overlap", overlap_, "m deepest");
+    plot("tunnelled", tunnelled_, "spheres");
+  }
 }
 
 void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& c, Renderer& renderer,

@@ -28,7 +28,7 @@ class Plots {
  private:
   static void push(std::vector<float>& v, float x);
   std::array<std::vector<float>, kPhases> phases_;
-  std::vector<float> step_ms_, draw_ms_, energy_;
+  std::vector<float> step_ms_, draw_ms_, energy_, overlap_, tunnelled_;
 };
 
 /// What the live panel edits, kept between frames.

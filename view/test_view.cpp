@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "bench/scenes/metrics.h"
 #include "bench/scenes/scene_run.h"
 #include "hail/recording.h"
 #include "tests/catch.h"
@@ -41,12 +42,15 @@ Frame wait_for(LiveSimulation& sim, Frame frame, Done done) {
   return frame;
 }
 
-/// The frame a plain run of the scene gives after `steps` steps.
+/// The frame a plain run of the scene gives after `steps` steps, with its error figures.
 Frame reference(std::size_t spheres, int threads, std::uint64_t steps) {
   bench::Scene scene = rain(spheres)(threads);
   for (std::uint64_t k = 0; k < steps; ++k) scene.world->step(scene.dt);
   Frame frame;
   capture_frame(*scene.world, 0.0, steps, frame);
+  const bench::ErrorFigures errors = bench::measure_errors(scene);
+  frame.deepest_overlap = std::max(errors.max_sphere_penetration, errors.max_terrain_penetration);
+  frame.tunnelled = errors.tunnelled;
   return frame;
 }
 
@@ -69,11 +73,15 @@ TEST_CASE("The live simulation steps whole steps, and single steps, resets and t
   CHECK(frame.centre == reference(300, 1, stopped).centre);  // a whole step, the plain run's
 
   sim.set_threads(2);
-  for (int k = 0; k < 10; ++k) sim.step_once();
-  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == stopped + 10; });
-  REQUIRE(frame.step == stopped + 10);
+  for (int k = 0; k < 150; ++k) sim.step_once();  // to where spheres meet the ground and each other
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == stopped + 150; });
+  REQUIRE(frame.step == stopped + 150);
   CHECK(sim.thread_count() == 2);
-  CHECK(frame.centre == reference(300, 1, stopped + 10).centre);  // bitwise, across the thread change
+  const Frame plain = reference(300, 1, stopped + 150);
+  CHECK(frame.centre == plain.centre);                    // bitwise, across the thread change
+  CHECK(frame.deepest_overlap > 0.0);                     // (spheres in contact, so the figure can tell steps apart)
+  CHECK(frame.deepest_overlap == plain.deepest_overlap);  // the error figures of that step
+  CHECK(frame.tunnelled == plain.tunnelled);
 
   sim.reset();
   frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == 0; });
