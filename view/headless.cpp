@@ -41,7 +41,7 @@ struct Subject {
       replay->load(std::min(first, replay->frame_count() - 1), frame);
       title = o.replay_path;
     } else {
-      scene = scene_factory(o)(o.params.threads);
+      scene = scene_factory(o)({.threads = o.params.threads});
       capture_frame(*scene.world, 0.0, 0, frame);
       title = o.scene_file.empty() ? o.scene : o.scene_file;
     }

@@ -45,7 +45,7 @@ class Source {
 class LiveSource final : public Source {
  public:
   LiveSource(const ViewOptions& o, std::string title)
-      : sim_(scene_factory(o), o.params.threads), title_(std::move(title)) {
+      : sim_(scene_factory(o), {.threads = o.params.threads}), title_(std::move(title)) {
     controls_.threads = sim_.thread_count();
   }
   bool update(Frame& frame, double) override { return sim_.latest(frame); }
@@ -69,6 +69,7 @@ class LiveSource final : public Source {
   }
   static constexpr float kFireSpeed = 80.0f;  ///< m/s: over a metre a step at 60 steps/s
   void panel(const Frame& frame, Renderer& renderer, const Plots& plots) override {
+    if (controls_.spheres == 0) controls_.spheres = int(frame.size());  // the scene's own, to start with
     live_panel(title_, frame, sim_, controls_, renderer, plots);
   }
 

@@ -27,8 +27,9 @@ void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame
   out.kinetic_energy = world.kinetic_energy();
 }
 
-LiveSimulation::LiveSimulation(SceneFactory factory, int threads) : factory_(std::move(factory)) {
-  scene_ = factory_(threads);
+LiveSimulation::LiveSimulation(SceneFactory factory, const SceneChoice& choice)
+    : factory_(std::move(factory)), choice_(choice) {
+  scene_ = factory_(choice_);
   geometry_ = StaticGeometry::of(*scene_.world);
   dt_ = scene_.dt;
   thread_count_ = scene_.world->thread_count();
@@ -66,6 +67,13 @@ void LiveSimulation::reset() {
   std::lock_guard lock(mutex_);
   reset_requested_ = true;
   wake_.notify_all();
+}
+
+void LiveSimulation::choose_for_reset(std::size_t spheres, PairSearch pair_search) {
+  std::lock_guard lock(mutex_);
+  SceneChoice next = choice_requested_.value_or(SceneChoice{});
+  next.spheres = spheres, next.pair_search = pair_search;
+  choice_requested_ = next;
 }
 
 void LiveSimulation::set_threads(int threads) {
@@ -124,7 +132,13 @@ void LiveSimulation::apply_requests() {
     restitution = restitution_, friction = friction_;
   }
   if (reset) {
-    scene_ = factory_(thread_count_.load());
+    {
+      std::lock_guard lock(mutex_);
+      if (choice_requested_)
+        choice_.spheres = choice_requested_->spheres, choice_.pair_search = choice_requested_->pair_search;
+      choice_requested_.reset();
+    }
+    scene_ = factory_(choice_);
     steps_ = 0;
   }
   if (threads >= 0) {
@@ -132,7 +146,8 @@ void LiveSimulation::apply_requests() {
     // the thread count: the run goes on as it would have.
     std::vector<std::byte> saved;
     scene_.world->save(saved);
-    bench::Scene rebuilt = factory_(threads);
+    choice_.threads = threads;
+    bench::Scene rebuilt = factory_(choice_);
     rebuilt.world->restore(saved);
     scene_ = std::move(rebuilt);
     thread_count_ = scene_.world->thread_count();

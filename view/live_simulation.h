@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -18,8 +19,15 @@
 
 namespace hail::view {
 
-/// Builds the scene with this many worker threads (0: all).
-using SceneFactory = std::function<bench::Scene(int threads)>;
+/// What the panel may change in how the scene is built; nullopt: the scene's own.
+struct SceneChoice {
+  int threads = 0;  ///< worker threads (0: all)
+  std::optional<std::size_t> spheres = std::nullopt;
+  std::optional<PairSearch> pair_search = std::nullopt;
+};
+
+/// Builds the scene as chosen.
+using SceneFactory = std::function<bench::Scene(const SceneChoice&)>;
 
 /// The World's state now, as a Frame (slot order), with the last step's figures.
 void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out);
@@ -30,7 +38,7 @@ inline constexpr std::size_t kErrorFiguresUpTo = 100'000;
 
 class LiveSimulation {
  public:
-  LiveSimulation(SceneFactory factory, int threads);
+  LiveSimulation(SceneFactory factory, const SceneChoice& choice);
   ~LiveSimulation();
   LiveSimulation(const LiveSimulation&) = delete;
   LiveSimulation& operator=(const LiveSimulation&) = delete;
@@ -42,6 +50,8 @@ class LiveSimulation {
   void set_paused(bool paused);
   void step_once();  ///< one step, while paused
   void reset();      ///< the scene built again, from its start
+  /// The sphere count and pair search the next reset builds with.
+  void choose_for_reset(std::size_t spheres, PairSearch pair_search);
   /// Steps per wall second = speed / dt (1: real time, 0.1: slow motion); the physics is the
   /// same at every speed (dt never changes), only the pacing.
   void set_speed(float speed) { speed_.store(speed); }
@@ -67,6 +77,7 @@ class LiveSimulation {
   void apply_requests();  // on the simulation thread
 
   SceneFactory factory_;
+  SceneChoice choice_;  // on the simulation thread; threads changes come through threads_requested_
   bench::Scene scene_;
   StaticGeometry geometry_;
   float dt_ = 1.0f / 60.0f;
@@ -80,6 +91,7 @@ class LiveSimulation {
   int single_steps_ = 0;
   bool reset_requested_ = false;
   int threads_requested_ = -1;
+  std::optional<SceneChoice> choice_requested_;  // for the next reset
   bool material_requested_ = false;
   float restitution_ = 0.5f, friction_ = 0.5f;
   std::vector<std::function<void(World&)>> edits_;  // spawn and fire, in the order asked

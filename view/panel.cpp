@@ -60,6 +60,15 @@ void live_panel(const std::string& title, const Frame& frame, LiveSimulation& si
   }
   ImGui::SameLine();
   if (ImGui::Button("reset")) sim.reset();
+  // Sphere count and pair search shape the scene as it is built: they take effect on reset.
+  static constexpr const char* kSearches[] = {"automatic", "brute force", "grid", "sweep and prune", "bvh"};
+  static constexpr PairSearch kSearchValues[] = {PairSearch::Automatic, PairSearch::BruteForce, PairSearch::Grid,
+                                                 PairSearch::SweepAndPrune, PairSearch::Bvh};
+  bool chosen = ImGui::InputInt("spheres", &c.spheres, 100, 1000);
+  c.spheres = std::clamp(c.spheres, 1, 10'000'000);
+  chosen |= ImGui::Combo("pair search", &c.pair_search, kSearches, IM_ARRAYSIZE(kSearches));
+  if (chosen) sim.choose_for_reset(std::size_t(c.spheres), kSearchValues[c.pair_search]);
+  ImGui::TextDisabled("(spheres and pair search: on reset)");
   if (ImGui::SliderFloat("time scale", &c.speed, 0.02f, 4.0f, "%.2f x real time", ImGuiSliderFlags_Logarithmic))
     sim.set_speed(c.speed);
   const int cores = std::max(1, int(std::thread::hardware_concurrency()));

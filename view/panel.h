@@ -37,6 +37,8 @@ struct LiveControls {
   float speed = 1.0f;
   int threads = 1;
   float restitution = 0.5f, friction = 0.5f;
+  int spheres = 0;      ///< for the next reset (0: not yet known)
+  int pair_search = 0;  ///< index into the panel's list (0: automatic), for the next reset
 };
 
 /// The live run's panel; calls `sim`'s controls as they are changed.

@@ -10,14 +10,18 @@ namespace hail::view {
 
 SceneFactory scene_factory(const ViewOptions& options) {
   if (!options.scene_file.empty())
-    return [path = options.scene_file](int threads) {
+    return [path = options.scene_file](const SceneChoice& c) {
       bench::SceneOverrides overrides;
-      overrides.threads = threads;
+      overrides.threads = c.threads;
+      overrides.spheres = c.spheres;
+      overrides.pair_search = c.pair_search;
       return bench::load_scene_file(path, overrides);
     };
-  return [name = options.scene, params = options.params](int threads) {
+  return [name = options.scene, params = options.params](const SceneChoice& c) {
     bench::SceneParams p = params;
-    p.threads = threads;
+    p.threads = c.threads;
+    p.spheres = c.spheres.value_or(p.spheres);
+    p.pair_search = c.pair_search.value_or(p.pair_search);
     return bench::find_scene(name).build(p);
   };
 }

@@ -23,10 +23,11 @@ using namespace hail::view;
 namespace {
 
 SceneFactory rain(std::size_t spheres) {
-  return [spheres](int threads) {
+  return [spheres](const SceneChoice& c) {
     bench::SceneParams p;
-    p.spheres = spheres;
-    p.threads = threads;
+    p.spheres = c.spheres.value_or(spheres);
+    p.threads = c.threads;
+    p.pair_search = c.pair_search.value_or(p.pair_search);
     return bench::find_scene("terrain-rain").build(p);
   };
 }
@@ -44,7 +45,7 @@ Frame wait_for(LiveSimulation& sim, Frame frame, Done done) {
 
 /// The frame a plain run of the scene gives after `steps` steps, with its error figures.
 Frame reference(std::size_t spheres, int threads, std::uint64_t steps) {
-  bench::Scene scene = rain(spheres)(threads);
+  bench::Scene scene = rain(spheres)({.threads = threads});
   for (std::uint64_t k = 0; k < steps; ++k) scene.world->step(scene.dt);
   Frame frame;
   capture_frame(*scene.world, 0.0, steps, frame);
@@ -66,7 +67,7 @@ Frame paused_frame(LiveSimulation& sim) {
 }  // namespace
 
 TEST_CASE("The live simulation steps whole steps, and single steps, resets and thread changes keep the run", "[view]") {
-  LiveSimulation sim(rain(300), 1);
+  LiveSimulation sim(rain(300), {.threads = 1});
   sim.set_speed(100.0f);  // as fast as it goes
   Frame frame = paused_frame(sim);
   const std::uint64_t stopped = frame.step;
@@ -90,7 +91,7 @@ TEST_CASE("The live simulation steps whole steps, and single steps, resets and t
 }
 
 TEST_CASE("Spawning drops a block of spheres where the ray meets the terrain; firing adds one fast sphere", "[view]") {
-  LiveSimulation sim(rain(100), 1);
+  LiveSimulation sim(rain(100), {.threads = 1});
   Frame frame = paused_frame(sim);
   const std::size_t n = frame.size();
   sim.spawn_at(Vec3(0.0f, 200.0f, 0.0f), Vec3(0.0f, -1.0f, 0.0f));
@@ -106,6 +107,16 @@ TEST_CASE("Spawning drops a block of spheres where the ray meets the terrain; fi
   frame = wait_for(sim, frame, [&](const Frame& f) { return f.size() == n + 28; });
   REQUIRE(frame.size() == n + 28);
   CHECK(frame.speed.back() == Approx(80.0f));
+
+  sim.choose_for_reset(60, PairSearch::Grid);  // taken at the reset, not before
+  const std::uint64_t at = frame.step;
+  sim.step_once();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == at + 1; });
+  REQUIRE(frame.step == at + 1);
+  CHECK(frame.size() == n + 28);
+  sim.reset();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == 0; });
+  CHECK(frame.size() == 60);
 }
 
 TEST_CASE("The camera's ray through the middle of the view points at its target", "[view]") {
