@@ -27,8 +27,8 @@ void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame
   out.kinetic_energy = world.kinetic_energy();
 }
 
-LiveSimulation::LiveSimulation(SceneFactory factory, const SceneChoice& choice)
-    : factory_(std::move(factory)), choice_(choice) {
+LiveSimulation::LiveSimulation(SceneFactory factory, const SceneChoice& choice, bool paused)
+    : factory_(std::move(factory)), choice_(choice), paused_(paused) {
   scene_ = factory_(choice_);
   geometry_ = StaticGeometry::of(*scene_.world);
   dt_ = scene_.dt;

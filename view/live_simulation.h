@@ -38,7 +38,8 @@ inline constexpr std::size_t kErrorFiguresUpTo = 100'000;
 
 class LiveSimulation {
  public:
-  LiveSimulation(SceneFactory factory, const SceneChoice& choice);
+  /// Builds the scene and starts stepping it (or, `paused`, waits for step_once or set_paused(false)).
+  LiveSimulation(SceneFactory factory, const SceneChoice& choice, bool paused = false);
   ~LiveSimulation();
   LiveSimulation(const LiveSimulation&) = delete;
   LiveSimulation& operator=(const LiveSimulation&) = delete;

@@ -55,30 +55,38 @@ Frame reference(std::size_t spheres, int threads, std::uint64_t steps) {
   return frame;
 }
 
-/// Paused, with nothing more in flight: the step it stopped at.
-Frame paused_frame(LiveSimulation& sim) {
-  sim.set_paused(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a step under way ends
+/// The state before the first step of a simulation made paused.
+Frame first_frame(LiveSimulation& sim) {
   Frame frame;
-  sim.latest(frame);
+  REQUIRE(sim.latest(frame));
+  REQUIRE(frame.step == 0);
   return frame;
 }
 
 }  // namespace
 
 TEST_CASE("The live simulation steps whole steps, and single steps, resets and thread changes keep the run", "[view]") {
-  LiveSimulation sim(rain(300), {.threads = 1});
+  LiveSimulation sim(rain(300), {.threads = 1}, /*paused=*/true);
   sim.set_speed(100.0f);  // as fast as it goes
-  Frame frame = paused_frame(sim);
+  Frame frame = first_frame(sim);
+  sim.set_paused(false);  // runs a while ...
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step >= 5; });
+  sim.set_paused(true);              // ... and stops at a step of its own choosing:
+  for (int quiet = 0; quiet < 3;) {  // the last one published (none new for 3 x 100 ms)
+    quiet = sim.latest(frame) ? 0 : quiet + 1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   const std::uint64_t stopped = frame.step;
   CHECK(frame.centre == reference(300, 1, stopped).centre);  // a whole step, the plain run's
 
   sim.set_threads(2);
-  for (int k = 0; k < 150; ++k) sim.step_once();  // to where spheres meet the ground and each other
-  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == stopped + 150; });
-  REQUIRE(frame.step == stopped + 150);
+  // Single steps to step 240 at least, where spheres lie on the ground and each other.
+  const std::uint64_t target = std::max<std::uint64_t>(stopped + 10, 240);
+  for (std::uint64_t k = stopped; k < target; ++k) sim.step_once();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == target; });
+  REQUIRE(frame.step == target);
   CHECK(sim.thread_count() == 2);
-  const Frame plain = reference(300, 1, stopped + 150);
+  const Frame plain = reference(300, 1, target);
   CHECK(frame.centre == plain.centre);                    // bitwise, across the thread change
   CHECK(frame.deepest_overlap > 0.0);                     // (spheres in contact, so the figure can tell steps apart)
   CHECK(frame.deepest_overlap == plain.deepest_overlap);  // the error figures of that step
@@ -91,8 +99,8 @@ TEST_CASE("The live simulation steps whole steps, and single steps, resets and t
 }
 
 TEST_CASE("Spawning drops a block of spheres where the ray meets the terrain; firing adds one fast sphere", "[view]") {
-  LiveSimulation sim(rain(100), {.threads = 1});
-  Frame frame = paused_frame(sim);
+  LiveSimulation sim(rain(100), {.threads = 1}, /*paused=*/true);
+  Frame frame = first_frame(sim);
   const std::size_t n = frame.size();
   sim.spawn_at(Vec3(0.0f, 200.0f, 0.0f), Vec3(0.0f, -1.0f, 0.0f));
   frame = wait_for(sim, frame, [&](const Frame& f) { return f.size() == n + 27; });
