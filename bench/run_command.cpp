@@ -18,6 +18,7 @@
 #include "bench/scenes/scene_filters.h"
 #include "bench/scenes/scene_run.h"
 #include "cli.h"
+#include "hail/recording.h"
 
 namespace hail::bench {
 namespace {
@@ -134,6 +135,12 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
                  "exit status 1 unless the final state hash is H (16 hex digits, as printed): a run checked on "
                  "another machine")
       ->type_name("H");
+  app.add_option("--record", o.record_path,
+                 "record the (last) run: positions at step 0 and every --every K steps (docs/recording_format.md; "
+                 "hail-view --replay plays it); untimed")
+      ->type_name("FILE");
+  add_count(app, "--every", o.record_every, 1, 100'000'000, "with --record: steps between frames");
+  app.add_flag("--velocities", o.record_velocities, "with --record: frames carry velocities too");
   app.add_flag("--quiet", o.quiet,
                "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
                "progress lines on stderr; with --ccd both, the table");
@@ -148,8 +155,12 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     if (o.dump_every > 0 && o.dump_state_path.empty())
       usage_error("--dump-every " + std::to_string(o.dump_every) +
                   " needs --dump-state FILE.csv (the files are named after it)");
-    if (o.ccd_both && (o.save_at > 0 || !o.restore_path.empty() || !o.expect_hash.empty()))
-      usage_error("--save-at, --restore and --expect-hash take one world: not with --ccd both");
+    if (o.ccd_both && (o.save_at > 0 || !o.restore_path.empty() || !o.expect_hash.empty() || !o.record_path.empty()))
+      usage_error("--save-at, --restore, --expect-hash and --record take one world: not with --ccd both");
+    if (o.record_path.empty() && (app.count("--every") > 0 || o.record_velocities))
+      usage_error("--every and --velocities need --record FILE");
+    if (!o.record_path.empty() && o.filters == "compare")
+      usage_error("--record takes one world: not with --filters compare");
     if (o.save_at > 0 && o.save_path == o.restore_path)
       usage_error("--save-at would overwrite the --restore snapshot '" + o.save_path + "'");
     if (o.scene_named && !o.scene_file.empty())
@@ -222,6 +233,26 @@ void restore_scene(Scene& scene, const std::string& path) {
   std::sort(scene.ids.begin(), scene.ids.end(), [](SphereId a, SphereId b) { return a.index < b.index; });
 }
 
+/// --record: the file and its writer, frame 0 written once the scene is built, a frame after
+/// every --every K steps (untimed), the end marker once the run is over.
+struct Recorder {
+  std::ofstream file;
+  std::optional<RecordingWriter> writer;
+  RecordingFrame frame;  // reused
+
+  void begin(const CommandOptions& o, const std::string& name, const Scene& scene) {
+    file.open(o.record_path, std::ios::binary | std::ios::trunc);
+    if (!file) throw std::runtime_error("--record: cannot write '" + o.record_path + "'");
+    writer.emplace(file, recording_header(*scene.world, scene.ids, name, scene.dt,
+                                          static_cast<std::uint32_t>(o.record_every), o.record_velocities));
+    write(scene, 0);
+  }
+  void write(const Scene& scene, int step) {
+    recording_frame(*scene.world, writer->header(), static_cast<std::uint64_t>(step), frame);
+    writer->write_frame(frame);
+  }
+};
+
 /// One run of the scene (named or from a file) with these parameters.
 RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last, const std::string& filters) {
   RunOptions run_options{.steps = o.steps,
@@ -233,9 +264,12 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
                          .after_step = {}};
   const float d = static_cast<float>(o.origin);
   const bool save = last && o.save_at > 0;
-  if (o.home_after > 0 || save)
+  const bool record = last && !o.record_path.empty();
+  Recorder recorder;
+  if (o.home_after > 0 || save || record)
     run_options.after_step = [&](Scene& scene, int step) {
       if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
+      if (record && step % o.record_every == 0) recorder.write(scene, step);
       if (save && step == o.save_at) {
         const auto start = std::chrono::steady_clock::now();
         scene.world->save_file(o.save_path);
@@ -248,17 +282,22 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
     if (d != 0.0f) move_scene(scene, Vec3(d, 0.0f, d));
     give_filters(scene, filter_mode);
     if (!o.restore_path.empty()) restore_scene(scene, o.restore_path);
+    if (record) recorder.begin(o, o.scene_file.empty() ? o.scene : o.scene_file, scene);
     return scene;
   };
+  RunResult result;
   if (o.scene_file.empty()) {
     const SceneEntry& entry = find_scene(o.scene);
-    return run_scene(
+    result = run_scene(
         entry.name, [&] { return moved(entry.build(params)); }, run_options);
+  } else {
+    CommandOptions file_options = o;
+    file_options.params = params;
+    result = run_scene(
+        o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
   }
-  CommandOptions file_options = o;
-  file_options.params = params;
-  return run_scene(
-      o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
+  if (record) recorder.writer->finish();
+  return result;
 }
 
 double median_of(std::vector<double> v) {
@@ -444,7 +483,7 @@ int run_command(const RunCommandOptions& o) {
   // Before anything is built: an output that cannot be written, or that would overwrite the
   // scene file (or its heightmap) or another output, stops the run now rather than at its end.
   // --dump-every's files lie beside --dump-state's: the first of them stands for them all.
-  check_output_paths({o.json_path, o.trace_path, o.dump_state_path,
+  check_output_paths({o.json_path, o.trace_path, o.dump_state_path, o.record_path,
                       o.dump_every > 0 ? step_dump_path(o.dump_state_path, 0) : std::string()},
                      scene_inputs(o.scene_file));
   check_memory(o);
@@ -528,6 +567,9 @@ int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
       std::printf("  dump      and the state at step 0 and every %d steps to %s, ...\n", o.dump_every,
                   step_dump_path(o.dump_state_path, 0).c_str());
   }
+  if (!o.record_path.empty() && !o.quiet)
+    std::printf("  record    positions%s at step 0 and every %d steps written to %s (hail-view --replay plays it)\n",
+                o.record_velocities ? " and velocities" : "", o.record_every, o.record_path.c_str());
   if (!o.trace_path.empty() && !o.quiet)
     std::printf("  trace     written to %s (open in https://ui.perfetto.dev or chrome://tracing)\n",
                 o.trace_path.c_str());

@@ -33,8 +33,11 @@ struct RunCommandOptions {
   std::string filters = "none";    // --filters none|accept-all|teams|compare (bench/scenes/scene_filters.h)
   int save_at = 0;                 // --save-at STEP FILE: World::save_file after step STEP (0: none)
   std::string save_path;
-  std::string restore_path;  // --restore FILE: World::restore_file once the scene is built
-  std::string expect_hash;   // --expect-hash H: exit status 1 unless the final state hash is H
+  std::string restore_path;        // --restore FILE: World::restore_file once the scene is built
+  std::string expect_hash;         // --expect-hash H: exit status 1 unless the final state hash is H
+  std::string record_path;         // --record FILE: positions every --every K steps (hail/recording.h)
+  int record_every = 1;            // --every K
+  bool record_velocities = false;  // --velocities: frames carry velocities too
 };
 
 /// Declares run's flags on `app`, writing `o`; the checks between flags run once `app` is parsed.

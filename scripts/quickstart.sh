@@ -13,6 +13,9 @@ mode="${1:-bench}"
 case "$mode" in bench|test) ;; *) echo "usage: $0 bench|test" >&2; exit 2 ;; esac
 
 packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev libstb-dev)
+# hail-view (view/) and its headless picture test: GLFW, Dear ImGui (its GLFW and OpenGL3
+# backends ship in the package), libepoxy, and Xvfb with xauth and Mesa's software OpenGL.
+packages+=(libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth libgl1-mesa-dri)
 # The benchmark side also wants the peers and tools it compares with; the tests never need them.
 if [ "$mode" = bench ]; then packages+=(libbullet-dev libbenchmark-dev gnuplot-nox); fi
 missing=()

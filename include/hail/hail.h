@@ -13,6 +13,7 @@
 //   <hail/events.h>          TouchEvent, HitEvent, EventSettings: World::set_events, touch_*_events(), hit_events()
 //   <hail/queries.h>         Ray, QueryHit, QueryFilter: World::raycast, sphere_cast, overlap_sphere/box
 //   <hail/snapshot.h>        terrain_content_hash: what World::save/restore check the terrain by
+//   <hail/recording.h>       RecordingWriter, RecordingReader: positions every K steps, to replay
 //   <hail/contact.h>         hail::Contact, hail::Impact: what last_contacts()/last_impacts() hold
 //   <hail/sphere_soa.h>      hail::SphereSoA, SphereId: the sphere arrays World::soa() shows
 //   <hail/plane.h>           hail::Plane: a static plane as World::planes() shows it
@@ -38,6 +39,7 @@
 #include "hail/phase_trace.h"
 #include "hail/plane.h"
 #include "hail/queries.h"
+#include "hail/recording.h"
 #include "hail/snapshot.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"

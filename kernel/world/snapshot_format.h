@@ -73,13 +73,15 @@ class Writer {
 };
 
 /// Reads values from a byte range; every read past its end, and every value out of its
-/// domain, throws InvalidArgument("hail: snapshot: ..."), naming what was being read.
+/// domain, throws InvalidArgument("hail: snapshot: ..."), naming what was being read (the
+/// recording reader, kernel/world/recording_reader.cpp, passes format "recording").
 class Reader {
  public:
-  explicit Reader(std::span<const std::byte> bytes, std::string where) : bytes_(bytes), where_(std::move(where)) {}
+  explicit Reader(std::span<const std::byte> bytes, std::string where, const char* format = "snapshot")
+      : bytes_(bytes), where_(std::move(where)), format_(format) {}
 
   [[noreturn]] void refuse(const std::string& problem) const {
-    throw InvalidArgument("hail: snapshot: " + where_ + ": " + problem);
+    throw InvalidArgument(std::string("hail: ") + format_ + ": " + where_ + ": " + problem);
   }
   template <class T>
   T value(const char* what) {
@@ -121,7 +123,7 @@ class Reader {
     if (length > left())
       refuse("truncated: section " + name + " says " + std::to_string(length) + " bytes, " + std::to_string(left()) +
              " left");
-    return Reader(take(static_cast<std::size_t>(length), "a section"), "section " + name);
+    return Reader(take(static_cast<std::size_t>(length), "a section"), "section " + name, format_);
   }
   /// Refuses bytes left over (a section longer than its fields: another layout).
   void finish() const {
@@ -138,6 +140,7 @@ class Reader {
   std::span<const std::byte> bytes_;
   std::size_t at_ = 0;
   std::string where_;
+  const char* format_;
 };
 
 /// Calls f(field, name) for every WorldSettings field that a snapshot keeps: all but threads

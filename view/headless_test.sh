@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# ctest view_headless_picture (view/CMakeLists.txt): hail-view --headless (a picture, then an
+# image sequence) under Xvfb with Mesa's software OpenGL, each picture judged by
+# hail-view-check-png. Skipped (exit 77) where xvfb-run is not installed (apt-get install xvfb).
+#   headless_test.sh HAIL_VIEW CHECK_PNG OUT_DIR
+set -euo pipefail
+view=$1 check=$2 out=$3
+if ! command -v xvfb-run > /dev/null; then
+  echo "view_headless_picture: SKIPPED: xvfb-run not found (sudo apt-get install xvfb)"
+  exit 77
+fi
+mkdir -p "$out"
+picture="$out/headless-terrain-rain.png"
+rm -f "$picture"
+LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
+  "$view" terrain-rain --spheres 1600 --threads 2 --headless --steps 240 --screenshot "$picture" --width 480 --height 270
+"$check" "$picture" 480 270
+# The image sequence (--frames DIR --every K): step 0, 120 and 240, each a picture that passes.
+frames="$out/frames"
+rm -rf "$frames"
+LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
+  "$view" terrain-rain --spheres 1600 --threads 2 --headless --steps 240 --every 120 --frames "$frames" --width 480 --height 270
+for k in 0 1 2; do "$check" "$(printf '%s/frame-%06d.png' "$frames" "$k")" 480 270; done
+[ ! -e "$frames/frame-000003.png" ] || { echo "view_headless_picture: more pictures than steps 0, 120, 240" >&2; exit 1; }

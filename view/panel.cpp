@@ -1,0 +1,107 @@
+#include "view/panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace hail::view {
+
+void Plots::push(std::vector<float>& v, float x) {
+  if (v.size() == kLength) v.erase(v.begin());
+  v.push_back(x);
+}
+
+void Plots::add_step(const Frame& f) {
+  const PhaseTimes& p = f.phase_ms;
+  const double values[kPhases] = {p.reorder, p.predict, p.detect_terrain, p.detect_pairs,
+                                  p.solve,   p.sweep,   p.integrate,      p.depenetrate};
+  for (int k = 0; k < kPhases; ++k) push(phases_[std::size_t(k)], float(values[k]));
+  push(step_ms_, float(f.step_ms));
+  push(energy_, float(f.kinetic_energy));
+  push(overlap_, float(f.deepest_overlap));
+  push(tunnelled_, float(f.tunnelled));
+}
+
+void Plots::add_draw(double ms) { push(draw_ms_, float(ms)); }
+
+void Plots::draw() const {
+  auto plot = [](const char* label, const std::vector<float>& v, const char* unit) {
+    const float last = v.empty() ? 0.0f : v.back();
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "%.3g %s", last, unit);
+    ImGui::PlotLines(label, v.data(), int(v.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(0, 50));
+  };
+  if (!step_ms_.empty()) plot("step", step_ms_, "ms");  // (a replay has no steps)
+  plot("draw", draw_ms_, "ms");
+  if (!step_ms_.empty() && ImGui::CollapsingHeader("step phases (ms)"))
+    for (int k = 0; k < kPhases; ++k) plot(kPhaseNames[std::size_t(k)], phases_[std::size_t(k)], "ms");
+  if (!energy_.empty()) {
+    plot("kinetic", energy_, "J");
+    plot("overlap", overlap_, "m deepest");
+    plot("tunnelled", tunnelled_, "spheres");
+  }
+}
+
+void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& c, Renderer& renderer,
+                const Plots& plots) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("hail", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::Text("%s", title.c_str());
+  ImGui::Text("%zu spheres, step %llu, %d threads", frame.size(), static_cast<unsigned long long>(frame.step),
+              sim.thread_count());
+  if (ImGui::Checkbox("pause", &c.paused)) sim.set_paused(c.paused);
+  ImGui::SameLine();
+  if (ImGui::Button("step")) {
+    c.paused = true;
+    sim.set_paused(true);
+    sim.step_once();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("reset")) sim.reset();
+  // Sphere count and pair search shape the scene as it is built: they take effect on reset.
+  static constexpr const char* kSearches[] = {"automatic", "brute force", "grid", "sweep and prune", "bvh"};
+  static constexpr PairSearch kSearchValues[] = {PairSearch::Automatic, PairSearch::BruteForce, PairSearch::Grid,
+                                                 PairSearch::SweepAndPrune, PairSearch::Bvh};
+  bool chosen = ImGui::InputInt("spheres", &c.spheres, 100, 1000);
+  c.spheres = std::clamp(c.spheres, 1, 10'000'000);
+  chosen |= ImGui::Combo("pair search", &c.pair_search, kSearches, IM_ARRAYSIZE(kSearches));
+  if (chosen) sim.choose_for_reset(std::size_t(c.spheres), kSearchValues[c.pair_search]);
+  ImGui::TextDisabled("(spheres and pair search: on reset)");
+  if (ImGui::SliderFloat("time scale", &c.speed, 0.02f, 4.0f, "%.2f x real time", ImGuiSliderFlags_Logarithmic))
+    sim.set_speed(c.speed);
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  ImGui::SliderInt("threads", &c.threads, 1, cores);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_threads(c.threads);
+  ImGui::SliderFloat("restitution", &c.restitution, 0.0f, 1.0f);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_material(c.restitution, c.friction);
+  ImGui::SliderFloat("friction", &c.friction, 0.0f, 2.0f);
+  if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_material(c.restitution, c.friction);
+  ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
+  plots.draw();
+  ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::TextDisabled("shift + click: drop spheres there; F: fire a fast sphere at the cursor");
+  ImGui::End();
+}
+
+bool replay_panel(const std::string& title, const std::string& note, int frame_count, const Frame& frame,
+                  ReplayControls& c, Renderer& renderer, const Plots& plots) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("hail replay", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::Text("%s", title.c_str());
+  if (!note.empty()) ImGui::TextWrapped("%s", note.c_str());
+  ImGui::Text("%zu spheres, step %llu", frame.size(), static_cast<unsigned long long>(frame.step));
+  ImGui::Checkbox("play", &c.playing);
+  const bool scrubbed = ImGui::SliderInt("frame", &c.frame, 0, std::max(frame_count - 1, 0));
+  if (scrubbed) c.playing = false;
+  ImGui::SliderFloat("frames/s", &c.frames_per_second, 1.0f, 120.0f, "%.0f");
+  ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
+  plots.draw();
+  ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::End();
+  return scrubbed;
+}
+
+}  // namespace hail::view

@@ -1,0 +1,12 @@
+#pragma once
+// PNG pictures (stb_image_write, from Debian's libstb-dev).
+
+#include <string>
+#include <vector>
+
+namespace hail::view {
+
+/// Writes RGB pixels (top row first) to `path`; throws std::runtime_error if it cannot.
+void write_png(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb);
+
+}  // namespace hail::view

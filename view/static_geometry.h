@@ -1,0 +1,28 @@
+#pragma once
+// What the renderer draws besides spheres: the terrain's heightmap and the planes, copied out of
+// a World once (they never change during a run), so that the render thread never reads the
+// World the simulation thread steps.
+
+#include <optional>
+#include <vector>
+
+#include "hail/heightmap.h"
+#include "hail/plane.h"
+#include "hail/world.h"
+
+namespace hail::view {
+
+struct StaticGeometry {
+  std::optional<Heightmap> terrain;
+  std::vector<Plane> planes;
+
+  [[nodiscard]] static StaticGeometry of(const World& world) {
+    StaticGeometry g;
+    if (world.terrain()) g.terrain.emplace(world.terrain()->heightmap());
+    g.planes.assign(world.planes().begin(), world.planes().end());
+    return g;
+  }
+  [[nodiscard]] const Heightmap* heightmap() const { return terrain ? &*terrain : nullptr; }
+};
+
+}  // namespace hail::view

@@ -1,0 +1,29 @@
+#pragma once
+// hail-view's command line: what to show (a built-in scene, a scene file or a recording) and
+// how (a window, or --headless pictures).
+
+#include <optional>
+#include <string>
+
+#include "bench/scenes/scenes.h"
+
+namespace hail::view {
+
+struct ViewOptions {
+  std::string scene = "terrain-rain";  ///< a built-in scene (bench/scenes)
+  std::string scene_file;              ///< --scene FILE.json instead
+  std::string replay_path;             ///< --replay FILE: play a recording (hail-bench run --record)
+  bench::SceneParams params;           ///< --spheres, --threads
+  bool headless = false;               ///< --headless: no window shown; render --steps N, write --screenshot
+  int steps = 0;                       ///< --steps N before the picture (headless), or the frame shown (replay)
+  std::string screenshot_path;         ///< --screenshot FILE.png
+  std::string frames_dir;              ///< --frames DIR: headless, a picture every --every K steps (or recorded frames)
+  int every = 10;                      ///< --every K
+  int width = 1280, height = 720;      ///< window or picture size, pixels
+};
+
+/// Parses argv; std::nullopt after --help (printed). Throws std::invalid_argument (CLI11's
+/// message) on a bad flag.
+std::optional<ViewOptions> parse_view_options(int argc, char** argv);
+
+}  // namespace hail::view
