@@ -351,7 +351,10 @@ TEST_CASE("raycast_batch with SIMD leaves equals raycast and the brute force on 
       misses += !scalar[k], inside += scalar[k] && scalar[k]->distance == 0.0f;
       if (scalar[k] && std::find(tied.begin(), tied.end(), scalar[k]->sphere) != tied.end()) ++ties;
       // The brute force on every seventh ray (it tests every primitive) and on the tie rays.
-      if (k % 7 == 0 || k >= 3000) REQUIRE(same_hit(scalar[k], brute_closest(w, rays[k], f))), ++brute_checked;
+      if (k % 7 == 0 || k >= 3000) {
+        REQUIRE(same_hit(scalar[k], brute_closest(w, rays[k], f)));
+        ++brute_checked;
+      }
     }
     for (SimdPath path : testing::supported_paths()) {
       testing::ScopedSimdPath on(path);
