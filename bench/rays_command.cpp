@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "hail/world.h"
 #include "kernel/geometry/ray_sphere.h"
+#include "kernel/world/ray_batch_leaf_test.h"
 
 namespace hail::bench {
 namespace {
@@ -122,10 +123,12 @@ int rays_command(const RaysOptions& o) {
   std::printf("# hail-bench rays: %d rays, %d threads, median of %d; %s, simd %s\n", o.rays, o.threads, o.repeats,
               cpu_model().c_str(), simd_path().c_str());
   std::printf(
-      "# build: the query BVH over the spheres (first query after a change); batch: raycast_batch;\n"
-      "# brute: every sphere and plane per ray, one thread; mismatches: rays whose hit differs (of brute rays)\n");
-  std::printf("%10s %10s %14s %14s %11s %14s %11s\n", "spheres", "build_ms", "batch_rays/s", "brute_rays/s",
-              "brute_rays", "speedup", "mismatches");
+      "# build: the query BVH over the spheres (first query after a change); batch: raycast_batch, leaves\n"
+      "# tested in SIMD lanes; scalar: raycast_batch with the scalar leaf test; simd_gain: batch / scalar;\n"
+      "# brute: every sphere and plane per ray, one thread; speedup: batch / brute;\n"
+      "# mismatches: rays whose hit differs from the batch's (scalar: of all rays; brute: of brute rays)\n");
+  std::printf("%10s %10s %14s %14s %10s %14s %11s %10s %11s\n", "spheres", "build_ms", "batch_rays/s", "scalar_rays/s",
+              "simd_gain", "brute_rays/s", "brute_rays", "speedup", "mismatches");
   int status = 0;
   for (const long long n : sizes) {
     WorldSettings settings;
@@ -133,8 +136,8 @@ int rays_command(const RaysOptions& o) {
     World world(settings);
     const float side = fill_world(world, n, 1);
     const std::vector<Ray> rays = make_rays(o.rays, side, 2);
-    std::vector<std::optional<QueryHit>> hits(rays.size());
-    std::vector<double> build, batch;
+    std::vector<std::optional<QueryHit>> hits(rays.size()), scalar_hits(rays.size());
+    std::vector<double> build, batch, scalar;
     for (int r = 0; r < o.repeats; ++r) {
       world.set_position(world.id_at(0), world.position(world.id_at(0)));  // a change: the next query rebuilds
       auto t0 = clock_type::now();
@@ -143,20 +146,29 @@ int rays_command(const RaysOptions& o) {
       t0 = clock_type::now();
       world.raycast_batch(rays, hits);
       batch.push_back(seconds_since(t0));
+      set_ray_batch_leaf_test(RayBatchLeafTest::Scalar);
+      t0 = clock_type::now();
+      world.raycast_batch(rays, scalar_hits);
+      scalar.push_back(seconds_since(t0));
+      set_ray_batch_leaf_test(RayBatchLeafTest::Simd);
     }
+    std::size_t mismatches = 0;
+    for (std::size_t k = 0; k < rays.size(); ++k) mismatches += !same(scalar_hits[k], hits[k]);
     const std::size_t brute_rays =
         std::min<std::size_t>(rays.size(), std::max<std::size_t>(64, static_cast<std::size_t>(o.brute_budget / n)));
     std::vector<double> brute;
-    std::size_t mismatches = 0;
+    std::size_t brute_mismatches = 0;
     for (int r = 0; r < o.repeats; ++r) {
-      mismatches = 0;
+      brute_mismatches = 0;
       const auto t0 = clock_type::now();
-      for (std::size_t k = 0; k < brute_rays; ++k) mismatches += !same(brute_raycast(world, rays[k]), hits[k]);
+      for (std::size_t k = 0; k < brute_rays; ++k) brute_mismatches += !same(brute_raycast(world, rays[k]), hits[k]);
       brute.push_back(seconds_since(t0));
     }
-    const double batch_rate = rays.size() / median(batch), brute_rate = brute_rays / median(brute);
-    std::printf("%10lld %10.2f %14.4g %14.4g %11zu %13.1fx %11zu\n", n, 1e3 * median(build), batch_rate, brute_rate,
-                brute_rays, batch_rate / brute_rate, mismatches);
+    mismatches += brute_mismatches;
+    const double batch_rate = rays.size() / median(batch), scalar_rate = rays.size() / median(scalar);
+    const double brute_rate = brute_rays / median(brute);
+    std::printf("%10lld %10.2f %14.4g %14.4g %9.2fx %14.4g %11zu %9.1fx %11zu\n", n, 1e3 * median(build), batch_rate,
+                scalar_rate, batch_rate / scalar_rate, brute_rate, brute_rays, batch_rate / brute_rate, mismatches);
     std::fflush(stdout);
     if (mismatches) status = 1;
   }

@@ -15,6 +15,8 @@
 #include "hail/world.h"
 #include "kernel/geometry/ray_sphere.h"
 #include "kernel/geometry/swept_sphere.h"
+#include "kernel/world/ray_batch_leaf_test.h"
+#include "simd_paths.h"
 
 using namespace hail;
 
@@ -285,6 +287,86 @@ TEST_CASE("raycast_batch equals raycast ray by ray, bitwise on 1 and 2 threads",
   CHECK(hit_count > rays.size() / 2);
   std::vector<std::optional<QueryHit>> short_of(rays.size() - 1);
   CHECK_THROWS_AS(one.world->raycast_batch(rays, short_of), InvalidArgument);
+}
+
+namespace {
+
+/// Sets raycast_batch's leaf test for its lifetime, then restores the SIMD one.
+struct ScopedLeafTest {
+  explicit ScopedLeafTest(RayBatchLeafTest test) { set_ray_batch_leaf_test(test); }
+  ~ScopedLeafTest() { set_ray_batch_leaf_test(RayBatchLeafTest::Simd); }
+  ScopedLeafTest(const ScopedLeafTest&) = delete;
+  ScopedLeafTest& operator=(const ScopedLeafTest&) = delete;
+};
+
+}  // namespace
+
+TEST_CASE("raycast_batch with SIMD leaves equals raycast and the brute force on every SIMD path, ties included",
+          "[queries][simd]") {
+  Scene s = make_scene(2001, 21, 2);  // 2001: the last leaf is short (the lanes' scalar tail)
+  World& w = *s.world;
+  // Ties: nine equal spheres (three leaves' worth) on one spot and two pairs elsewhere; a ray
+  // into them meets all at one distance, and the lowest handle index must win.
+  std::vector<Vec3> tie_spots = {{20.5f, 18.0f, 20.5f}, {40.25f, 10.0f, 12.0f}, {8.0f, 25.0f, 50.0f}};
+  std::vector<SphereId> tied;
+  for (std::size_t spot = 0; spot < tie_spots.size(); ++spot)
+    for (int k = 0; k < (spot == 0 ? 9 : 2); ++k) {
+      SphereDesc d;
+      d.position = tie_spots[spot];
+      d.radius = 0.75f;
+      d.filter.category = 1u << (k % 2);
+      tied.push_back(w.add_sphere(d));
+    }
+  auto rays = random_rays(3000, 22);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (const Vec3& spot : tie_spots)
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 from = spot + Vec3(u(rng), u(rng), u(rng)) * 6.0f;
+      rays.push_back({from, spot - from, std::numeric_limits<float>::infinity()});
+      rays.push_back({spot + Vec3(u(rng), u(rng), u(rng)) * 0.5f, {u(rng), u(rng), 1.0f}});  // from inside
+    }
+  for (std::size_t k = 0; k < 200; ++k) {  // from inside the random spheres, and rays that miss
+    const Vec3 centre = w.position(w.id_at(k));
+    rays.push_back({centre, {u(rng), u(rng), u(rng) + 2.0f}});
+    rays.push_back({{-30.0f, 50.0f + static_cast<float>(k), -30.0f}, {-1.0f, u(rng), -1.0f}});
+  }
+  std::vector<QueryFilter> fs = filters(w);
+  QueryFilter spheres_only{.terrain = false, .planes = false};
+  QueryFilter ignore_tie_winner = spheres_only;
+  ignore_tie_winner.ignore = tied[0];
+  QueryFilter odd_category = spheres_only;  // drops the winning half of each tie
+  odd_category.mask = 0x2u;
+  fs.insert(fs.end(), {spheres_only, ignore_tie_winner, odd_category});
+
+  std::vector<std::optional<QueryHit>> scalar(rays.size()), simd(rays.size());
+  std::size_t misses = 0, inside = 0, ties = 0, brute_checked = 0;
+  for (const QueryFilter& f : fs) {
+    {
+      ScopedLeafTest scalar_leaves(RayBatchLeafTest::Scalar);
+      w.raycast_batch(rays, scalar, f);
+    }
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+      REQUIRE(identical(scalar[k], w.raycast(rays[k], f)));
+      misses += !scalar[k], inside += scalar[k] && scalar[k]->distance == 0.0f;
+      if (scalar[k] && std::find(tied.begin(), tied.end(), scalar[k]->sphere) != tied.end()) ++ties;
+      // The brute force on every seventh ray (it tests every primitive) and on the tie rays.
+      if (k % 7 == 0 || k >= 3000) {
+        REQUIRE(same_hit(scalar[k], brute_closest(w, rays[k], f)));
+        ++brute_checked;
+      }
+    }
+    for (SimdPath path : testing::supported_paths()) {
+      testing::ScopedSimdPath on(path);
+      INFO("SIMD path " << simd_path_name(path));
+      w.raycast_batch(rays, simd, f);
+      for (std::size_t k = 0; k < rays.size(); ++k) REQUIRE(identical(simd[k], scalar[k]));
+    }
+  }
+  CHECK(misses > 500);
+  CHECK(inside > 300);
+  CHECK(ties > 200);
+  CHECK(brute_checked > 5000);
 }
 
 TEST_CASE("the query BVH is built once per change and follows moves, radii, filters and removals", "[queries]") {

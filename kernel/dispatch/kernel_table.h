@@ -14,6 +14,7 @@
 // The scalar references stay beside the kernels' callers (find_sphere_pairs_scalar,
 // SphereGrid::find_pairs_scalar,
 // solve_*_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere,
+// closest_sphere_scalar,
 // closest_point_on_triangle), and
 // tests/test_simd_dispatch.cpp compares every path with them.
 
@@ -40,6 +41,10 @@ struct SortedAxisPairsView;
 struct SphereGridView;
 struct ContactBatchArrays;
 struct DepenetrationArrays;
+struct SphereQueryBvh;
+struct UnitRay;
+struct SphereRayHit;
+struct QueryFilter;
 
 /// Where a kernel hands a run of sphere slots: fn(context, slots, count), in slot order.
 struct SlotSink {
@@ -115,6 +120,11 @@ struct SimdKernels {
   /// by the batch code of the terrain kernel (kernel/simd/sphere_triangle_lanes.h): the point
   /// into p[0..2], the TriangleRegion into region.
   void (*closest_points)(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);
+  /// World::raycast_batch's sphere part (kernel/bvh/sphere_ray_walk.h): the closest sphere of
+  /// each of rays[0, count), each leaf's spheres tested in lanes; the same bits as
+  /// closest_sphere_scalar.
+  void (*closest_sphere_rays)(const SphereQueryBvh& spheres, const UnitRay* rays, std::size_t count,
+                              const QueryFilter& filter, SphereRayHit* hits);
 };
 
 /// The active path's kernels (active_simd_path()); InvalidArgument as active_simd_path.

@@ -32,6 +32,7 @@ constexpr SimdKernels kTable{
     .scan_path_boxes = &HAIL_SIMD_NS::scan_path_boxes,
     .count_packet_hits = &HAIL_SIMD_NS::count_packet_hits,
     .closest_points = &HAIL_SIMD_NS::closest_points,
+    .closest_sphere_rays = &HAIL_SIMD_NS::closest_sphere_rays,
 };
 static_assert(kTable.width == (kPath == SimdPath::Sse42 ? 4 : kPath == SimdPath::Avx2 ? 8 : 16));
 

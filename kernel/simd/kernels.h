@@ -38,6 +38,8 @@ void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, flo
 void closest_points(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);
 std::uint64_t count_packet_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x, const float* y, const float* z,
                                 const float* r, std::size_t count, PacketLeafTest test, std::uint64_t* nodes_tested);
+void closest_sphere_rays(const SphereQueryBvh& spheres, const UnitRay* rays, std::size_t count,
+                         const QueryFilter& filter, SphereRayHit* hits);
 
 }  // namespace HAIL_SIMD_NS
 }  // namespace hail

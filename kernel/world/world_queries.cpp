@@ -6,14 +6,17 @@
 // same on any thread count.
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
 #include "hail/world.h"
 #include "jobs/parallel_blocks.h"
-#include "kernel/geometry/ray_sphere.h"
+#include "kernel/bvh/sphere_ray_walk.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/swept_sphere.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "kernel/world/ray_batch_leaf_test.h"
 #include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
 
@@ -27,14 +30,6 @@ namespace {
 std::string vec_text(const Vec3& v) { return "(" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + ")"; }
 
 bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
-
-/// A checked ray: origin, unit direction (float division by the float length, the same bits
-/// everywhere: -ffp-contract=off), max distance.
-struct UnitRay {
-  float o[3];
-  float d[3];
-  float max;
-};
 
 UnitRay check_ray(const Ray& ray, const char* call) {
   require(finite(ray.origin),
@@ -54,10 +49,6 @@ UnitRay check_ray(const Ray& ray, const char* call) {
 void check_radius(float radius, const char* call) {
   require(std::isfinite(radius) && radius >= 0.0f,
           [&] { return std::string(call) + ": radius = " + number(radius) + " must be finite and >= 0"; });
-}
-
-bool sphere_passes(const SphereQueryBvh& s, std::uint32_t k, const QueryFilter& filter) {
-  return (s.category[k] & filter.mask) != 0 && !(s.handle[k] == filter.ignore);
 }
 
 Vec3 along(const UnitRay& r, float s) { return {r.o[0] + s * r.d[0], r.o[1] + s * r.d[1], r.o[2] + s * r.d[2]}; }
@@ -103,27 +94,13 @@ void keep_if_before(std::optional<QueryHit>& best, const QueryHit& hit) {
   if (!best || hit_before(hit, *best)) best = hit;
 }
 
-/// Closest sphere hit of a ball of radius `grow` swept along r (grow 0: a ray): the BVH's
-/// stackless walk, pruned by the best distance so far (closed, so equal distances are still
-/// visited and the lower handle index wins).
+/// Closest sphere hit of a ball of radius `grow` swept along r (grow 0: a ray): the scalar
+/// reference walk (kernel/bvh/sphere_ray_walk.h).
 std::optional<QueryHit> closest_sphere(const SphereQueryBvh& s, const UnitRay& r, float grow,
                                        const QueryFilter& filter) {
-  const float inv[3] = {1.0f / r.d[0], 1.0f / r.d[1], 1.0f / r.d[2]};
-  float best = r.max;
-  std::uint32_t best_k = kNoPrimitive;
-  walk_stackless(
-      s.bvh.nodes, [&](const FlatNode& n) { return ray_overlaps(n, r.o, inv, best, grow); },
-      [&](std::uint32_t first, std::uint32_t count) {
-        for (std::uint32_t k = first; k < first + count; ++k) {
-          if (!sphere_passes(s, k, filter)) continue;
-          const float t = ray_sphere(r.o, r.d, s.x[k], s.y[k], s.z[k], s.r[k] + grow);
-          if (!(t >= 0.0f && t < r.max && t <= best)) continue;  // [0, max), and no further than the best
-          const bool tie_won = t == best && best_k != kNoPrimitive && s.handle[k].index < s.handle[best_k].index;
-          if (t < best || best_k == kNoPrimitive || tie_won) best = t, best_k = k;
-        }
-      });
-  if (best_k == kNoPrimitive) return std::nullopt;
-  return sphere_hit(s, best_k, r, best, grow);
+  const SphereRayHit best = closest_sphere_scalar(s, r, grow, filter);
+  if (best.k == kNoPrimitive) return std::nullopt;
+  return sphere_hit(s, best.k, r, best.t, grow);
 }
 
 std::optional<QueryHit> closest_plane(std::span<const Plane> planes, const UnitRay& r, float grow) {
@@ -135,9 +112,12 @@ std::optional<QueryHit> closest_plane(std::span<const Plane> planes, const UnitR
   return best;
 }
 
+/// The closest hit of ray r, given its closest sphere (closest_sphere_scalar or the SIMD kernel):
+/// the terrain and the planes added.
 std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terrain, std::span<const Plane> planes,
-                                    const UnitRay& r, const QueryFilter& filter) {
-  std::optional<QueryHit> best = closest_sphere(s, r, 0.0f, filter);
+                                    const UnitRay& r, const QueryFilter& filter, const SphereRayHit& sphere) {
+  std::optional<QueryHit> best;
+  if (sphere.k != kNoPrimitive) best = sphere_hit(s, sphere.k, r, sphere.t, 0.0f);
 #if HAIL_WITH_TERRAIN
   if (terrain && filter.terrain) {
     // Terrain::raycast with the unit direction: its t is the distance in metres.
@@ -150,13 +130,19 @@ std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terr
   return best;
 }
 
+std::atomic<RayBatchLeafTest> batch_leaf_test{RayBatchLeafTest::Simd};
+
 }  // namespace
+
+void set_ray_batch_leaf_test(RayBatchLeafTest test) { batch_leaf_test.store(test, std::memory_order_relaxed); }
+RayBatchLeafTest ray_batch_leaf_test() { return batch_leaf_test.load(std::memory_order_relaxed); }
 
 std::uint64_t World::query_cache_builds() const { return step_->sphere_queries.builds(); }
 
 std::optional<QueryHit> World::raycast(const Ray& ray, const QueryFilter& filter) const {
   const UnitRay r = check_ray(ray, "World::raycast");
-  return closest_hit(step_->sphere_queries.get(spheres_), terrain_.get(), planes_, r, filter);
+  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  return closest_hit(s, terrain_.get(), planes_, r, filter, closest_sphere_scalar(s, r, 0.0f, filter));
 }
 
 void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<QueryHit>> hits,
@@ -174,13 +160,24 @@ void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<Que
   }
   const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
   const Terrain* terrain = terrain_.get();
+  const bool simd = ray_batch_leaf_test() == RayBatchLeafTest::Simd;
+  const SimdKernels& kernels = simd_kernels();
   // Each ray is answered alone, so any split of the rays gives the same bits; blocks of 64 rays
-  // keep the task overhead small beside a few BVH walks.
+  // keep the task overhead small beside a few BVH walks, and the kernel table is called once a block.
   constexpr std::size_t kRaysPerBlock = 64;
   arena_->execute([&] {
     for_each_block(rays.size(), kRaysPerBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-      for (std::size_t k = first; k < last; ++k)
-        hits[k] = closest_hit(s, terrain, planes_, check_ray(rays[k], "World::raycast_batch"), filter);
+      UnitRay unit[kRaysPerBlock];
+      SphereRayHit sphere[kRaysPerBlock];
+      const std::size_t count = last - first;
+      for (std::size_t k = 0; k < count; ++k) unit[k] = check_ray(rays[first + k], "World::raycast_batch");
+      if (simd) {
+        kernels.closest_sphere_rays(s, unit, count, filter, sphere);
+      } else {
+        for (std::size_t k = 0; k < count; ++k) sphere[k] = closest_sphere_scalar(s, unit[k], 0.0f, filter);
+      }
+      for (std::size_t k = 0; k < count; ++k)
+        hits[first + k] = closest_hit(s, terrain, planes_, unit[k], filter, sphere[k]);
     });
   });
 }
