@@ -32,7 +32,7 @@ constexpr int kSaveAt = 180;     // the rollback point
 constexpr float kArena = 6.0f;   // the arena's half width, m
 constexpr float kRadius = 0.3f;  // ball radius, m
 constexpr float kPaddleRadius = 0.9f;
-constexpr float kKick = 2.0f;  // impulse, N s (on 1 kg: 2 m/s)
+constexpr float kKick = 2.0f;                 // impulse, N s (on 1 kg: 2 m/s)
 constexpr std::uint64_t kRed = 1, kBlue = 2;  // user data: the team
 
 // Box2D's rule: two spheres collide when each one's category is in the other's mask. The
@@ -46,9 +46,9 @@ hail::Vec3 paddle_target(int step) {  // where the game wants the paddle after `
 
 struct Tally {
   std::size_t hits = 0, red_blue_events = 0, team_touches = 0, kicks = 0, blue_picks = 0;
-  float loudest = 0.0f;         // m/s
-  float paddle_error = 0.0f;    // m, largest distance from where the game put the paddle
-  float kick_error = 0.0f;      // m/s, largest |dv - J / m| of a kick
+  float loudest = 0.0f;              // m/s
+  float paddle_error = 0.0f;         // m, largest distance from where the game put the paddle
+  float kick_error = 0.0f;           // m/s, largest |dv - J / m| of a kick
   std::vector<bool> paddle_touched;  // by handle index
 };
 

@@ -60,8 +60,7 @@ TEST_CASE("A kinematic sphere meeting a ball head-on sends it off at (1 + e) V -
     const SphereId b = world.add_sphere(ball({-1.0f, 0, 0}, {2, 0, 0}, mass));
     for (int k = 0; k < 64; ++k) world.step(kDt);
     INFO("ball mass " << mass);
-    if (mass != 1000.0f)
-      CHECK(world.velocity(b).x() == -2.5f);  // exact where 1 / m is
+    if (mass != 1000.0f) CHECK(world.velocity(b).x() == -2.5f);  // exact where 1 / m is
     CHECK(world.velocity(b).x() == Approx(-2.5f).epsilon(1e-6));
     CHECK(world.velocity(p) == Vec3(-1, 0, 0));
     CHECK(world.position(p).x() == 1.5f - 64 * kDt);  // moved by its velocity alone
@@ -119,7 +118,7 @@ TEST_CASE("A fast kinematic sphere is swept: it strikes a ball it would pass in 
   CHECK(world.velocity(p) == Vec3(400, 0, 0));
   CHECK(world.position(p).x() == Approx(-3.0f + 6.25f).margin(1e-4));
   CHECK(world.velocity(b).x() == Approx(400.0f).margin(1e-3));  // e = 0: (1 + 0) V
-  CHECK(world.position(b).x() > world.position(p).x());               // in front of it, not behind
+  CHECK(world.position(b).x() > world.position(p).x());         // in front of it, not behind
 }
 
 TEST_CASE("set_kinematic and set_dynamic switch a sphere between pushed and not pushed", "[kinematic]") {
@@ -144,16 +143,48 @@ TEST_CASE("Kinematic calls refuse what they cannot do, with the world unchanged"
   World world(settings({0, -9.81f, 0}));
   const SphereId p = world.add_sphere(paddle({0, 0, 0}, {1, 0, 0}));
   const SphereId b = world.add_sphere(ball({3, 0, 0}, {0, 0, 0}));
-  expect_rejected(world, [&] { world.add_sphere({.is_static = true, .is_kinematic = true}); },
-                  "both is_static and is_kinematic");
-  expect_rejected(world, [&] { world.add_sphere({.velocity = {kNaN, 0, 0}, .is_kinematic = true}); }, "velocity");
-  expect_rejected(world, [&] { world.set_mass(p, 2.0f); }, "kinematic");
-  expect_rejected(world, [&] { world.move_kinematic(b, {1, 0, 0}, kDt); }, "not kinematic");
-  expect_rejected(world, [&] { world.move_kinematic(p, {1, 0, 0}, 0.0f); }, "dt");
-  expect_rejected(world, [&] { world.move_kinematic(p, {1, 0, 0}, kNaN); }, "dt");
-  expect_rejected(world, [&] { world.move_kinematic(p, {kInf, 0, 0}, kDt); }, "target");
-  expect_rejected(world, [&] { world.move_kinematic(p, {1000, 0, 0}, 1e-6f); }, "kMaxSphereSpeed");
-  expect_rejected(world, [&] { world.set_dynamic(p, -1.0f); }, "mass");
+  expect_rejected(
+      world, [&] { world.add_sphere({.is_static = true, .is_kinematic = true}); }, "both is_static and is_kinematic");
+  expect_rejected(
+      world,
+      [&] {
+        world.add_sphere({.velocity = {kNaN, 0, 0}, .is_kinematic = true});
+      },
+      "velocity");
+  expect_rejected(
+      world, [&] { world.set_mass(p, 2.0f); }, "kinematic");
+  expect_rejected(
+      world,
+      [&] {
+        world.move_kinematic(b, {1, 0, 0}, kDt);
+      },
+      "not kinematic");
+  expect_rejected(
+      world,
+      [&] {
+        world.move_kinematic(p, {1, 0, 0}, 0.0f);
+      },
+      "dt");
+  expect_rejected(
+      world,
+      [&] {
+        world.move_kinematic(p, {1, 0, 0}, kNaN);
+      },
+      "dt");
+  expect_rejected(
+      world,
+      [&] {
+        world.move_kinematic(p, {kInf, 0, 0}, kDt);
+      },
+      "target");
+  expect_rejected(
+      world,
+      [&] {
+        world.move_kinematic(p, {1000, 0, 0}, 1e-6f);
+      },
+      "kMaxSphereSpeed");
+  expect_rejected(
+      world, [&] { world.set_dynamic(p, -1.0f); }, "mass");
   // A kinematic sphere takes velocities: that is how it moves.
   world.set_velocity(p, {0, 3, 0});
   CHECK(world.velocity(p) == Vec3(0, 3, 0));
@@ -172,8 +203,8 @@ std::uint64_t sweeper_scene(int threads) {
   }
   for (int k = 0; k < 400; ++k) {
     const float x = -3.5f + 0.9f * static_cast<float>(k % 8), z = -3.5f + 0.9f * static_cast<float>((k / 8) % 8);
-    world.add_sphere(ball({x + 0.03f * static_cast<float>(k % 5), 0.6f + 0.9f * static_cast<float>(k / 64), z},
-                          {0, 0, 0}));
+    world.add_sphere(
+        ball({x + 0.03f * static_cast<float>(k % 5), 0.6f + 0.9f * static_cast<float>(k / 64), z}, {0, 0, 0}));
   }
   const SphereId sweeper = world.add_sphere(paddle({-3, 0.8f, 0}, {0, 0, 0}, 0.8f));
   world.add_sphere(paddle({0, 0.5f, -3}, {0, 0, 1.5f}));  // crosses the sweeper's circle: no contact between them
