@@ -12,6 +12,7 @@
 
 #include "catch.h"
 #include "hail/world.h"
+#include "simd_paths.h"
 
 using namespace hail;
 
@@ -44,7 +45,8 @@ Scene add_column_and_loner(World& world) {
 /// Steps until every movable sphere sleeps (at most `steps`); returns the steps taken.
 int settle(World& world, int steps = 600) {
   const auto inv_mass = world.spheres().inv_mass;
-  const auto movable = static_cast<std::size_t>(std::count_if(inv_mass.begin(), inv_mass.end(), [](float m) { return m > 0.0f; }));
+  const auto movable =
+      static_cast<std::size_t>(std::count_if(inv_mass.begin(), inv_mass.end(), [](float m) { return m > 0.0f; }));
   for (int k = 0; k < steps; ++k) {
     world.step(kDt);
     if (world.last_step_stats().sleeping == movable) return k;
@@ -122,27 +124,51 @@ TEST_CASE("Every control call wakes the sphere's island and no other", "[sleep]"
   using Call = std::function<void(World&, SphereId)>;
   const std::vector<std::pair<std::string, Call>> calls = {
       {"set_position", [](World& w, SphereId id) { w.set_position(id, w.position(id) + Vec3(0, 0.001f, 0)); }},
-      {"set_velocity", [](World& w, SphereId id) { w.set_velocity(id, {0.1f, 0, 0}); }},
-      {"set_angular_velocity", [](World& w, SphereId id) { w.set_angular_velocity(id, {0, 1, 0}); }},
-      {"apply_impulse", [](World& w, SphereId id) { w.apply_impulse(id, {0.1f, 0, 0}); }},
-      {"apply_impulse_at", [](World& w, SphereId id) { w.apply_impulse_at(id, {0.1f, 0, 0}, w.position(id)); }},
-      {"apply_force", [](World& w, SphereId id) { w.apply_force(id, {1, 0, 0}); }},
-      {"apply_torque", [](World& w, SphereId id) { w.apply_torque(id, {0, 1, 0}); }},
+      {"set_velocity",
+       [](World& w, SphereId id) {
+         w.set_velocity(id, {0.1f, 0, 0});
+       }},
+      {"set_angular_velocity",
+       [](World& w, SphereId id) {
+         w.set_angular_velocity(id, {0, 1, 0});
+       }},
+      {"apply_impulse",
+       [](World& w, SphereId id) {
+         w.apply_impulse(id, {0.1f, 0, 0});
+       }},
+      {"apply_impulse_at",
+       [](World& w, SphereId id) {
+         w.apply_impulse_at(id, {0.1f, 0, 0}, w.position(id));
+       }},
+      {"apply_force",
+       [](World& w, SphereId id) {
+         w.apply_force(id, {1, 0, 0});
+       }},
+      {"apply_torque",
+       [](World& w, SphereId id) {
+         w.apply_torque(id, {0, 1, 0});
+       }},
       {"set_restitution", [](World& w, SphereId id) { w.set_restitution(id, 0.25f); }},
       {"set_friction", [](World& w, SphereId id) { w.set_friction(id, 0.25f); }},
       {"set_mass", [](World& w, SphereId id) { w.set_mass(id, 3.0f); }},
       {"set_radius", [](World& w, SphereId id) { w.set_radius(id, 0.49f); }},
       {"set_gravity_scale", [](World& w, SphereId id) { w.set_gravity_scale(id, 0.5f); }},
-      {"set_collision_filter", [](World& w, SphereId id) { w.set_collision_filter(id, {1, 1}); }},
-      {"set_positions", [](World& w, SphereId id) {
+      {"set_collision_filter",
+       [](World& w, SphereId id) {
+         w.set_collision_filter(id, {1, 1});
+       }},
+      {"set_positions",
+       [](World& w, SphereId id) {
          const Vec3 p = w.position(id);
          w.set_positions({&id, 1}, {&p, 1});
        }},
-      {"set_velocities", [](World& w, SphereId id) {
+      {"set_velocities",
+       [](World& w, SphereId id) {
          const Vec3 v(0.1f, 0, 0);
          w.set_velocities({&id, 1}, {&v, 1});
        }},
-      {"apply_impulses", [](World& w, SphereId id) {
+      {"apply_impulses",
+       [](World& w, SphereId id) {
          const Vec3 j(0.1f, 0, 0);
          w.apply_impulses({&id, 1}, {&j, 1});
        }},
@@ -178,9 +204,8 @@ TEST_CASE("A sphere dropped on a sleeping column wakes it in the step it arrives
       // The step that woke it solved the contact that did: it did not wait for the next one.
       const std::int64_t a = world.slot_of(dropped), b = world.slot_of(scene.column[2]);
       const auto contacts = world.last_contacts();
-      CHECK(std::any_of(contacts.begin(), contacts.end(), [&](const Contact& c) {
-        return (c.a == a && c.b == b) || (c.a == b && c.b == a);
-      }));
+      CHECK(std::any_of(contacts.begin(), contacts.end(),
+                        [&](const Contact& c) { return (c.a == a && c.b == b) || (c.a == b && c.b == a); }));
       CHECK(none_sleeping(world, scene.column));
       CHECK(world.is_sleeping(scene.loner));
     }
@@ -232,9 +257,18 @@ TEST_CASE("Removing a sphere wakes its island; removing a static one wakes what 
 
 TEST_CASE("Changing the ground wakes every sleeper", "[sleep]") {
   const std::vector<std::pair<std::string, std::function<void(World&)>>> changes = {
-      {"add_plane", [](World& w) { w.add_plane({.normal = {1, 0, 0}, .offset = -50.0f}); }},
-      {"set_ground_filter", [](World& w) { w.set_ground_filter({1, kAllCategories}); }},
-      {"shift_origin", [](World& w) { w.shift_origin({1, 0, 0}); }},
+      {"add_plane",
+       [](World& w) {
+         w.add_plane({.normal = {1, 0, 0}, .offset = -50.0f});
+       }},
+      {"set_ground_filter",
+       [](World& w) {
+         w.set_ground_filter({1, kAllCategories});
+       }},
+      {"shift_origin",
+       [](World& w) {
+         w.shift_origin({1, 0, 0});
+       }},
   };
   for (const auto& [name, change] : changes) {
     INFO(name);
@@ -261,22 +295,26 @@ TEST_CASE("Sleeping settings are checked", "[sleep]") {
   }
 }
 
-TEST_CASE("A pile with sleeping on steps bitwise the same on 1 and 2 threads", "[sleep][threads]") {
+TEST_CASE("A pile with sleeping on steps bitwise the same on 1 and 2 threads and every SIMD path", "[sleep][threads]") {
   std::vector<std::uint64_t> hashes;
   std::vector<std::size_t> sleeping;
-  for (int threads : {1, 2}) {
-    World world(sleepy(threads));
-    add_pile(world, 300);
-    std::size_t most_asleep = 0;
-    for (int k = 0; k < 700; ++k) {
-      world.step(kDt);
-      most_asleep = std::max(most_asleep, world.last_step_stats().sleeping);
+  for (SimdPath path : hail::testing::supported_paths())
+    for (int threads : {1, 2}) {
+      hail::testing::ScopedSimdPath scoped(path);
+      World world(sleepy(threads));
+      add_pile(world, 300);
+      std::size_t most_asleep = 0;
+      for (int k = 0; k < 700; ++k) {
+        world.step(kDt);
+        most_asleep = std::max(most_asleep, world.last_step_stats().sleeping);
+      }
+      hashes.push_back(world.state_hash());
+      sleeping.push_back(most_asleep);
     }
-    hashes.push_back(world.state_hash());
-    sleeping.push_back(most_asleep);
+  for (std::size_t k = 1; k < hashes.size(); ++k) {
+    CHECK(hashes[k] == hashes[0]);
+    CHECK(sleeping[k] == sleeping[0]);
   }
-  CHECK(hashes[0] == hashes[1]);
-  CHECK(sleeping[0] == sleeping[1]);
   CHECK(sleeping[0] > 0);  // the test saw sleepers
 }
 
@@ -294,4 +332,24 @@ TEST_CASE("A snapshot with sleepers restores their sleep exactly", "[sleep]") {
   for (int k = 0; k < 200; ++k) world.step(kDt), copy.step(kDt);
   CHECK(copy.state_hash() == world.state_hash());
   CHECK(copy.last_step_stats().sleeping == world.last_step_stats().sleeping);
+}
+
+TEST_CASE("Sleepers keep their touches: a column falling asleep ends none", "[sleep][events]") {
+  World world(sleepy());
+  world.set_events({.touch = true});
+  const Scene scene = add_column_and_loner(world);
+  // A sphere that drifts forever, touching nothing, keeps the world's steps running.
+  const SphereId drifter = world.add_sphere({.position = {-20.0f, 5.0f, 0.0f}, .velocity = {-1, 0, 0}});
+  world.set_gravity_scale(drifter, 0.0f);
+  std::size_t ended_while_asleep = 0;
+  bool slept = false;
+  for (int k = 0; k < 600; ++k) {
+    world.step(kDt);
+    const bool now_asleep = all_sleeping(world, scene.column) && world.is_sleeping(scene.loner);
+    if (slept) ended_while_asleep += world.touch_end_events().size();
+    slept = slept || now_asleep;
+  }
+  REQUIRE(slept);
+  CHECK(!world.is_sleeping(drifter));
+  CHECK(ended_while_asleep == 0);
 }

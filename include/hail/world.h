@@ -358,9 +358,8 @@ class World {
   /// Spheres that fell asleep in the last step, and spheres woken since the step before it (by
   /// the last step, or by a call made before it), each sorted by handle index, each sphere once
   /// (a sphere may be in both: woken, then asleep again). No copy; valid until the next step.
-  /// Empty with sleeping off. A sleeper's contacts are left out of last_contacts(), so its
-  /// touches end (touch_end_events) in the step it falls asleep, unless every movable sphere
-  /// sleeps (a step then changes nothing and keeps every touch).
+  /// Empty with sleeping off. A sleeper's contacts are left out of last_contacts(), but its
+  /// touches go on (no touch_end_events) until it wakes.
   [[nodiscard]] std::span<const SphereId> sleep_events() const;
   [[nodiscard]] std::span<const SphereId> wake_events() const;
 

@@ -1003,6 +1003,7 @@ void World::step(float dt) {
                                            : static_cast<float>(double(dt) * settings_.time_scale / substeps);
   if (events.on()) events.begin_step();
   for (int k = 0; k < substeps; ++k) substep(each);
+  if (events.on() && settings_.sleep) events.keep_sleepers_touching(spheres_);
   if (events.on()) events.finish_step();
   clear_forces();  // forces and torques act over one step (each of its substeps), then are gone
   stats_.lifted_out = lifted;
