@@ -97,6 +97,10 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
          "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; },
          "off: spheres never spin (WorldSettings::rotation)")
       ->check(CLI::IsMember({"on", "off"}));
+  app.add_option_function<std::string>(
+         "--sleep", [&p](const std::string& v) { p.sleep = v == "on"; },
+         "on: islands at rest sleep and cost nothing until woken (WorldSettings::sleep)")
+      ->check(CLI::IsMember({"on", "off"}));
   add_number(app, "--origin", o.origin, -1e7, 1e7,
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
   add_count(app, "--home-after", o.home_after, 1, 100'000'000,
@@ -149,7 +153,7 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     if (o.home_after > 0 && o.origin == 0.0)
       usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
     for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
-                             "--ccd", "--rotation", "--warm-start"})
+                             "--ccd", "--rotation", "--warm-start", "--sleep"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
     o.scene_named = app.count("scene") > 0;
     if (o.dump_every > 0 && o.dump_state_path.empty())
@@ -185,6 +189,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--pairs")) v.pair_search = o.params.pair_search;
   if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
   if (given("--rotation")) v.rotation = o.params.rotation;
+  if (given("--sleep")) v.sleep = o.params.sleep;
   if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
     v.warm_start = o.params.warm_start;
     if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;
@@ -321,6 +326,11 @@ void print_report(const RunResult& r) {
       "integrate %.3f  depenetrate %.3f ms\n",
       p.reorder, p.predict, p.detect_terrain, p.detect_pairs, p.solve, p.sweep, p.integrate, p.depenetrate);
   std::printf("  parts     %s\n", describe_parts(r).c_str());
+  if (r.sleep)
+    std::printf(
+        "  sleep     per step: %.0f spheres asleep, %.0f islands awake, islands phase %.3f ms; after the last step: "
+        "%zu asleep, %zu islands awake\n",
+        r.sleeping, r.islands, p.islands, r.sleeping_at_end, r.islands_at_end);
   std::printf(
       "  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "
       "collision passes that applied an impulse\n",

@@ -27,7 +27,9 @@ const SphereRecord kPaddingRecord{kPaddingPosition,
                                   {0.0f, 0.0f, 0.0f},
                                   {0.0f, 0.0f, 0.0f},
                                   0,
-                                  CollisionFilter{0, 0}};
+                                  CollisionFilter{0, 0},
+                                  0.0f,
+                                  0};
 }  // namespace
 
 // Every per-sphere array is in for_each_array: a member added to SphereSoA (or a field to
@@ -36,7 +38,7 @@ static_assert(sizeof(SphereSoA) == (SphereSoA::kArrayCount + 3) * sizeof(Aligned
                                        5 * sizeof(std::vector<std::uint32_t>),
               "a SphereSoA member was added: list a per-sphere array in SphereSoA::for_each_array (and raise "
               "kArrayCount), and bump kSnapshotVersion (include/hail/snapshot.h)");
-static_assert(sizeof(SphereRecord) == 16 * 4 + 6 * 4 + 8 + sizeof(CollisionFilter),
+static_assert(sizeof(SphereRecord) == 16 * 4 + 6 * 4 + 8 + sizeof(CollisionFilter) + 2 * 4,
               "a SphereRecord field was added: give it a SphereSoA array in for_each_array");
 
 void SphereSoA::resize_arrays(std::size_t n) {
@@ -109,6 +111,8 @@ void SphereSoA::write_slot(std::size_t s, const SphereRecord& r) {
   user_data[s] = r.user_data;
   collision_category[s] = r.filter.category;
   collision_mask[s] = r.filter.mask;
+  sleep_timer[s] = r.sleep_timer;
+  sleep_island[s] = r.sleep_island;
 }
 
 SphereRecord SphereSoA::read_slot(std::size_t s) const {
@@ -131,7 +135,9 @@ SphereRecord SphereSoA::read_slot(std::size_t s) const {
           {force_x[s], force_y[s], force_z[s]},
           {torque_x[s], torque_y[s], torque_z[s]},
           user_data[s],
-          {collision_category[s], collision_mask[s]}};
+          {collision_category[s], collision_mask[s]},
+          sleep_timer[s],
+          sleep_island[s]};
 }
 
 void SphereSoA::set_padding(std::size_t first) {

@@ -958,6 +958,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;
   if (overrides.continuous_collision) settings.continuous_collision = *overrides.continuous_collision;
   if (overrides.rotation) settings.rotation = *overrides.rotation;
+  if (overrides.sleep) settings.sleep = *overrides.sleep;
 
   // Every value was checked above; the World checks again, and its message gets the file's name.
   try {

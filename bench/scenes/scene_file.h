@@ -35,6 +35,7 @@ struct SceneOverrides {
   std::optional<float> warm_start_factor = std::nullopt;
   std::optional<bool> continuous_collision = std::nullopt;
   std::optional<bool> rotation = std::nullopt;
+  std::optional<bool> sleep = std::nullopt;
   /// `--memory-limit`: a file whose spheres and terrain would need more (kBytesPerSphereGuide a
   /// sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before they are allocated.
   MemoryLimit memory_limit = {};

@@ -56,6 +56,7 @@ void add(PhaseTimes& sum, const PhaseTimes& t, double weight) {
   sum.sweep += weight * t.sweep;
   sum.integrate += weight * t.integrate;
   sum.depenetrate += weight * t.depenetrate;
+  sum.islands += weight * t.islands;
 }
 
 }  // namespace
@@ -226,6 +227,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.swept += weight * double(stats.sweep.swept);
       r.swept_meeting_spheres += weight * double(stats.sweep.meets_spheres);
       r.sweep_events += weight * double(stats.sweep.events);
+      r.sleeping += weight * double(stats.sleeping);
+      r.islands += weight * double(stats.islands);
     }
     r.sweep_capped += world.last_step_stats().sweep.capped;
     count_parts(world.last_step_stats().ran, r.parts_ran);
@@ -249,6 +252,9 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
   r.state_hash = hex_hash(world.state_hash());
+  r.sleep = world.settings().sleep;
+  r.sleeping_at_end = world.last_step_stats().sleeping;
+  r.islands_at_end = world.last_step_stats().islands;
   constexpr const char* kPairSearchNames[] = {"auto", "brute force", "grid", "sweep and prune", "sphere BVH"};
   r.pair_search = kPairSearchNames[static_cast<int>(world.last_step_stats().pair_search)];
   if (!options.trace_path.empty()) write_trace(options.trace_path, world.trace(), world.thread_count());
@@ -311,7 +317,14 @@ nlohmann::json to_json(const RunResult& r) {
         {"solve", p.solve},
         {"sweep", p.sweep},
         {"integrate", p.integrate},
-        {"depenetrate", p.depenetrate}}},
+        {"depenetrate", p.depenetrate},
+        {"islands", p.islands}}},
+      {"sleep",
+       {{"on", r.sleep},
+        {"sleeping_mean", r.sleeping},
+        {"islands_mean", r.islands},
+        {"sleeping_at_end", r.sleeping_at_end},
+        {"islands_at_end", r.islands_at_end}}},
       {"phases_ran_steps",
        [&] {
          nlohmann::json parts = nlohmann::json::object();

@@ -23,6 +23,7 @@ struct SceneParams {
   std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
   bool continuous_collision = WorldSettings{}.continuous_collision;       ///< --ccd on|off
   bool rotation = WorldSettings{}.rotation;                               ///< --rotation on|off
+  bool sleep = WorldSettings{}.sleep;                                     ///< --sleep on|off
 };
 
 /// The WorldSettings the command-line parameters ask for (the rest at their defaults).
@@ -37,6 +38,7 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.solver_tile_spheres = p.solver_tile_spheres;
   s.continuous_collision = p.continuous_collision;
   s.rotation = p.rotation;
+  s.sleep = p.sleep;
   return s;
 }
 

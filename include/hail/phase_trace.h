@@ -26,13 +26,14 @@ enum class Phase : std::uint8_t {
   Sweep,
   Integrate,
   Depenetrate,
+  Islands,  ///< sleeping: waking before the solve, islands and sleep after the step (WorldSettings::sleep)
   Count
 };
 
 /// The phase's name as hail-bench prints it.
 [[nodiscard]] constexpr const char* phase_name(Phase p) {
-  constexpr const char* names[] = {"reorder", "predict", "detect-terrain", "detect-pairs",
-                                   "solve",   "sweep",   "integrate",      "depenetrate"};
+  constexpr const char* names[] = {"reorder", "predict",   "detect-terrain", "detect-pairs", "solve",
+                                   "sweep",   "integrate", "depenetrate",    "islands"};
   return names[static_cast<int>(p)];
 }
 

@@ -38,9 +38,12 @@ enum SphereFlags : std::uint32_t {
   /// contacts, gravity or forces: inv_mass 0 like a static sphere, so every impulse rule gives
   /// it none, while its velocity enters the contacts it makes. Passes through terrain and planes.
   kSphereFlagKinematic = 1u << 0,
+  /// Asleep (WorldSettings::sleep): at rest with its island, left out of the step until a
+  /// contact, a control call or a change of the ground wakes it (World::is_sleeping).
+  kSphereFlagSleeping = 1u << 1,
 };
 /// Every flag bit above: a snapshot with any other bit set is refused.
-inline constexpr std::uint32_t kKnownSphereFlags = kSphereFlagKinematic;
+inline constexpr std::uint32_t kKnownSphereFlags = kSphereFlagKinematic | kSphereFlagSleeping;
 
 /// Everything a new sphere is made of, already validated and converted to inverse quantities.
 struct SphereRecord {
@@ -58,6 +61,8 @@ struct SphereRecord {
   float torque[3] = {0.0f, 0.0f, 0.0f};  ///< N m, accumulated for the next step
   std::uint64_t user_data = 0;           ///< the game's, never read by hail
   CollisionFilter filter{};              ///< category and mask bits (collision_filter.h)
+  float sleep_timer = 0.0f;              ///< s spent below the sleep speeds (SphereSoA::sleep_timer)
+  std::uint32_t sleep_island = 0;        ///< while asleep: its island's label (SphereSoA::sleep_island)
 };
 
 class SphereSoA {
@@ -116,6 +121,12 @@ class SphereSoA {
   /// Collision filter bits (collision_filter.h): what the sphere is, and what it collides with.
   /// Padding lanes have 0 in both, so they pass no filter.
   AlignedArray<std::uint32_t> collision_category, collision_mask;
+  /// Sleeping (kernel/world/sleep_islands.h): seconds the sphere has stayed below both sleep
+  /// speeds (WorldSettings::sleep_linear_speed, sleep_angular_speed), 0 once it moves faster;
+  /// and while it sleeps (kSphereFlagSleeping), the label its island went to sleep under (the
+  /// smallest handle index in it), which waking one of them wakes all of.
+  AlignedArray<float> sleep_timer;
+  AlignedArray<std::uint32_t> sleep_island;
 
   /// Calls f(name, array) for every per-sphere array above, in one fixed order: the one list
   /// that resize, reserve, permute and snapshots (kernel/world/snapshot_*.cpp) walk, so that an
@@ -130,7 +141,7 @@ class SphereSoA {
     for_each_array_of(*this, f);
   }
   /// How many arrays for_each_array visits.
-  static constexpr std::size_t kArrayCount = 25;
+  static constexpr std::size_t kArrayCount = 27;
 
   /// The handle tables, for snapshots: per handle index, its current generation (a removed
   /// sphere's index has moved on to the next), and the free indices in the order add() reuses
@@ -157,6 +168,7 @@ class SphereSoA {
     f("torque_x", s.torque_x), f("torque_y", s.torque_y), f("torque_z", s.torque_z);
     f("user_data", s.user_data);
     f("collision_category", s.collision_category), f("collision_mask", s.collision_mask);
+    f("sleep_timer", s.sleep_timer), f("sleep_island", s.sleep_island);
   }
 
   void set_padding(std::size_t first);

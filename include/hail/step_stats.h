@@ -20,9 +20,9 @@ struct SweepStats {
 /// Wall-clock milliseconds spent in each phase of the last step (cheap enough to stay on).
 struct PhaseTimes {
   double reorder = 0, predict = 0, detect_terrain = 0, detect_pairs = 0, solve = 0, sweep = 0, integrate = 0,
-         depenetrate = 0;
+         depenetrate = 0, islands = 0;
   [[nodiscard]] double total() const {
-    return reorder + predict + detect_terrain + detect_pairs + solve + sweep + integrate + depenetrate;
+    return reorder + predict + detect_terrain + detect_pairs + solve + sweep + integrate + depenetrate + islands;
   }
 };
 
@@ -63,6 +63,10 @@ struct StepStats {
   /// Spheres found with their centre below the terrain surface at the start of the step (those
   /// added, or all after set_terrain, since the last step) and lifted out onto it (World::step).
   std::size_t lifted_out = 0;
+  /// Sleeping (WorldSettings::sleep; 0 when off): spheres asleep after the step, and the
+  /// islands of awake movable spheres its last substep found.
+  std::size_t sleeping = 0;
+  std::size_t islands = 0;
 };
 
 }  // namespace hail

@@ -369,6 +369,23 @@ class World {
   [[nodiscard]] std::span<const TouchEvent> touch_end_events() const;
   [[nodiscard]] std::span<const HitEvent> hit_events() const;
 
+  // ---- Sleeping (WorldSettings::sleep; kernel/world/sleep_islands.h) ----
+
+  /// Whether the sphere sleeps: at rest with its island, its velocities zero, left out of the
+  /// step until a contact with a moving sphere, a control call (every setter, impulse and force
+  /// but set_user_data), removing a sphere of its island or an immovable one it rests on, or a
+  /// change of the ground (set_terrain, add_plane, set_ground_filter, shift_origin) wakes it.
+  /// A game can stop drawing updates for it. Always false with sleeping off. Throws
+  /// InvalidArgument for a stale handle.
+  [[nodiscard]] bool is_sleeping(SphereId id) const;
+  /// Spheres that fell asleep in the last step, and spheres woken since the step before it (by
+  /// the last step, or by a call made before it), each sorted by handle index, each sphere once
+  /// (a sphere may be in both: woken, then asleep again). No copy; valid until the next step.
+  /// Empty with sleeping off. A sleeper's contacts are left out of last_contacts(), but its
+  /// touches go on (no touch_end_events) until it wakes.
+  [[nodiscard]] std::span<const SphereId> sleep_events() const;
+  [[nodiscard]] std::span<const SphereId> wake_events() const;
+
   // ---- Snapshots (include/hail/snapshot.h; kernel/world/snapshot_writer.cpp, snapshot_reader.cpp) ----
 
   /// Replaces `out`'s contents with a snapshot of everything that decides the world's future:
@@ -442,6 +459,11 @@ class World {
   std::size_t require_movable(SphereId id, const char* what) const;
   /// require_slot, also refusing a static sphere or a kinematic one (neither has a mass).
   std::size_t require_dynamic(SphereId id, const char* what) const;
+  /// Sleeping on: wakes slot's island, and if it is immovable the islands resting on it
+  /// (SleepIslands::wake_around); every control call on a sphere calls it.
+  void wake(std::size_t slot);
+  /// Sleeping on: wakes every sleeper (the ground changed).
+  void wake_all();
   /// Zeroes the force and torque accumulators if any call filled them (after each step).
   void clear_forces();
   /// Recomputes gravity_scaled_ and filtered_ (one pass over the spheres) if a change may have

@@ -186,6 +186,28 @@ struct WorldSettings {
   /// steps bitwise the same. Default: on when compiled in
   /// (HAIL_WITH_ROTATION); true is refused otherwise.
   bool rotation = HAIL_WITH_ROTATION != 0;
+  /// Sleeping (kernel/world/sleep_islands.h): spheres joined by sphere-sphere contacts form an
+  /// island (the terrain, planes and immovable spheres join none); an island all of whose
+  /// spheres have stayed below sleep_linear_speed and sleep_angular_speed for sleep_time goes
+  /// to sleep as a whole: velocities zeroed, and left out of integration, the solve and the
+  /// pair and ground tests among sleepers (World::is_sleeping). A contact with a moving
+  /// sphere (continuous collision's impacts too), any control call on one of its spheres
+  /// (setters, impulses, forces), removing one of them and changing the ground (terrain,
+  /// planes, ground filter, shift_origin) wake it. Off: nothing sleeps, and a step is
+  /// bitwise what it was before sleeping existed.
+  bool sleep = false;
+  /// m/s, finite and >= 0: a sphere faster than this resets its sleep timer. Box2D v3 uses
+  /// 0.05 m/s (b2BodyDef::sleepThreshold), Jolt 0.03 m/s (of a point's velocity,
+  /// PhysicsSettings::mPointVelocitySleepThreshold). Too small, a pile never sleeps (its
+  /// spheres keep a residual jitter); too large, a slow roll stops dead.
+  float sleep_linear_speed = 0.05f;
+  /// rad/s, finite and >= 0: a sphere spinning faster resets its sleep timer. 0.1 rad/s is
+  /// 0.05 m/s at the surface of a sphere of radius 0.5 m (the linear speed above).
+  float sleep_angular_speed = 0.1f;
+  /// s, finite and >= 0: how long an island must stay below both speeds to sleep. Box2D v3
+  /// (b2_timeToSleep) and Jolt (mTimeBeforeSleep) both use 0.5 s: long enough that a sphere at
+  /// the top of a bounce, momentarily still, does not fall asleep in the air.
+  float sleep_time = 0.5f;
 };
 
 }  // namespace hail

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/world/sleep_islands.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -194,6 +195,19 @@ void ContactEventTracker::merge_touches(std::vector<TouchKey>& current, std::vec
     }
   }
   std::swap(current, previous);
+}
+
+void ContactEventTracker::keep_sleepers_touching(const SphereSoA& s) {
+  if (!settings_.touch) return;
+  for (const TouchKey& k : previous_pairs_) {
+    const std::int64_t a = s.slot_of(first_of(k)), b = s.slot_of(second_of(k));
+    if (a >= 0 && b >= 0 && sleeping_contact(s, static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)))
+      current_pairs_.push_back(k);
+  }
+  for (const TouchKey& k : previous_ground_) {
+    const std::int64_t a = s.slot_of(ground_event(k).a);
+    if (a >= 0 && sphere_sleeps(s, static_cast<std::size_t>(a))) current_ground_.push_back(k);
+  }
 }
 
 void ContactEventTracker::finish_step() {

@@ -71,6 +71,9 @@ class ContactEventTracker {
   /// After a substep: `contacts` and `impacts` are its lists (slots of `s` as it is now).
   void collect_substep(const SphereSoA& s, std::span<const Contact> contacts, std::span<const Impact> impacts,
                        const EventSurfaces& surfaces);
+  /// Sleeping on, before finish_step: the touches of sleepers go on (their contacts are left
+  /// out of the step, kernel/world/sleep_islands.h), so a pile that falls asleep ends none.
+  void keep_sleepers_touching(const SphereSoA& s);
   void finish_step();
   /// A step that moves nothing (time_scale 0, or no sphere): every touch is kept, except those of
   /// removed spheres, which end; no hits.

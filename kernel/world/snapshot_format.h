@@ -149,7 +149,7 @@ template <class Settings, class F>
 void for_each_setting(Settings& s, F&& f) {
   // A field added to WorldSettings changes its size (mostly): list it here, and raise
   // kSnapshotVersion.
-  static_assert(sizeof(WorldSettings) == 128, "a WorldSettings field was added: list it in for_each_setting");
+  static_assert(sizeof(WorldSettings) == 136, "a WorldSettings field was added: list it in for_each_setting");
   f(s.gravity, "gravity"), f(s.time_scale, "time_scale"), f(s.max_substep, "max_substep");
   f(s.max_substeps, "max_substeps"), f(s.integrator, "integrator");
   f(s.collision_iterations, "collision_iterations"), f(s.resting_iterations, "resting_iterations");
@@ -163,6 +163,8 @@ void for_each_setting(Settings& s, F&& f) {
   f(s.warm_start, "warm_start"), f(s.warm_start_factor, "warm_start_factor");
   f(s.continuous_collision, "continuous_collision"), f(s.fast_travel_fraction, "fast_travel_fraction");
   f(s.max_sweep_events, "max_sweep_events"), f(s.shock_mass_ratio, "shock_mass_ratio"), f(s.rotation, "rotation");
+  f(s.sleep, "sleep"), f(s.sleep_linear_speed, "sleep_linear_speed"), f(s.sleep_angular_speed, "sleep_angular_speed");
+  f(s.sleep_time, "sleep_time");
 }
 
 }  // namespace hail::snapshot

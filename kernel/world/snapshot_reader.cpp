@@ -255,6 +255,7 @@ void World::restore(std::span<const std::byte> bytes) {
   std::swap(step_->events, p.events);
   step_->contacts.clear();
   step_->impacts.clear();
+  step_->sleep.clear_events();
   stats_ = {};
   times_ = {};
 }

@@ -39,6 +39,7 @@
 #include "kernel/solver/solver_body.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "kernel/world/sleep_islands.h"
 #include "kernel/world/step_state.h"
 #include "soa/grow.h"
 
@@ -92,6 +93,22 @@ struct StepPipeline {
   bool forces = false;     // some sphere has a force or torque to apply (World::apply_force / apply_torque)
   bool filtering = false;  // some collision filter is not the default (World::set_collision_filter, set_ground_filter)
   CollisionFilter ground{};  // the terrain's and planes' filter (World::set_ground_filter)
+  bool sleeping = false;     // WorldSettings::sleep: sleepers are left out (kernel/world/sleep_islands.h)
+
+  /// No sphere of slots [first, last) moves (all asleep, or immovable and still): a block of
+  /// sleepers, which predict, static detection and integration skip whole.
+  [[nodiscard]] bool block_still(std::size_t first, std::size_t last) const {
+    for (std::size_t i = first; i < last; ++i)
+      if (sphere_moves(w.spheres, i)) return false;
+    return true;
+  }
+  /// Sleepers keep a zero velocity: predict's gravity on a block that mixes them with awake
+  /// spheres is taken back (their speed of g dt only widens this step's margin a little).
+  void keep_sleepers_still(std::size_t first, std::size_t last) {
+    SphereSoA& s = w.spheres;
+    for (std::size_t i = first; i < last; ++i)
+      if (sphere_sleeps(s, i)) s.vx[i] = s.vy[i] = s.vz[i] = s.wx[i] = s.wy[i] = s.wz[i] = 0.0f;
+  }
 
   void predict(float& margin) {
     SphereSoA& s = w.spheres;
@@ -103,9 +120,12 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
-      if (forces) apply_forces(s, first, last, params.dt, rotation);
+      const bool still = sleeping && block_still(first, last);
+      if (!still && forces) apply_forces(s, first, last, params.dt, rotation);
       st.block_max_speed[b] =
-          predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
+          still ? 0.0f
+                : predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
+      if (sleeping && !still) keep_sleepers_still(first, last);
       st.block_extremes[b] = block_extremes(first, last);
       if (guarding) remember_reach(first, last);
       if (pair_margins) remember_travel(first, last);
@@ -215,6 +235,9 @@ struct StepPipeline {
               (!filtering || meets_ground(s, i, this->ground)))
             beyond[i - first] = 1;
       }
+      if (sleeping)  // a sleeper did not move, and is not pushed while it sleeps
+        for (std::size_t i = first; i < last; ++i)
+          if (sphere_sleeps(s, i)) beyond[i - first] = 0;
       std::uint32_t flagged[kSphereBlock];
       std::size_t flagged_count = 0;
       for (std::size_t i = first; i < last; ++i)
@@ -244,6 +267,7 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::DetectTerrain);
       st.contact_blocks[b].clear();
+      if (sleeping && block_still(first, last)) return;  // sleepers' ground contacts are left out
       find_plane_contacts(s, w.planes, first, last, st.contact_blocks[b]);
 #if HAIL_WITH_TERRAIN
       if (w.terrain)
@@ -252,6 +276,7 @@ struct StepPipeline {
 #endif
       if (filtering)  // static contacts all have the sphere in a
         std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, ground); });
+      if (sleeping) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
     });
   }
 
@@ -296,6 +321,10 @@ struct StepPipeline {
             break;
         }
         if (filtering) drop_filtered_pairs(s, out, found_before);
+        if (sleeping)  // sleepers among themselves (and on still spheres) need no contact
+          out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(found_before), out.end(),
+                                   [&](const SpherePair& p) { return sleeping_contact(s, p.a, p.b); }),
+                    out.end());
       };
       // The block's share of WorldSettings::max_sphere_contacts_per_sphere. A row has fewer
       // than n pairs, so a small world cannot reach it: one search. Otherwise the rows are
@@ -394,6 +423,7 @@ struct StepPipeline {
     });
     ccd.resolve(s, scene, params.restitution_threshold, w.settings.max_sweep_events);
     ccd.finish(s);
+    if (sleeping) st.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
 #endif
   }
 
@@ -677,6 +707,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Integrate);
       std::vector<Impact>* impacts = planes ? &st.impact_blocks[b] : nullptr;
       if (impacts) impacts->clear();
+      if (sleeping && block_still(first, last)) return;  // nothing in it moves
       integrate_positions(s, first, last, w.planes, params, st.ccd.moved(), impacts);
     });
     st.impacts.clear();
@@ -834,6 +865,25 @@ struct StepPipeline {
     }
     ran.detect_static = w.terrain != nullptr || !w.planes.empty();
     ran.detect_pairs = w.settings.sphere_collisions && w.spheres.size() > 1;
+    detect(margin);
+    // A contact between a sleeper and a sphere that moves wakes the sleeper's island before the
+    // solve; detection runs again so that the woken spheres' own contacts are solved this
+    // substep too (and again if they touch another island). Rare: only substeps that wake.
+    if (sleeping)
+      while (wake_touched()) detect(margin);
+    solve_and_move();
+  }
+
+  bool wake_touched() {
+    ScopedPhaseTimer timer(w.times.islands);
+    ScopedTraceRecord record(w.trace, Phase::Islands);
+    return st.sleep.wake_touched(w.spheres, st.contacts);
+  }
+
+  /// Sphere-ground contacts and sphere pairs (both at once when both run), merged.
+  void detect(float margin) {
+    PhaseTimes& t = w.times;
+    const StepParts& ran = w.stats.ran;
     auto detect_static_timed = [&] {
       ScopedPhaseTimer inner(t.detect_terrain);
       ScopedTraceRecord record(w.trace, Phase::DetectTerrain);
@@ -861,6 +911,12 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       merge_contacts();
     }
+  }
+
+  /// The rest of run(): solve, sweep, integrate, depenetrate, islands.
+  void solve_and_move() {
+    PhaseTimes& t = w.times;
+    StepParts& ran = w.stats.ran;
     ran.solve = !st.contacts.empty();
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
@@ -894,6 +950,11 @@ struct StepPipeline {
       if (ran.depenetrate) depenetrate();
       if (guarding) guard_terrain();
     }
+    if (sleeping) {
+      ScopedPhaseTimer timer(t.islands);
+      ScopedTraceRecord record(w.trace, Phase::Islands);
+      st.sleep.update(w.spheres, st.contacts, params.dt, w.settings);
+    }
   }
 
   /// Phases that are skipped still leave their block buffers empty for merge_contacts.
@@ -917,9 +978,21 @@ void World::step(float dt) {
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
   ContactEventTracker& events = step_->events;
-  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0) {  // frozen (time_scale 0) or empty
+  SleepIslands& sleep = step_->sleep;
+  // Frozen (time_scale 0) or empty; or every movable sphere asleep and nothing else moving,
+  // when a step would change nothing: it costs one pass over the flags.
+  const bool all_asleep = settings_.sleep && !SleepIslands::anything_moves(spheres_);
+  if (substeps == 0 || scaled == 0.0f || spheres_.size() == 0 || all_asleep) {
     clear_forces();
     if (events.on()) events.finish_idle_step(spheres_);
+    if (all_asleep) {
+      step_->contacts.clear();
+      step_->impacts.clear();
+      stats_ = {};
+      stats_.sleeping = SleepIslands::count_sleeping(spheres_);
+      steps_taken_ += static_cast<std::uint64_t>(substeps);  // the re-sort's phase goes on
+    }
+    if (settings_.sleep) sleep.publish();
     return;
   }
   refresh_uses();
@@ -930,9 +1003,15 @@ void World::step(float dt) {
                                            : static_cast<float>(double(dt) * settings_.time_scale / substeps);
   if (events.on()) events.begin_step();
   for (int k = 0; k < substeps; ++k) substep(each);
+  if (events.on() && settings_.sleep) events.keep_sleepers_touching(spheres_);
   if (events.on()) events.finish_step();
   clear_forces();  // forces and torques act over one step (each of its substeps), then are gone
   stats_.lifted_out = lifted;
+  if (settings_.sleep) {
+    stats_.sleeping = SleepIslands::count_sleeping(spheres_);
+    stats_.islands = sleep.islands();
+    sleep.publish();
+  }
 }
 
 void World::substep(float scaled) {
@@ -955,6 +1034,7 @@ void World::substep(float scaled) {
   pipeline.params.gravity_scaled = gravity_scaled_;
   pipeline.params.ground_filtered = filtered_;
   pipeline.params.ground = ground_filter_;
+  pipeline.sleeping = settings_.sleep;
   // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
   pipeline.params.restitution_threshold =
       std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);

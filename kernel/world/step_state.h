@@ -24,6 +24,7 @@
 #include "kernel/solver/shock_propagation.h"
 #include "kernel/solver/solver_body.h"
 #include "kernel/world/contact_events.h"
+#include "kernel/world/sleep_islands.h"
 #include "kernel/world/sphere_query_cache.h"
 
 namespace hail {
@@ -69,6 +70,8 @@ struct StepState {
   std::vector<Aabb> reorder_bounds;          ///< box of each block's centres
   // Touch and hit events (World::set_events); its touching keys persist between steps.
   ContactEventTracker events;
+  // Sleeping: islands, waking, sleep and wake events (WorldSettings::sleep).
+  SleepIslands sleep;
   // World queries: the BVH over the spheres, rebuilt at the first query after a change.
   SphereQueryCache sphere_queries;
 };

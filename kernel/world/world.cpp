@@ -63,6 +63,13 @@ void World::validate(const WorldSettings& s) {
           describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
   require(std::isfinite(s.pair_margin_travel) && s.pair_margin_travel >= 0.0f,
           describe("WorldSettings::pair_margin_travel must be >= 0, got", s.pair_margin_travel));
+  auto require_sleep_value = [&](float value, const char* name) {
+    require(std::isfinite(value) && value >= 0.0f,
+            describe((std::string("WorldSettings::") + name + " must be finite and >= 0, got").c_str(), value));
+  };
+  require_sleep_value(s.sleep_linear_speed, "sleep_linear_speed");
+  require_sleep_value(s.sleep_angular_speed, "sleep_angular_speed");
+  require_sleep_value(s.sleep_time, "sleep_time");
   // Chooses the SIMD path now if nothing has yet, so that a bad HAIL_SIMD is reported here, at
   // the API boundary, and not from inside a step's parallel loop.
   (void)active_simd_path();
@@ -137,7 +144,9 @@ SphereId World::add_sphere(const SphereDesc& d) {
   record.filter = d.filter;
   if (d.filter != CollisionFilter{} || d.is_kinematic) filtered_ = true;
   step_->sphere_queries.invalidate();
-  return spheres_.add(record);
+  const SphereId id = spheres_.add(record);
+  if (d.is_static) wake(static_cast<std::size_t>(spheres_.slot_of(id)));  // it pushes nothing: wake what it meets
+  return id;
 }
 
 bool World::remove_sphere(SphereId id) {
@@ -149,6 +158,7 @@ bool World::remove_sphere(SphereId id) {
   if (slot >= 0 && spheres_.size() - 1 >= unchecked_from_)
     unchecked_from_ = std::min(unchecked_from_, static_cast<std::size_t>(slot));
   uses_stale_ = uses_stale_ || gravity_scaled_ || filtered_;  // it may have been the last one
+  if (slot >= 0) wake(static_cast<std::size_t>(slot));        // its island, and what rested on it
   return spheres_.remove(id);
 }
 
@@ -175,6 +185,7 @@ std::size_t World::add_plane(const PlaneDesc& d) {
     return "plane offset / |normal| must be finite, got " + std::to_string(d.offset) + " / " + std::to_string(length);
   });
   planes_.push_back({n.x(), n.y(), n.z(), offset, d.restitution, d.friction});
+  wake_all();
   return planes_.size() - 1;
 }
 
@@ -201,6 +212,7 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   require_material(restitution, friction, "terrain");
   if (terrain) require_terrain_resolvable(*terrain);
   terrain_ = std::move(terrain);
+  wake_all();
   unchecked_from_ = 0;           // every sphere may be inside the new terrain
   step_->contact_cache.clear();  // triangle features name another terrain's triangles now
   terrain_restitution_ = restitution;
@@ -241,6 +253,7 @@ void World::shift_origin(const Vec3& offset) {
   }
 #endif
 
+  wake_all();  // positions round: contacts that held may not
   for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
   SphereSoA& m = spheres_;
   for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();

@@ -68,6 +68,7 @@ bool World::is_kinematic(SphereId id) const { return hail::is_kinematic(spheres_
 
 void World::set_kinematic(SphereId id) {
   const std::size_t i = require_slot(id);
+  wake(i);  // its island, while it is still in one (or what rested on it)
   SphereSoA& s = spheres_;
   s.flags[i] |= kSphereFlagKinematic;
   s.inv_mass[i] = 0.0f;
@@ -79,6 +80,7 @@ void World::set_kinematic(SphereId id) {
 void World::set_dynamic(SphereId id, float mass) {
   const std::size_t i = require_slot(id);
   require_sphere_mass(mass);
+  wake(i);
   SphereSoA& s = spheres_;
   const float inv_inertia = inverse_inertia(mass, s.radius[i]);
   if (hail::is_kinematic(s, i)) uses_stale_ = true;  // it may have been the last kinematic sphere
@@ -115,6 +117,7 @@ void World::set_collision_filter(SphereId id, CollisionFilter filter) {
   const std::size_t i = require_slot(id);
   spheres_.collision_category[i] = filter.category;
   spheres_.collision_mask[i] = filter.mask;
+  wake(i);
   step_->sphere_queries.invalidate();
   if (filter != CollisionFilter{})
     filtered_ = true;
@@ -124,6 +127,7 @@ void World::set_collision_filter(SphereId id, CollisionFilter filter) {
 
 void World::set_ground_filter(CollisionFilter filter) {
   ground_filter_ = filter;
+  wake_all();
   if (filter != CollisionFilter{})
     filtered_ = true;
   else
@@ -158,6 +162,7 @@ void World::set_positions(std::span<const SphereId> handles, std::span<const Vec
   ContactImpulseCache& cache = step_->contact_cache;
   for (std::size_t k = 0; k < handles.size(); ++k) {
     const std::size_t i = static_cast<std::size_t>(spheres_.slot_of(handles[k]));
+    wake(i);  // where it was: an immovable one leaves what rested on it
     spheres_.px[i] = positions[k].x(), spheres_.py[i] = positions[k].y(), spheres_.pz[i] = positions[k].z();
     cache.forget(i);  // what it touched is not where it is now
   }
@@ -179,6 +184,7 @@ void World::set_velocities(std::span<const SphereId> handles, std::span<const Ve
   for (std::size_t k = 0; k < handles.size(); ++k) {
     const std::size_t i = static_cast<std::size_t>(spheres_.slot_of(handles[k]));
     spheres_.vx[i] = velocities[k].x(), spheres_.vy[i] = velocities[k].y(), spheres_.vz[i] = velocities[k].z();
+    wake(i);
   }
 }
 
@@ -188,6 +194,7 @@ void World::set_angular_velocity(SphereId id, const Vec3& w) {
   require_sphere_spin(w);
   require_spin_allowed(settings_.rotation, w);
   spheres_.wx[i] = w.x(), spheres_.wy[i] = w.y(), spheres_.wz[i] = w.z();
+  wake(i);
 }
 
 void World::apply_impulse(SphereId id, const Vec3& impulse) { apply_impulses({&id, 1}, {&impulse, 1}); }
@@ -219,6 +226,7 @@ void World::apply_impulses(std::span<const SphereId> handles, std::span<const Ve
       throw;
     }
     s.vx[i] = v.x(), s.vy[i] = v.y(), s.vz[i] = v.z();
+    wake(i);
   }
 }
 
@@ -241,6 +249,7 @@ void World::apply_impulse_at(SphereId id, const Vec3& impulse, const Vec3& world
   }
   s.vx[i] = v.x(), s.vy[i] = v.y(), s.vz[i] = v.z();
   s.wx[i] = w.x(), s.wy[i] = w.y(), s.wz[i] = w.z();
+  wake(i);
 }
 
 void World::apply_force(SphereId id, const Vec3& force) {
@@ -250,6 +259,7 @@ void World::apply_force(SphereId id, const Vec3& force) {
   const Vec3 sum = Vec3(s.force_x[i], s.force_y[i], s.force_z[i]) + force;
   require_finite(sum, "accumulated force");
   if (!(s.inv_mass[i] > 0.0f)) return;  // static: a push on the immovable
+  wake(i);
   s.force_x[i] = sum.x(), s.force_y[i] = sum.y(), s.force_z[i] = sum.z();
   forces_pending_ = true;
 }
@@ -265,6 +275,7 @@ void World::apply_torque(SphereId id, const Vec3& torque) {
   const Vec3 sum = Vec3(s.torque_x[i], s.torque_y[i], s.torque_z[i]) + torque;
   require_finite(sum, "accumulated torque");
   if (!(s.inv_mass[i] > 0.0f)) return;  // static: ignored
+  wake(i);
   s.torque_x[i] = sum.x(), s.torque_y[i] = sum.y(), s.torque_z[i] = sum.z();
   forces_pending_ = true;
 }
@@ -281,12 +292,14 @@ void World::set_restitution(SphereId id, float restitution) {
   const std::size_t i = require_slot(id);
   require_material(restitution, spheres_.friction[i], "sphere");
   spheres_.restitution[i] = restitution;
+  wake(i);
 }
 
 void World::set_friction(SphereId id, float friction) {
   const std::size_t i = require_slot(id);
   require_material(spheres_.restitution[i], friction, "sphere");
   spheres_.friction[i] = friction;
+  wake(i);
 }
 
 void World::set_mass(SphereId id, float mass) {
@@ -295,6 +308,7 @@ void World::set_mass(SphereId id, float mass) {
   const float inv_inertia = inverse_inertia(mass, spheres_.radius[i]);
   spheres_.inv_mass[i] = 1.0f / mass;
   spheres_.inv_inertia[i] = inv_inertia;
+  wake(i);
 }
 
 void World::set_radius(SphereId id, float radius) {
@@ -303,6 +317,7 @@ void World::set_radius(SphereId id, float radius) {
   const bool movable = spheres_.inv_mass[i] > 0.0f;
   const float inv_inertia = movable ? inverse_inertia(1.0f / spheres_.inv_mass[i], radius) : 0.0f;
   require_resolvable({spheres_.px[i], spheres_.py[i], spheres_.pz[i]}, radius);
+  wake(i);  // at its old size: an immovable one that shrinks leaves what rested on it
   spheres_.radius[i] = radius;
   spheres_.inv_inertia[i] = inv_inertia;
   step_->sphere_queries.invalidate();
@@ -315,6 +330,7 @@ void World::set_gravity_scale(SphereId id, float scale) {
            " (include/hail/world.h), got " + std::to_string(scale);
   });
   spheres_.gravity_scale[i] = scale;
+  wake(i);
   if (scale != 1.0f)
     gravity_scaled_ = true;
   else

@@ -1,0 +1,355 @@
+// Sleeping (WorldSettings::sleep, kernel/world/sleep_islands.h): a settled pile falls asleep
+// and stays exactly still; each wake rule (a moving sphere's contact, a swept sphere's impact,
+// every control call, removing a sphere, changes of the ground); islands wake whole and only
+// themselves; events; the same state on 1 and 2 threads; snapshots keep sleep exactly.
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "catch.h"
+#include "hail/world.h"
+#include "simd_paths.h"
+
+using namespace hail;
+
+namespace {
+
+constexpr float kDt = 1.0f / 60.0f;
+
+WorldSettings sleepy(int threads = 1) {
+  WorldSettings s;
+  s.sleep = true;
+  s.threads = threads;
+  return s;
+}
+
+/// A column of three spheres on the ground plane (one island) and a lone sphere far from it.
+struct Scene {
+  std::vector<SphereId> column;
+  SphereId loner;
+};
+
+Scene add_column_and_loner(World& world) {
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
+  Scene scene;
+  for (int k = 0; k < 3; ++k)
+    scene.column.push_back(world.add_sphere({.position = {0.0f, 0.5f + 1.0f * static_cast<float>(k), 0.0f}}));
+  scene.loner = world.add_sphere({.position = {10.0f, 0.5f, 0.0f}});
+  return scene;
+}
+
+/// Steps until every movable sphere sleeps (at most `steps`); returns the steps taken.
+int settle(World& world, int steps = 600) {
+  const auto inv_mass = world.spheres().inv_mass;
+  const auto movable =
+      static_cast<std::size_t>(std::count_if(inv_mass.begin(), inv_mass.end(), [](float m) { return m > 0.0f; }));
+  for (int k = 0; k < steps; ++k) {
+    world.step(kDt);
+    if (world.last_step_stats().sleeping == movable) return k;
+  }
+  return steps;
+}
+
+bool all_sleeping(const World& world, const std::vector<SphereId>& ids) {
+  return std::all_of(ids.begin(), ids.end(), [&](SphereId id) { return world.is_sleeping(id); });
+}
+bool none_sleeping(const World& world, const std::vector<SphereId>& ids) {
+  return std::none_of(ids.begin(), ids.end(), [&](SphereId id) { return world.is_sleeping(id); });
+}
+
+/// A box of planes with `n` spheres dropped into it in a loose lattice.
+void add_pile(World& world, int n) {
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
+  world.add_plane({.normal = {1, 0, 0}, .offset = -4.0f});
+  world.add_plane({.normal = {-1, 0, 0}, .offset = -4.0f});
+  world.add_plane({.normal = {0, 0, 1}, .offset = -4.0f});
+  world.add_plane({.normal = {0, 0, -1}, .offset = -4.0f});
+  for (int k = 0; k < n; ++k) {
+    const float x = -3.0f + 1.1f * static_cast<float>(k % 6) + 0.01f * static_cast<float>(k % 7);
+    const float z = -3.0f + 1.1f * static_cast<float>((k / 6) % 6);
+    const float y = 0.6f + 1.1f * static_cast<float>(k / 36);
+    world.add_sphere({.position = {x, y, z}, .velocity = {0.3f * static_cast<float>(k % 3 - 1), 0, 0}});
+  }
+}
+
+}  // namespace
+
+TEST_CASE("A settled column and a lone sphere fall asleep, zeroed, and then stay exactly still", "[sleep]") {
+  World world(sleepy());
+  const Scene scene = add_column_and_loner(world);
+  const int steps = settle(world);
+  REQUIRE(steps < 600);
+  CHECK(world.last_step_stats().sleeping == 4);
+  CHECK(all_sleeping(world, scene.column));
+  CHECK(world.is_sleeping(scene.loner));
+  const std::uint64_t hash = world.state_hash();
+  for (int k = 0; k < 120; ++k) world.step(kDt);
+  CHECK(world.state_hash() == hash);  // positions and velocities bitwise the same: nothing moved
+  CHECK(world.velocity(scene.loner) == Vec3::Zero());
+  CHECK(world.last_contacts().empty());  // sleepers cost no contact
+  CHECK(world.sleep_events().empty());   // they fell asleep long ago
+}
+
+TEST_CASE("Sleep events list the spheres that fell asleep, by handle index, once", "[sleep]") {
+  World world(sleepy());
+  add_column_and_loner(world);
+  std::vector<std::uint32_t> slept;
+  for (int k = 0; k < 600 && slept.size() < 4; ++k) {
+    world.step(kDt);
+    for (SphereId id : world.sleep_events()) slept.push_back(id.index);
+    CHECK(std::is_sorted(world.sleep_events().begin(), world.sleep_events().end(),
+                         [](SphereId a, SphereId b) { return a.index < b.index; }));
+  }
+  std::sort(slept.begin(), slept.end());
+  CHECK(slept == std::vector<std::uint32_t>{0, 1, 2, 3});
+}
+
+TEST_CASE("With sleeping off nothing sleeps", "[sleep]") {
+  WorldSettings settings = sleepy();
+  settings.sleep = false;
+  World world(settings);
+  const Scene scene = add_column_and_loner(world);
+  for (int k = 0; k < 200; ++k) world.step(kDt);
+  CHECK(none_sleeping(world, scene.column));
+  CHECK(!world.is_sleeping(scene.loner));
+  CHECK(world.last_step_stats().sleeping == 0);
+  CHECK(world.sleep_events().empty());
+}
+
+TEST_CASE("Every control call wakes the sphere's island and no other", "[sleep]") {
+  using Call = std::function<void(World&, SphereId)>;
+  const std::vector<std::pair<std::string, Call>> calls = {
+      {"set_position", [](World& w, SphereId id) { w.set_position(id, w.position(id) + Vec3(0, 0.001f, 0)); }},
+      {"set_velocity",
+       [](World& w, SphereId id) {
+         w.set_velocity(id, {0.1f, 0, 0});
+       }},
+      {"set_angular_velocity",
+       [](World& w, SphereId id) {
+         w.set_angular_velocity(id, {0, 1, 0});
+       }},
+      {"apply_impulse",
+       [](World& w, SphereId id) {
+         w.apply_impulse(id, {0.1f, 0, 0});
+       }},
+      {"apply_impulse_at",
+       [](World& w, SphereId id) {
+         w.apply_impulse_at(id, {0.1f, 0, 0}, w.position(id));
+       }},
+      {"apply_force",
+       [](World& w, SphereId id) {
+         w.apply_force(id, {1, 0, 0});
+       }},
+      {"apply_torque",
+       [](World& w, SphereId id) {
+         w.apply_torque(id, {0, 1, 0});
+       }},
+      {"set_restitution", [](World& w, SphereId id) { w.set_restitution(id, 0.25f); }},
+      {"set_friction", [](World& w, SphereId id) { w.set_friction(id, 0.25f); }},
+      {"set_mass", [](World& w, SphereId id) { w.set_mass(id, 3.0f); }},
+      {"set_radius", [](World& w, SphereId id) { w.set_radius(id, 0.49f); }},
+      {"set_gravity_scale", [](World& w, SphereId id) { w.set_gravity_scale(id, 0.5f); }},
+      {"set_collision_filter",
+       [](World& w, SphereId id) {
+         w.set_collision_filter(id, {1, 1});
+       }},
+      {"set_positions",
+       [](World& w, SphereId id) {
+         const Vec3 p = w.position(id);
+         w.set_positions({&id, 1}, {&p, 1});
+       }},
+      {"set_velocities",
+       [](World& w, SphereId id) {
+         const Vec3 v(0.1f, 0, 0);
+         w.set_velocities({&id, 1}, {&v, 1});
+       }},
+      {"apply_impulses",
+       [](World& w, SphereId id) {
+         const Vec3 j(0.1f, 0, 0);
+         w.apply_impulses({&id, 1}, {&j, 1});
+       }},
+  };
+  World settled(sleepy());
+  const Scene scene = add_column_and_loner(settled);
+  REQUIRE(settle(settled) < 600);
+  std::vector<std::byte> snapshot;
+  settled.save(snapshot);
+  for (const auto& [name, call] : calls) {
+    INFO(name);
+    World world(sleepy());
+    world.restore(snapshot);
+    REQUIRE(all_sleeping(world, scene.column));
+    call(world, scene.column[2]);  // the top of the column
+    CHECK(none_sleeping(world, scene.column));
+    CHECK(world.is_sleeping(scene.loner));
+    world.step(kDt);
+    CHECK(world.wake_events().size() == 3);  // the call's wakes are the next step's events
+  }
+}
+
+TEST_CASE("A sphere dropped on a sleeping column wakes it in the step it arrives", "[sleep]") {
+  World world(sleepy());
+  const Scene scene = add_column_and_loner(world);
+  REQUIRE(settle(world) < 600);
+  const SphereId dropped = world.add_sphere({.position = {0.0f, 4.0f, 0.0f}, .velocity = {0, -2, 0}});
+  bool woke = false;
+  for (int k = 0; k < 120 && !woke; ++k) {
+    world.step(kDt);
+    if (!world.is_sleeping(scene.column[2])) {
+      woke = true;
+      // The step that woke it solved the contact that did: it did not wait for the next one.
+      const std::int64_t a = world.slot_of(dropped), b = world.slot_of(scene.column[2]);
+      const auto contacts = world.last_contacts();
+      CHECK(std::any_of(contacts.begin(), contacts.end(),
+                        [&](const Contact& c) { return (c.a == a && c.b == b) || (c.a == b && c.b == a); }));
+      CHECK(none_sleeping(world, scene.column));
+      CHECK(world.is_sleeping(scene.loner));
+    }
+  }
+  CHECK(woke);
+}
+
+TEST_CASE("A swept sphere's impact on a sleeper wakes it and moves it in that step", "[sleep]") {
+  World world(sleepy());
+  const Scene scene = add_column_and_loner(world);
+  REQUIRE(settle(world) < 600);
+  // 120 m/s: 2 m a step, four radii, so it is swept (continuous collision) from 6 m away.
+  const SphereId bullet = world.add_sphere({.position = {4.0f, 0.5f, 0.0f}, .velocity = {120, 0, 0}, .mass = 0.1f});
+  bool hit = false;
+  for (int k = 0; k < 10 && !hit; ++k) {
+    world.step(kDt);
+    if (!world.is_sleeping(scene.loner)) {
+      hit = true;
+      CHECK(world.velocity(scene.loner).x() > 0.0f);
+      const auto woken = world.wake_events();
+      CHECK(std::find(woken.begin(), woken.end(), scene.loner) != woken.end());
+    }
+  }
+  CHECK(hit);
+  CHECK(all_sleeping(world, scene.column));
+  (void)bullet;
+}
+
+TEST_CASE("Removing a sphere wakes its island; removing a static one wakes what rested on it", "[sleep]") {
+  World world(sleepy());
+  const Scene scene = add_column_and_loner(world);
+  const SphereId post = world.add_sphere({.position = {-10.0f, 0.5f, 0.0f}, .is_static = true});
+  const SphereId perched = world.add_sphere({.position = {-10.0f, 1.5f, 0.0f}});
+  REQUIRE(settle(world) < 600);
+  REQUIRE(world.is_sleeping(perched));
+  REQUIRE(!world.is_sleeping(post));  // immovable spheres never sleep
+  world.remove_sphere(scene.column[0]);
+  CHECK(!world.is_sleeping(scene.column[1]));
+  CHECK(!world.is_sleeping(scene.column[2]));
+  CHECK(world.is_sleeping(scene.loner));
+  CHECK(world.is_sleeping(perched));
+  world.remove_sphere(post);
+  CHECK(!world.is_sleeping(perched));
+  CHECK(world.is_sleeping(scene.loner));
+  const float y = world.position(perched).y();
+  for (int k = 0; k < 10; ++k) world.step(kDt);
+  CHECK(world.position(perched).y() < y - 0.1f);  // it falls
+}
+
+TEST_CASE("Changing the ground wakes every sleeper", "[sleep]") {
+  const std::vector<std::pair<std::string, std::function<void(World&)>>> changes = {
+      {"add_plane",
+       [](World& w) {
+         w.add_plane({.normal = {1, 0, 0}, .offset = -50.0f});
+       }},
+      {"set_ground_filter",
+       [](World& w) {
+         w.set_ground_filter({1, kAllCategories});
+       }},
+      {"shift_origin",
+       [](World& w) {
+         w.shift_origin({1, 0, 0});
+       }},
+  };
+  for (const auto& [name, change] : changes) {
+    INFO(name);
+    World world(sleepy());
+    const Scene scene = add_column_and_loner(world);
+    REQUIRE(settle(world) < 600);
+    change(world);
+    CHECK(none_sleeping(world, scene.column));
+    CHECK(!world.is_sleeping(scene.loner));
+  }
+}
+
+TEST_CASE("Sleeping settings are checked", "[sleep]") {
+  for (float bad : {-1.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    WorldSettings s = sleepy();
+    s.sleep_time = bad;
+    CHECK_THROWS_AS(World(s), InvalidArgument);
+    s = sleepy();
+    s.sleep_linear_speed = bad;
+    CHECK_THROWS_AS(World(s), InvalidArgument);
+    s = sleepy();
+    s.sleep_angular_speed = bad;
+    CHECK_THROWS_AS(World(s), InvalidArgument);
+  }
+}
+
+TEST_CASE("A pile with sleeping on steps bitwise the same on 1 and 2 threads and every SIMD path", "[sleep][threads]") {
+  std::vector<std::uint64_t> hashes;
+  std::vector<std::size_t> sleeping;
+  for (SimdPath path : hail::testing::supported_paths())
+    for (int threads : {1, 2}) {
+      hail::testing::ScopedSimdPath scoped(path);
+      World world(sleepy(threads));
+      add_pile(world, 300);
+      std::size_t most_asleep = 0;
+      for (int k = 0; k < 700; ++k) {
+        world.step(kDt);
+        most_asleep = std::max(most_asleep, world.last_step_stats().sleeping);
+      }
+      hashes.push_back(world.state_hash());
+      sleeping.push_back(most_asleep);
+    }
+  for (std::size_t k = 1; k < hashes.size(); ++k) {
+    CHECK(hashes[k] == hashes[0]);
+    CHECK(sleeping[k] == sleeping[0]);
+  }
+  CHECK(sleeping[0] > 0);  // the test saw sleepers
+}
+
+TEST_CASE("A snapshot with sleepers restores their sleep exactly", "[sleep]") {
+  World world(sleepy());
+  add_pile(world, 200);
+  for (int k = 0; k < 400; ++k) world.step(kDt);
+  REQUIRE(world.last_step_stats().sleeping > 0);
+  std::vector<std::byte> snapshot;
+  world.save(snapshot);
+  World copy(sleepy());
+  copy.restore(snapshot);
+  for (std::size_t i = 0; i < world.sphere_count(); ++i)
+    CHECK(copy.is_sleeping(world.id_at(i)) == world.is_sleeping(world.id_at(i)));
+  for (int k = 0; k < 200; ++k) world.step(kDt), copy.step(kDt);
+  CHECK(copy.state_hash() == world.state_hash());
+  CHECK(copy.last_step_stats().sleeping == world.last_step_stats().sleeping);
+}
+
+TEST_CASE("Sleepers keep their touches: a column falling asleep ends none", "[sleep][events]") {
+  World world(sleepy());
+  world.set_events({.touch = true});
+  const Scene scene = add_column_and_loner(world);
+  // A sphere that drifts forever, touching nothing, keeps the world's steps running.
+  const SphereId drifter = world.add_sphere({.position = {-20.0f, 5.0f, 0.0f}, .velocity = {-1, 0, 0}});
+  world.set_gravity_scale(drifter, 0.0f);
+  std::size_t ended_while_asleep = 0;
+  bool slept = false;
+  for (int k = 0; k < 600; ++k) {
+    world.step(kDt);
+    const bool now_asleep = all_sleeping(world, scene.column) && world.is_sleeping(scene.loner);
+    if (slept) ended_while_asleep += world.touch_end_events().size();
+    slept = slept || now_asleep;
+  }
+  REQUIRE(slept);
+  CHECK(!world.is_sleeping(drifter));
+  CHECK(ended_while_asleep == 0);
+}
