@@ -14,7 +14,6 @@
 #include "bench/scenes/metrics.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/scenes.h"
-#include "cli.h"
 #include "gnuplot.h"
 #include "peer_engine.h"
 
@@ -53,30 +52,6 @@ std::vector<Variant> variants() {
 }
 
 }  // namespace
-
-void add_accuracy_options(CLI::App& app, AccuracyOptions& o) {
-  app.description("error against wall time: known-answer cases and two scenes, for hail's knobs and the peers");
-  app.add_option_function<std::string>(
-         "--dt",
-         [&o](const std::string& list) {
-           o.dts.clear();
-           for (std::size_t start = 0; start <= list.size();) {
-             const std::size_t end = std::min(list.find(',', start), list.size());
-             const std::string item = list.substr(start, end - start);
-             o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / parse_real("--dt 1/N", item.substr(2), 1.0, 1e9)
-                                                      : parse_real("--dt", item, 0.0, 1.0, /*exclude_min=*/true));
-             start = end + 1;
-           }
-         },
-         "time steps, comma-separated, each a number or 1/N in (0, 1] (default 1/60,1/240,1/1000)")
-      ->type_name("LIST");
-  add_count(app, "--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases");
-  add_count(app, "--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported");
-  app.add_option("--out", o.out_dir, "folder of the CSV, JSON and plots")->type_name("DIR");
-  app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
-  app.add_flag("--no-scenes", o.no_scenes, "the known-answer cases only");
-  app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
-}
 
 namespace {
 
@@ -176,11 +151,6 @@ do for [c=1:words(CASES)] {
 )";
 
 }  // namespace
-
-int accuracy_command(const std::vector<std::string>& args) {
-  const std::optional<AccuracyOptions> parsed = parse_command("accuracy", add_accuracy_options, args);
-  return parsed ? accuracy_command(*parsed) : 0;  // 0 after --help
-}
 
 int accuracy_command(const AccuracyOptions& o) {
   prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end

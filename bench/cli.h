@@ -2,15 +2,19 @@
 // What every hail-bench command shares on its command line, on CLI11 (Debian's libcli11-dev): a
 // count is a whole number in its range ("1e6" is one, "2.7" and "1e10" are refused), a real is a
 // finite number in its range, an unknown flag is an error naming it, `--help` prints the
-// command's own usage, and the last of a repeated flag wins. Each command declares its flags in
-// add_<command>_options(CLI::App&, Options&); main.cpp makes those apps the subcommands of
+// command's own usage, and the last of a repeated flag wins. Each command's flags are declared in
+// add_<command>_options(CLI::App&, Options&) (bench/command_flags.cpp); command_line.cpp makes those apps the subcommands of
 // `hail-bench`, and parse_command() parses one command alone (the tests, an embedding program).
+// Only bench/command_flags.cpp, command_line.cpp and cli.cpp include this (and CLI11): see
+// command_flags.cpp for why; a command's own file includes parse_numbers.h for values in lists.
 
 #include <CLI/CLI.hpp>
 #include <concepts>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "parse_numbers.h"
 
 namespace hail::bench {
 
@@ -20,13 +24,6 @@ namespace hail::bench {
 [[nodiscard]] CLI::Validator whole_number_in(long long min, long long max);
 /// A CLI11 check: a finite number in [min, max] ((min, max] with exclude_min).
 [[nodiscard]] CLI::Validator number_in(double min, double max, bool exclude_min = false);
-
-/// The text as a whole number in [min, max] (whole_number_in's rule), for a value inside a list;
-/// std::invalid_argument naming `what` otherwise.
-[[nodiscard]] long long parse_count(const std::string& what, const std::string& text, long long min, long long max);
-/// The text as a finite number in [min, max] ((min, max] with exclude_min); std::invalid_argument otherwise.
-[[nodiscard]] double parse_real(const std::string& what, const std::string& text, double min, double max,
-                                bool exclude_min = false);
 
 /// A whole-number flag (whole_number_in) writing `target`; its default is shown in --help.
 template <std::integral T>
@@ -44,9 +41,6 @@ CLI::Option* add_number(CLI::App& app, const std::string& name, T& target, doubl
 /// The conventions every command's app follows (the last of a repeated flag wins); call before
 /// adding its options.
 void use_bench_conventions(CLI::App& app);
-
-/// The built-in scene names (hail-bench --help lists them), for CLI::IsMember.
-[[nodiscard]] std::vector<std::string> scene_names();
 
 /// Parses `args` (the words after the command's name) with `app`: false after --help (the usage
 /// printed on stdout); any other CLI11 error as std::invalid_argument with CLI11's message

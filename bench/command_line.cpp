@@ -15,6 +15,7 @@
 #include "rays_command.h"
 #include "run_command.h"
 #include "scale_command.h"
+#include "sleep_command.h"
 #include "stress_command.h"
 
 namespace hail::bench {
@@ -52,6 +53,7 @@ struct AllOptions {
   PairsOptions pairs;
   BvhBuildCommandOptions bvh_build;
   RaysOptions rays;
+  SleepOptions sleep;
 };
 
 /// One subcommand and what runs it once it is parsed.
@@ -93,6 +95,7 @@ int hail_bench(const std::vector<std::string>& args) {
   add_command(app, commands, "pairs", add_pairs_options, pairs_command, o.pairs);
   add_command(app, commands, "bvh-build", add_bvh_build_options, bvh_build_command, o.bvh_build);
   add_command(app, commands, "rays", add_rays_options, rays_command, o.rays);
+  add_command(app, commands, "sleep", add_sleep_options, sleep_command, o.sleep);
 
   if (args.empty() || (args.size() == 1 && args[0] == "help")) {
     std::fputs(app.help().c_str(), stdout);

@@ -20,7 +20,6 @@
 #include <string>
 
 #include "bench/scenes/machine_info.h"
-#include "cli.h"
 #include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
@@ -110,17 +109,6 @@ enum Method { kBrute, kGrid, kSweep, kBvh, kMethods };
 constexpr const char* kMethodNames[kMethods] = {"brute force SIMD", "grid", "sort and sweep", "sphere BVH"};
 
 }  // namespace
-
-void add_pairs_options(CLI::App& app, PairsOptions& o) {
-  app.description("sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix");
-  add_count(app, "--max", o.max_n, 1, 10'000'000, "the largest sphere count");
-  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
-}
-
-int pairs_command(const std::vector<std::string>& args) {
-  const std::optional<PairsOptions> parsed = parse_command("pairs", add_pairs_options, args);
-  return parsed ? pairs_command(*parsed) : 0;  // 0 after --help
-}
 
 int pairs_command(const PairsOptions& o) {
   const int max_n = o.max_n, repeats = o.repeats;

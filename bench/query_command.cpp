@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "bench/scenes/machine_info.h"
-#include "cli.h"
 #include "hail/heightmap.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/flat_bvh.h"
@@ -93,18 +92,6 @@ std::vector<Sphere> morton_sorted(std::vector<Sphere> spheres, const Aabb& bound
 }
 
 }  // namespace
-
-void add_query_options(CLI::App& app, QueryOptions& o) {
-  app.description("terrain query microbenchmark: BVH walks (stackless, fixed stack, packet), grid lookup, brute force");
-  add_count(app, "--queries", o.queries, 1, 100'000'000, "spheres queried");
-  add_count(app, "--leaf", o.leaf, 1, kMaxLeafSize, "triangles per BVH leaf (default the terrain's)");
-  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
-}
-
-int query_command(const std::vector<std::string>& args) {
-  const std::optional<QueryOptions> parsed = parse_command("query", add_query_options, args);
-  return parsed ? query_command(*parsed) : 0;  // 0 after --help
-}
 
 int query_command(const QueryOptions& o) {
   const int count = o.queries, leaf = o.leaf, repeats = o.repeats;
@@ -229,16 +216,6 @@ int query_command(const QueryOptions& o) {
   }
   std::printf("  hits agree across methods and orders: %s\n", agree ? "yes" : "NO");
   return agree ? 0 : 1;
-}
-
-void add_bvh_build_options(CLI::App& app, BvhBuildCommandOptions& o) {
-  app.description("BVH build time (median split and binned SAH) for 256^2, 1024^2 (and 4096^2) heightmaps");
-  add_count(app, "--max-side", o.max_side, 1, 65536, "the largest heightmap side built (4096 takes about 2 GB)");
-}
-
-int bvh_build_command(const std::vector<std::string>& args) {
-  const std::optional<BvhBuildCommandOptions> parsed = parse_command("bvh-build", add_bvh_build_options, args);
-  return parsed ? bvh_build_command(*parsed) : 0;  // 0 after --help
 }
 
 int bvh_build_command(const BvhBuildCommandOptions& o) {

@@ -13,6 +13,11 @@ class App;
 namespace hail::bench {
 
 /// Every flag of `hail-bench scale`.
+/// Largest sphere count accepted: terrain-rain holds 1.2-2.0 kB per sphere (the run's "memory"
+/// line), so 8M spheres need about 10-17 GB; the memory limit stops a run before a count that
+/// would not fit.
+inline constexpr std::size_t kScaleMaxSpheres = 8 * 1024 * 1024;
+
 struct ScaleOptions {
   std::string scene = "terrain-rain";
   std::size_t min_spheres = 1000, max_spheres = 256000;

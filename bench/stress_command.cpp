@@ -8,24 +8,8 @@
 #include "bench/scenes/machine_info.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/stress_cases.h"
-#include "cli.h"
 
 namespace hail::bench {
-
-void add_stress_options(CLI::App& app, StressOptions& o) {
-  std::vector<std::string> names;
-  for (const StressCase& c : stress_cases()) names.push_back(c.name);
-  app.description("the stability battery: each stiff or extreme case with its invariants; exit status 1 if any fails");
-  // A misspelt case name is refused before the header, naming the cases there are.
-  app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
-  app.add_flag("--quick", o.quick, "skip the slow cases");
-  app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
-}
-
-int stress_command(const std::vector<std::string>& args) {
-  const std::optional<StressOptions> parsed = parse_command("stress", add_stress_options, args);
-  return parsed ? stress_command(*parsed) : 0;  // 0 after --help
-}
 
 int stress_command(const StressOptions& o) {
   const std::string& only = o.only;

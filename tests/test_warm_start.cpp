@@ -121,7 +121,7 @@ TEST_CASE("The contact cache finds a contact anywhere in its sphere's range, sto
   blocks.layout_static(last, 3, static_count, 3, 6, s);
   blocks.layout_pairs(last, static_count, static_count + 4, 0, 3);
   blocks.layout_pairs(last, static_count + 4, last.size(), 3, 6);
-  blocks.begin_store(last.size());
+  blocks.begin_store(last.size(), nullptr);
   for (std::size_t k = last.size(); k-- > 0;) blocks.store_entry(k, last[k], k < static_count, s);
   ContactImpulseCache whole;
   whole.store(last, static_count, s);

@@ -193,9 +193,11 @@ struct WorldSettings {
   /// pair and ground tests among sleepers (World::is_sleeping). A contact with a moving
   /// sphere (continuous collision's impacts too), any control call on one of its spheres
   /// (setters, impulses, forces), removing one of them and changing the ground (terrain,
-  /// planes, ground filter, shift_origin) wake it. Off: nothing sleeps, and a step is
-  /// bitwise what it was before sleeping existed.
-  bool sleep = false;
+  /// planes, ground filter, shift_origin) wake it. On by default, as in Box2D, Jolt, Bullet
+  /// and PhysX: a scene pays nothing for what has come to rest. Until the first island sleeps
+  /// a step is bitwise the same either way (the timers change no state); off, nothing sleeps
+  /// and a step is bitwise what it was before sleeping existed.
+  bool sleep = true;
   /// m/s, finite and >= 0: a sphere faster than this resets its sleep timer. Box2D v3 uses
   /// 0.05 m/s (b2BodyDef::sleepThreshold), Jolt 0.03 m/s (of a point's velocity,
   /// PhysicsSettings::mPointVelocitySleepThreshold). Too small, a pile never sleeps (its

@@ -9,6 +9,7 @@ namespace hail {
 void ContactImpulseCache::clear() {
   entries_.clear();
   ranges_.clear();
+  carried_.clear();
 }
 
 void ContactImpulseCache::drop_forgotten(const SphereSoA& s) {
@@ -60,16 +61,39 @@ void ContactImpulseCache::mark_runs(std::span<const Contact> contacts, std::size
   }
 }
 
-void ContactImpulseCache::begin_store(std::size_t contact_count) {
-  std::swap(ranges_, scratch_);
-  resize_geometric(entries_, contact_count);
+void ContactImpulseCache::begin_store(std::size_t contact_count, const SphereSoA* sleepers) {
+  std::swap(ranges_, scratch_);  // ranges_: this step's; scratch_: the last step's
+  if (sleepers == nullptr) {
+    resize_geometric(entries_, contact_count);
+    return;
+  }
+  // A sleeper's contacts are left out of the step, so it has none of this step's: its last
+  // ranges move to the end of the new entries, before store_entry overwrites the old ones.
+  carried_.clear();
+  const std::size_t slots = std::min(ranges_.size(), scratch_.size());
+  const auto count = static_cast<std::uint32_t>(contact_count);
+  for (std::size_t slot = 0; slot < slots; ++slot) {
+    if ((sleepers->flags[slot] & kSphereFlagSleeping) == 0) continue;
+    Range& now = ranges_[slot];
+    const Range& before = scratch_[slot];
+    if (before.id != now.id || now.static_end != now.static_begin || now.pair_end != now.pair_begin) continue;
+    const auto carry = [&](std::uint32_t begin, std::uint32_t end, std::uint32_t& new_begin, std::uint32_t& new_end) {
+      new_begin = count + static_cast<std::uint32_t>(carried_.size());
+      carried_.insert(carried_.end(), entries_.begin() + begin, entries_.begin() + end);
+      new_end = count + static_cast<std::uint32_t>(carried_.size());
+    };
+    carry(before.static_begin, before.static_end, now.static_begin, now.static_end);
+    carry(before.pair_begin, before.pair_end, now.pair_begin, now.pair_end);
+  }
+  resize_geometric(entries_, contact_count + carried_.size());
+  std::copy(carried_.begin(), carried_.end(), entries_.begin() + static_cast<std::ptrdiff_t>(contact_count));
 }
 
 void ContactImpulseCache::store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& s) {
   begin_layout(s);
   layout_static(contacts, 0, static_count, 0, s.size(), s);
   layout_pairs(contacts, static_count, contacts.size(), 0, s.size());
-  begin_store(contacts.size());
+  begin_store(contacts.size(), nullptr);
   for (std::size_t k = 0; k < contacts.size(); ++k) store_entry(k, contacts[k], k < static_count, s);
 }
 

@@ -42,6 +42,7 @@ void SleepIslands::wake_slot(SphereSoA& s, std::size_t i) {
   s.sleep_timer[i] = 0.0f;
   s.sleep_island[i] = 0;
   woken_.push_back(s.id_at(i));
+  woken_slots_.push_back(static_cast<std::uint32_t>(i));
 }
 
 bool SleepIslands::wake_labels(SphereSoA& s) {
@@ -59,6 +60,7 @@ bool SleepIslands::wake_labels(SphereSoA& s) {
 }
 
 bool SleepIslands::wake_touched(SphereSoA& s, std::span<const Contact> contacts) {
+  woken_slots_.clear();
   for (const Contact& c : contacts) {
     if (c.b == kStaticBody) continue;
     if (sphere_sleeps(s, c.a) && sphere_moves(s, c.b)) labels_.push_back(s.sleep_island[c.a]);

@@ -55,9 +55,11 @@ namespace hail {
 class SleepIslands {
  public:
   /// Wakes the island of every sleeper that a contact of `contacts` joins to a sphere that
-  /// moves. Returns whether any woke (the caller then detects again, so that the woken spheres'
-  /// contacts are in this substep's solve).
+  /// moves. Returns whether any woke (the caller then predicts the woken spheres, woken_slots(),
+  /// and detects again, so that their contacts are in this substep's solve).
   bool wake_touched(SphereSoA& s, std::span<const Contact> contacts);
+  /// The slots the last wake_touched woke, in slot order.
+  [[nodiscard]] std::span<const std::uint32_t> woken_slots() const { return woken_slots_; }
   /// The same for impacts of continuous collision (the sleeper hit has its impulse already).
   bool wake_hit(SphereSoA& s, std::span<const Impact> impacts);
   /// Wakes slot's island if it sleeps; if it is immovable, also the islands of the sleepers
@@ -93,6 +95,7 @@ class SleepIslands {
   std::vector<float> island_timer_;          // per root: smallest timer of the island
   std::vector<std::uint32_t> island_label_;  // per root: smallest handle index of the island
   std::vector<std::uint32_t> labels_;        // islands to wake
+  std::vector<std::uint32_t> woken_slots_;   // slots woken by the last wake_touched
   std::vector<SphereId> slept_, woken_, published_slept_, published_woken_;
   std::size_t islands_ = 0;
 };
