@@ -44,7 +44,7 @@ void Plots::draw() const {
 }
 
 void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& c, Renderer& renderer,
-                const Plots& plots) {
+                const Plots& plots, int bvh_depth) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("hail", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
@@ -67,8 +67,9 @@ void live_panel(const std::string& title, const Frame& frame, LiveSimulation& si
   bool chosen = ImGui::InputInt("spheres", &c.spheres, 100, 1000);
   c.spheres = std::clamp(c.spheres, 1, 10'000'000);
   chosen |= ImGui::Combo("pair search", &c.pair_search, kSearches, IM_ARRAYSIZE(kSearches));
-  if (chosen) sim.choose_for_reset(std::size_t(c.spheres), kSearchValues[c.pair_search]);
-  ImGui::TextDisabled("(spheres and pair search: on reset)");
+  chosen |= ImGui::Checkbox("sleeping", &c.sleep);
+  if (chosen) sim.choose_for_reset(std::size_t(c.spheres), kSearchValues[c.pair_search], c.sleep);
+  ImGui::TextDisabled("(spheres, pair search and sleeping: on reset)");
   if (ImGui::SliderFloat("time scale", &c.speed, 0.02f, 4.0f, "%.2f x real time", ImGuiSliderFlags_Logarithmic))
     sim.set_speed(c.speed);
   const int cores = std::max(1, int(std::thread::hardware_concurrency()));
@@ -79,6 +80,23 @@ void live_panel(const std::string& title, const Frame& frame, LiveSimulation& si
   ImGui::SliderFloat("friction", &c.friction, 0.0f, 2.0f);
   if (ImGui::IsItemDeactivatedAfterEdit()) sim.set_material(c.restitution, c.friction);
   ImGui::SliderFloat("red at", &renderer.max_speed, 0.1f, 100.0f, "%.1f m/s", ImGuiSliderFlags_Logarithmic);
+  static constexpr const char* kColours[] = {"speed", "island", "sleep (asleep grey)"};
+  int colour = int(renderer.colour_mode);
+  if (ImGui::Combo("colour", &colour, kColours, IM_ARRAYSIZE(kColours))) renderer.colour_mode = ColourMode(colour);
+  ImGui::Checkbox("contact normals", &c.draw.normals);
+  ImGui::SameLine();
+  ImGui::Checkbox("grid cells", &c.draw.grid);
+  if (bvh_depth >= 0) {
+    bool bvh = c.draw.bvh_depth >= 0;
+    ImGui::Checkbox("BVH boxes", &bvh);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120);
+    ImGui::SliderInt("depth", &c.bvh_depth, 0, bvh_depth);
+    c.draw.bvh_depth = bvh ? c.bvh_depth : -1;
+  }
+  if (c.draw.grid && frame.grid_cells.empty())
+    ImGui::TextDisabled("(no grid cells: the last step did not use the grid)");
+  sim.set_capture(capture_for(renderer.colour_mode, c.draw));
   plots.draw();
   ImGui::TextDisabled("left drag: orbit, right drag: pan, wheel: zoom");
   ImGui::TextDisabled("shift + click: drop spheres there; F: fire a fast sphere at the cursor");

@@ -39,11 +39,15 @@ struct LiveControls {
   float restitution = 0.5f, friction = 0.5f;
   int spheres = 0;      ///< for the next reset (0: not yet known)
   int pair_search = 0;  ///< index into the panel's list (0: automatic), for the next reset
+  bool sleep = false;   ///< sleeping, for the next reset
+  DebugDraw draw;       ///< the debug lines on
+  int bvh_depth = 4;    ///< the BVH depth drawn while its checkbox is on
 };
 
-/// The live run's panel; calls `sim`'s controls as they are changed.
+/// The live run's panel; calls `sim`'s controls as they are changed. `bvh_depth` is the
+/// terrain BVH's deepest level (the depth slider's end; < 0 without a terrain).
 void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& controls,
-                Renderer& renderer, const Plots& plots);
+                Renderer& renderer, const Plots& plots, int bvh_depth);
 
 /// What the replay panel edits.
 struct ReplayControls {
