@@ -16,9 +16,9 @@ namespace hail::view {
 class Plots {
  public:
   static constexpr int kLength = 240;
-  static constexpr int kPhases = 8;
+  static constexpr int kPhases = 9;
   static constexpr std::array<const char*, kPhases> kPhaseNames = {
-      "reorder", "predict", "detect terrain", "detect pairs", "solve", "sweep", "integrate", "depenetrate"};
+      "reorder", "predict", "detect terrain", "detect pairs", "solve", "sweep", "integrate", "depenetrate", "islands"};
 
   /// A new step (live) adds its figures; a draw adds its time.
   void add_step(const Frame& frame);
@@ -26,6 +26,9 @@ class Plots {
   void draw() const;
 
  private:
+  /// The phases' milliseconds stacked, a column per step (stack_series), with a legend, and the
+  /// draw time's plot beside it (its own scale: a software rasteriser's draw is ~100 steps).
+  void draw_phases() const;
   static void push(std::vector<float>& v, float x);
   std::array<std::vector<float>, kPhases> phases_;
   std::vector<float> step_ms_, draw_ms_, energy_, overlap_, tunnelled_;

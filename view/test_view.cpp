@@ -19,6 +19,7 @@
 #include "view/islands.h"
 #include "view/live_simulation.h"
 #include "view/replay.h"
+#include "view/stacked_plot.h"
 
 using namespace hail;
 using namespace hail::view;
@@ -303,4 +304,13 @@ TEST_CASE("Island labels: the smallest handle index of spheres in contact, kept 
   CHECK(c0 != c1);
   CHECK(c1 != c2);
   CHECK(island_colour(kNoIsland) == std::array<float, 3>{0.5f, 0.5f, 0.5f});
+}
+
+TEST_CASE("The phase plot stacks each step's phases: a column's bands end where the next begins, its top the sum",
+          "[view]") {
+  const std::vector<std::vector<float>> phases = {{1.0f, 2.0f}, {0.5f, -1.0f}, {0.25f, 3.0f}};
+  const std::vector<float> tops = stack_series(phases);
+  REQUIRE(tops.size() == 2 * 4);
+  CHECK(tops == std::vector<float>{0.0f, 1.0f, 1.5f, 1.75f, 0.0f, 2.0f, 2.0f, 5.0f});  // a negative time counts as 0
+  CHECK(stack_series({}).empty());
 }
