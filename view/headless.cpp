@@ -71,6 +71,7 @@ struct Picture {
         debug_draw(o.draw) {
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);
+    camera.distance /= o.zoom;
     renderer.colour_mode = o.colour;
   }
   void draw(const Frame& frame) {

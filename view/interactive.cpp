@@ -153,6 +153,7 @@ int run_window(const ViewOptions& o) {
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);
+    camera.distance /= o.zoom;
     renderer.colour_mode = o.colour;
     Plots plots;
     bool changed = true;

@@ -20,6 +20,7 @@
 #include "view/live_simulation.h"
 #include "view/replay.h"
 #include "view/stacked_plot.h"
+#include "view/view_options.h"
 
 using namespace hail;
 using namespace hail::view;
@@ -313,4 +314,29 @@ TEST_CASE("The phase plot stacks each step's phases: a column's bands end where 
   REQUIRE(tops.size() == 2 * 4);
   CHECK(tops == std::vector<float>{0.0f, 1.0f, 1.5f, 1.75f, 0.0f, 2.0f, 2.0f, 5.0f});  // a negative time counts as 0
   CHECK(stack_series({}).empty());
+}
+
+TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[view]") {
+  const auto parse = [](std::vector<std::string> words) {
+    words.insert(words.begin(), "hail-view");
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    return parse_view_options(int(argv.size()), argv.data());
+  };
+  const std::optional<ViewOptions> plain = parse({});
+  REQUIRE(plain);
+  CHECK(plain->colour == ColourMode::Speed);
+  CHECK_FALSE(plain->draw.any());
+  CHECK_FALSE(plain->params.sleep);
+  const std::optional<ViewOptions> o =
+      parse({"--colour", "island", "--draw-bvh", "3", "--draw-normals", "--draw-grid", "--sleep", "--zoom", "2.5"});
+  REQUIRE(o);
+  CHECK(o->colour == ColourMode::Island);
+  CHECK(o->draw == DebugDraw{.normals = true, .bvh_depth = 3, .grid = true});
+  CHECK(capture_for(o->colour, o->draw) == Capture{.islands = true, .contacts = true, .grid = true});
+  CHECK(o->params.sleep);
+  CHECK(o->zoom == 2.5f);
+  CHECK(parse({"--colour", "sleep"})->colour == ColourMode::Sleep);
+  CHECK_THROWS_AS(parse({"--colour", "mass"}), std::invalid_argument);
+  CHECK_THROWS_AS(parse({"--draw-bvh", "-1"}), std::invalid_argument);
 }

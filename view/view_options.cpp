@@ -34,6 +34,8 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
       ->type_name("DIR");
   app.add_option("--every", o.every, "with --frames: steps (or recorded frames) between pictures")
       ->check(CLI::Range(1, 100'000'000));
+  app.add_option("--zoom", o.zoom, "the camera starts this many times closer than its framing of the spheres")
+      ->check(CLI::Range(0.01f, 100.0f));
   app.add_option("--width", o.width, "pixels")->check(CLI::Range(64, 8192));
   app.add_option("--height", o.height, "pixels")->check(CLI::Range(64, 8192));
   try {

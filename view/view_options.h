@@ -23,6 +23,7 @@ struct ViewOptions {
   int width = 1280, height = 720;      ///< window or picture size, pixels
   ColourMode colour = ColourMode::Speed;  ///< --colour speed|island|sleep
   DebugDraw draw;                         ///< --draw-normals, --draw-bvh DEPTH, --draw-grid
+  float zoom = 1.0f;                      ///< --zoom Z: the first framing seen from 1/Z the distance
 };
 
 /// Parses argv; std::nullopt after --help (printed). Throws std::invalid_argument (CLI11's
