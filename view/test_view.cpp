@@ -336,6 +336,9 @@ TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[vi
   CHECK(capture_for(o->colour, o->draw) == Capture{.islands = true, .contacts = true, .grid = true});
   CHECK(o->params.sleep);
   CHECK(o->zoom == 2.5f);
+  CHECK_FALSE(o->continuous_collision);
+  CHECK(parse({"--ccd", "off"})->continuous_collision == false);
+  CHECK(parse({"--ccd", "on"})->continuous_collision == true);
   CHECK(parse({"--colour", "sleep"})->colour == ColourMode::Sleep);
   CHECK_THROWS_AS(parse({"--colour", "mass"}), std::invalid_argument);
   CHECK_THROWS_AS(parse({"--draw-bvh", "-1"}), std::invalid_argument);

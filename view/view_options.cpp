@@ -17,6 +17,9 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   app.add_option("--spheres", o.params.spheres, "sphere count of a built-in scene")->check(CLI::Range(1, 100'000'000));
   app.add_option("--threads", o.params.threads, "worker threads (0: all)")->check(CLI::Range(0, 4096));
   app.add_flag("--sleep", o.params.sleep, "sleeping on (WorldSettings::sleep; a scene file's own setting otherwise)");
+  std::string ccd;
+  app.add_option("--ccd", ccd, "continuous collision on or off (default: the scene's own)")
+      ->check(CLI::IsMember({"on", "off"}));
   std::string colour = "speed";
   app.add_option("--colour", colour, "colour spheres by speed, island, or sleep (asleep grey-blue, awake by speed)")
       ->check(CLI::IsMember({"speed", "island", "sleep"}));
@@ -46,6 +49,7 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     throw std::invalid_argument(e.what());
   }
+  if (!ccd.empty()) o.continuous_collision = ccd == "on";
   for (std::size_t k = 0; k < kColourModeNames.size(); ++k)
     if (colour == kColourModeNames[k]) o.colour = ColourMode(k);
   if (o.headless && o.screenshot_path.empty() && o.frames_dir.empty())
