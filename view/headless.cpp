@@ -42,7 +42,7 @@ struct Subject {
       title = o.replay_path;
     } else {
       scene = scene_factory(o)({.threads = o.params.threads});
-      capture_frame(*scene.world, 0.0, 0, frame);
+      capture_frame(*scene.world, 0.0, 0, frame, capture_for(o.colour, o.draw));
       title = o.scene_file.empty() ? o.scene : o.scene_file;
     }
     if (!note.empty()) std::fprintf(stderr, "hail-view: %s\n", note.c_str());
@@ -58,20 +58,26 @@ struct Picture {
   OrbitCamera camera;
   OffscreenTarget target;
   int width, height;
+  DebugDraw debug_draw;
+  DebugLines lines;
 
-  Picture(const World& world, const Frame& frame, int w, int h)
+  Picture(const World& world, const Frame& frame, const ViewOptions& o)
       : geometry(StaticGeometry::of(world)),
         bounds(scene_bounds(geometry, frame)),
         renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent()),
-        target(w, h),
-        width(w),
-        height(h) {
+        target(o.width, o.height),
+        width(o.width),
+        height(o.height),
+        debug_draw(o.draw) {
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);
+    camera.distance /= o.zoom;
+    renderer.colour_mode = o.colour;
   }
   void draw(const Frame& frame) {
     target.bind();
-    renderer.draw(frame, true, camera, width, height);
+    build_debug_lines(frame, geometry.terrain_bvh, debug_draw, lines);
+    renderer.draw(frame, true, camera, width, height, debug_draw.any() ? &lines : nullptr);
   }
   void write(const std::string& path) const { write_png(path, width, height, target.read_rgb()); }
 };
@@ -84,7 +90,7 @@ int write_sequence(const ViewOptions& o) {
   GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
   int pictures = 0;
   {
-    Picture picture(*s.scene.world, s.frame, o.width, o.height);
+    Picture picture(*s.scene.world, s.frame, o);
     auto shoot = [&] {
       picture.draw(s.frame);
       char name[32];
@@ -101,7 +107,7 @@ int write_sequence(const ViewOptions& o) {
       for (int step = 1; step <= o.steps; ++step) {
         s.scene.world->step(s.scene.dt);
         if (step % o.every != 0) continue;
-        capture_frame(*s.scene.world, 0.0, std::uint64_t(step), s.frame);
+        capture_frame(*s.scene.world, 0.0, std::uint64_t(step), s.frame, capture_for(o.colour, o.draw));
         shoot();
       }
     }
@@ -121,12 +127,12 @@ int run_headless(const ViewOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     for (int k = 0; k < o.steps; ++k) s.scene.world->step(s.scene.dt);
     step_ms = o.steps > 0 ? ms_since(start) / o.steps : 0.0;
-    capture_frame(*s.scene.world, step_ms, std::uint64_t(o.steps), s.frame);
+    capture_frame(*s.scene.world, step_ms, std::uint64_t(o.steps), s.frame, capture_for(o.colour, o.draw));
   }
   GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
   int status = 0;
   {
-    Picture picture(*s.scene.world, s.frame, o.width, o.height);
+    Picture picture(*s.scene.world, s.frame, o);
     picture.draw(s.frame);  // the first draw uploads and compiles
     glFinish();
     constexpr int kDraws = 5;
@@ -139,6 +145,12 @@ int run_headless(const ViewOptions& o) {
                 s.title.c_str(), s.frame.size(), static_cast<unsigned long long>(s.frame.step), step_ms, draw_ms,
                 o.width, o.height, reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
                 reinterpret_cast<const char*>(glGetString(GL_VERSION)));
+    if (s.scene.world && s.scene.world->settings().sleep)
+      std::printf("hail-view: %zu spheres asleep\n",
+                  std::size_t(std::count(s.frame.sleeping.begin(), s.frame.sleeping.end(), 1)));
+    if (picture.debug_draw.any())
+      std::printf("hail-view: debug lines: %zu contact normals, %zu box and cell edges\n",
+                  picture.lines.overlay.segments(), picture.lines.tested.segments());
     std::printf("hail-view: picture written to %s\n", o.screenshot_path.c_str());
     if (glGetError() != GL_NO_ERROR) {
       std::fprintf(stderr, "hail-view: OpenGL reported an error\n");

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest view_headless_picture (view/CMakeLists.txt): hail-view --headless (a picture, then an
-# image sequence) under Xvfb with Mesa's software OpenGL, each picture judged by
+# image sequence, then one with the debug lines) under Xvfb with Mesa's software OpenGL, each picture judged by
 # hail-view-check-png. Skipped (exit 77) where xvfb-run is not installed (apt-get install xvfb).
 #   headless_test.sh HAIL_VIEW CHECK_PNG OUT_DIR
 set -euo pipefail
@@ -22,3 +22,12 @@ LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
   "$view" terrain-rain --spheres 1600 --threads 2 --headless --steps 240 --every 120 --frames "$frames" --width 480 --height 270
 for k in 0 1 2; do "$check" "$(printf '%s/frame-%06d.png' "$frames" "$k")" 480 270; done
 [ ! -e "$frames/frame-000003.png" ] || { echo "view_headless_picture: more pictures than steps 0, 120, 240" >&2; exit 1; }
+# The debug lines (--draw-bvh DEPTH, --draw-normals, --draw-grid): the BVH's cyan boxes, the
+# normals' yellow and the grid cells' white must each show (terrain-rain's 1,600 spheres use the
+# grid search), and the scene still pass.
+lines="$out/headless-lines.png"
+rm -f "$lines"
+LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
+  "$view" terrain-rain --spheres 1600 --threads 2 --headless --steps 120 --draw-bvh 4 --draw-normals --draw-grid \
+  --screenshot "$lines" --width 480 --height 270
+"$check" "$lines" 480 270 00ffff:0.2 ffff00:0.05 ffffff:0.05

@@ -7,6 +7,7 @@
 #include <epoxy/gl.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -38,6 +39,8 @@ class Source {
   /// Updates `frame` when there is a newer one; true if it did.
   virtual bool update(Frame& frame, double now_s) = 0;
   virtual void panel(const Frame& frame, Renderer& renderer, const Plots& plots) = 0;
+  /// The debug lines on.
+  [[nodiscard]] virtual DebugDraw debug_draw() const { return {}; }
   /// Mouse and keys beyond the camera's.
   virtual void input(GLFWwindow* window, const OrbitCamera& camera) {}
 };
@@ -47,7 +50,13 @@ class LiveSource final : public Source {
   LiveSource(const ViewOptions& o, std::string title)
       : sim_(scene_factory(o), {.threads = o.params.threads}), title_(std::move(title)) {
     controls_.threads = sim_.thread_count();
+    controls_.sleep = o.params.sleep;
+    controls_.draw = o.draw;
+    if (o.draw.bvh_depth >= 0) controls_.bvh_depth = o.draw.bvh_depth;
+    sim_.set_capture(capture_for(o.colour, o.draw));
+    for (const BvhNodeBox& n : sim_.geometry().terrain_bvh) bvh_depth_ = std::max(bvh_depth_, int(n.depth));
   }
+  [[nodiscard]] DebugDraw debug_draw() const override { return controls_.draw; }
   bool update(Frame& frame, double) override { return sim_.latest(frame); }
   [[nodiscard]] const LiveSimulation& simulation() const { return sim_; }
   /// Shift + left click: spheres dropped where the cursor points; F: a fast sphere from the eye.
@@ -70,11 +79,12 @@ class LiveSource final : public Source {
   static constexpr float kFireSpeed = 80.0f;  ///< m/s: over a metre a step at 60 steps/s
   void panel(const Frame& frame, Renderer& renderer, const Plots& plots) override {
     if (controls_.spheres == 0) controls_.spheres = int(frame.size());  // the scene's own, to start with
-    live_panel(title_, frame, sim_, controls_, renderer, plots);
+    live_panel(title_, frame, sim_, controls_, renderer, plots, bvh_depth_);
   }
 
  private:
   LiveSimulation sim_;
+  int bvh_depth_ = -1;  // the terrain BVH's deepest level
   std::string title_;
   LiveControls controls_;
 };
@@ -143,8 +153,12 @@ int run_window(const ViewOptions& o) {
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);
+    camera.distance /= o.zoom;
+    renderer.colour_mode = o.colour;
     Plots plots;
     bool changed = true;
+    DebugLines lines;
+    DebugDraw drawn;  // what `lines` holds
     while (!glfwWindowShouldClose(window)) {
       glfwPollEvents();
       if (source->update(frame, glfwGetTime())) {
@@ -162,7 +176,9 @@ int run_window(const ViewOptions& o) {
       // without the panel.
       const auto start = std::chrono::steady_clock::now();
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      renderer.draw(frame, changed, camera, width, height);
+      const DebugDraw draw = source->debug_draw();
+      if (changed || draw != drawn) build_debug_lines(frame, geometry.terrain_bvh, draw, lines), drawn = draw;
+      renderer.draw(frame, changed, camera, width, height, draw.any() ? &lines : nullptr);
       glFinish();
       plots.add_draw(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
       changed = false;

@@ -7,10 +7,11 @@
 #include <vector>
 
 #include "bench/scenes/metrics.h"
+#include "view/islands.h"
 
 namespace hail::view {
 
-void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out) {
+void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out, const Capture& capture) {
   const SphereState s = world.spheres();
   const std::size_t n = world.sphere_count();
   out.step = step;
@@ -22,6 +23,25 @@ void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame
     out.radius[k] = s.radius[k];
     out.speed[k] = std::sqrt(s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k] + s.vz[k] * s.vz[k]);
   }
+  out.sleeping.resize(n);
+  const std::span<const std::uint32_t> flags = world.soa().flags.span();
+  for (std::size_t k = 0; k < n; ++k) out.sleeping[k] = (flags[k] & kSphereFlagSleeping) != 0 ? 1 : 0;
+  if (capture.islands)
+    island_labels(world, out.island);
+  else
+    out.island.clear();
+  out.contacts.clear();
+  if (capture.contacts)
+    for (const Contact& c : world.last_contacts()) {
+      if (c.a >= n) continue;
+      const float r = s.radius[c.a];
+      out.contacts.insert(out.contacts.end(),
+                          {s.px[c.a] + r * c.nx, s.py[c.a] + r * c.ny, s.pz[c.a] + r * c.nz, c.nx, c.ny, c.nz, r});
+    }
+  if (capture.grid)
+    world.pair_grid_cells(out.grid_cells);
+  else
+    out.grid_cells.clear();
   out.phase_ms = world.last_phase_times();
   out.step_ms = step_ms;
   out.kinetic_energy = world.kinetic_energy();
@@ -69,16 +89,23 @@ void LiveSimulation::reset() {
   wake_.notify_all();
 }
 
-void LiveSimulation::choose_for_reset(std::size_t spheres, PairSearch pair_search) {
+void LiveSimulation::choose_for_reset(std::size_t spheres, PairSearch pair_search, bool sleep) {
   std::lock_guard lock(mutex_);
   SceneChoice next = choice_requested_.value_or(SceneChoice{});
-  next.spheres = spheres, next.pair_search = pair_search;
+  next.spheres = spheres, next.pair_search = pair_search, next.sleep = sleep;
   choice_requested_ = next;
 }
 
 void LiveSimulation::set_threads(int threads) {
   std::lock_guard lock(mutex_);
   threads_requested_ = threads;
+  wake_.notify_all();
+}
+
+void LiveSimulation::set_capture(const Capture& capture) {
+  std::lock_guard lock(mutex_);
+  if (capture == capture_) return;
+  capture_ = capture, capture_requested_ = true;
   wake_.notify_all();
 }
 
@@ -119,7 +146,8 @@ void LiveSimulation::fire(const Vec3& origin, const Vec3& direction, float speed
 }
 
 void LiveSimulation::apply_requests() {
-  bool reset = false, material = false;
+  bool reset = false, material = false, recapture = false;
+  Capture capture;
   int threads = -1;
   float restitution = 0, friction = 0;
   std::vector<std::function<void(World&)>> edits;
@@ -129,13 +157,16 @@ void LiveSimulation::apply_requests() {
     std::swap(reset, reset_requested_);
     std::swap(threads, threads_requested_);
     std::swap(material, material_requested_);
+    std::swap(recapture, capture_requested_);
+    capture = capture_;
     restitution = restitution_, friction = friction_;
   }
   if (reset) {
     {
       std::lock_guard lock(mutex_);
       if (choice_requested_)
-        choice_.spheres = choice_requested_->spheres, choice_.pair_search = choice_requested_->pair_search;
+        choice_.spheres = choice_requested_->spheres, choice_.pair_search = choice_requested_->pair_search,
+        choice_.sleep = choice_requested_->sleep;
       choice_requested_.reset();
     }
     scene_ = factory_(choice_);
@@ -165,9 +196,9 @@ void LiveSimulation::apply_requests() {
       // A sphere that would overlap the limits (too far out for its radius, say) is not added.
     }
   }
-  if (reset || threads >= 0 || material || !edits.empty()) {
+  if (reset || threads >= 0 || material || !edits.empty() || recapture) {
     Frame frame;
-    capture_frame(*scene_.world, 0.0, steps_, frame);
+    capture_frame(*scene_.world, 0.0, steps_, frame, capture);
     std::lock_guard lock(mutex_);
     published_ = std::move(frame);
     ++version_;
@@ -193,7 +224,12 @@ void LiveSimulation::run() {
     scene_.world->step(dt_);
     const double ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
     ++steps_;
-    capture_frame(*scene_.world, ms, steps_, frame);
+    Capture capture;
+    {
+      std::lock_guard lock(mutex_);
+      capture = capture_;
+    }
+    capture_frame(*scene_.world, ms, steps_, frame, capture);
     if (frame.size() <= kErrorFiguresUpTo) {
       const bench::ErrorFigures errors = bench::measure_errors(scene_);
       frame.deepest_overlap = std::max(errors.max_sphere_penetration, errors.max_terrain_penetration);

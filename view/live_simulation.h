@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench/scenes/scenes.h"
+#include "view/draw_choices.h"
 #include "view/frame.h"
 #include "view/static_geometry.h"
 
@@ -24,13 +25,15 @@ struct SceneChoice {
   int threads = 0;  ///< worker threads (0: all)
   std::optional<std::size_t> spheres = std::nullopt;
   std::optional<PairSearch> pair_search = std::nullopt;
+  std::optional<bool> sleep = std::nullopt;  ///< WorldSettings::sleep
 };
 
 /// Builds the scene as chosen.
 using SceneFactory = std::function<bench::Scene(const SceneChoice&)>;
 
-/// The World's state now, as a Frame (slot order), with the last step's figures.
-void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out);
+/// The World's state now, as a Frame (slot order), with the last step's figures, and what
+/// `capture` asks for of the last step.
+void capture_frame(const World& world, double step_ms, std::uint64_t step, Frame& out, const Capture& capture = {});
 
 /// Up to this many spheres a live run measures its error figures after every step (untimed;
 /// O(spheres) with a pair search): beyond it they would slow the run they describe.
@@ -51,8 +54,11 @@ class LiveSimulation {
   void set_paused(bool paused);
   void step_once();  ///< one step, while paused
   void reset();      ///< the scene built again, from its start
-  /// The sphere count and pair search the next reset builds with.
-  void choose_for_reset(std::size_t spheres, PairSearch pair_search);
+  /// The sphere count, pair search and sleeping the next reset builds with.
+  void choose_for_reset(std::size_t spheres, PairSearch pair_search, bool sleep);
+  /// What the frames carry from now on (the current one again at once, so that a toggle shows
+  /// while paused).
+  void set_capture(const Capture& capture);
   /// Steps per wall second = speed / dt (1: real time, 0.1: slow motion); the physics is the
   /// same at every speed (dt never changes), only the pacing.
   void set_speed(float speed) { speed_.store(speed); }
@@ -94,6 +100,8 @@ class LiveSimulation {
   int threads_requested_ = -1;
   std::optional<SceneChoice> choice_requested_;  // for the next reset
   bool material_requested_ = false;
+  Capture capture_;  // what the frames carry
+  bool capture_requested_ = false;
   float restitution_ = 0.5f, friction_ = 0.5f;
   std::vector<std::function<void(World&)>> edits_;  // spawn and fire, in the order asked
   Frame published_;

@@ -16,9 +16,9 @@ namespace hail::view {
 class Plots {
  public:
   static constexpr int kLength = 240;
-  static constexpr int kPhases = 8;
+  static constexpr int kPhases = 9;
   static constexpr std::array<const char*, kPhases> kPhaseNames = {
-      "reorder", "predict", "detect terrain", "detect pairs", "solve", "sweep", "integrate", "depenetrate"};
+      "reorder", "predict", "detect terrain", "detect pairs", "solve", "sweep", "integrate", "depenetrate", "islands"};
 
   /// A new step (live) adds its figures; a draw adds its time.
   void add_step(const Frame& frame);
@@ -26,6 +26,9 @@ class Plots {
   void draw() const;
 
  private:
+  /// The phases' milliseconds stacked, a column per step (stack_series), with a legend, and the
+  /// draw time's plot beside it (its own scale: a software rasteriser's draw is ~100 steps).
+  void draw_phases() const;
   static void push(std::vector<float>& v, float x);
   std::array<std::vector<float>, kPhases> phases_;
   std::vector<float> step_ms_, draw_ms_, energy_, overlap_, tunnelled_;
@@ -39,11 +42,15 @@ struct LiveControls {
   float restitution = 0.5f, friction = 0.5f;
   int spheres = 0;      ///< for the next reset (0: not yet known)
   int pair_search = 0;  ///< index into the panel's list (0: automatic), for the next reset
+  bool sleep = false;   ///< sleeping, for the next reset
+  DebugDraw draw;       ///< the debug lines on
+  int bvh_depth = 4;    ///< the BVH depth drawn while its checkbox is on
 };
 
-/// The live run's panel; calls `sim`'s controls as they are changed.
+/// The live run's panel; calls `sim`'s controls as they are changed. `bvh_depth` is the
+/// terrain BVH's deepest level (the depth slider's end; < 0 without a terrain).
 void live_panel(const std::string& title, const Frame& frame, LiveSimulation& sim, LiveControls& controls,
-                Renderer& renderer, const Plots& plots);
+                Renderer& renderer, const Plots& plots, int bvh_depth);
 
 /// What the replay panel edits.
 struct ReplayControls {

@@ -2,11 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 
 #include "view/gl_program.h"
+#include "view/islands.h"
 
 namespace hail::view {
 namespace {
@@ -15,6 +17,7 @@ constexpr const char* kSphereVertex = R"(#version 330 core
 layout(location = 0) in vec3 unit;          // a unit-sphere vertex, also its normal
 layout(location = 1) in vec4 centre_radius; // per instance
 layout(location = 2) in float speed;        // per instance
+layout(location = 3) in vec4 own_colour;    // per instance: rgb, and a = 1 to use it (else by speed)
 uniform mat4 view_projection;
 uniform float max_speed;
 out vec3 normal;
@@ -22,7 +25,7 @@ out vec3 colour;
 void main() {
   normal = unit;
   float t = clamp(speed / max_speed, 0.0, 1.0);
-  colour = mix(vec3(0.15, 0.35, 1.0), vec3(1.0, 0.2, 0.1), t);
+  colour = own_colour.a > 0.5 ? own_colour.rgb : mix(vec3(0.15, 0.35, 1.0), vec3(1.0, 0.2, 0.1), t);
   gl_Position = view_projection * vec4(centre_radius.xyz + centre_radius.w * unit, 1.0);
 }
 )";
@@ -41,6 +44,24 @@ void main() {
 }
 )";
 
+// Debug lines: their own colour, unlit.
+constexpr const char* kLineVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 line_colour;
+uniform mat4 view_projection;
+out vec3 colour;
+void main() {
+  colour = line_colour;
+  gl_Position = view_projection * vec4(position, 1.0);
+}
+)";
+
+constexpr const char* kLineFragment = R"(#version 330 core
+in vec3 colour;
+out vec4 pixel;
+void main() { pixel = vec4(colour, 1.0); }
+)";
+
 // Lambert with an ambient floor: brightness changes, the hue (which channel leads) does not.
 constexpr const char* kLitFragment = R"(#version 330 core
 in vec3 normal;
@@ -55,6 +76,9 @@ void main() {
 
 const Eigen::Vector3f kTerrainGreen(0.36f, 0.58f, 0.26f);
 const Eigen::Vector3f kPlaneGrey(0.55f, 0.55f, 0.57f);
+/// Asleep, in ColourMode::Sleep: grey with a little blue, darker than any speed's colour.
+constexpr std::array<float, 3> kAsleepGrey = {0.42f, 0.45f, 0.55f};
+constexpr std::size_t kInstanceFloats = 9;  // centre x y z, radius, speed, own colour r g b a
 
 /// An icosahedron split `subdivisions` times, on the unit sphere.
 void icosphere(int subdivisions, std::vector<float>& vertices, std::vector<unsigned>& indices) {
@@ -100,17 +124,29 @@ Renderer::Renderer(const Heightmap* terrain, std::span<const Plane> planes, cons
                    float extent) {
   sphere_program_ = link_program(kSphereVertex, kLitFragment);
   mesh_program_ = link_program(kMeshVertex, kLitFragment);
+  line_program_ = link_program(kLineVertex, kLineFragment);
   build_sphere_mesh(2);
+  glGenVertexArrays(1, &line_vao_);
+  glBindVertexArray(line_vao_);
+  glGenBuffers(1, &line_vertices_);
+  glBindBuffer(GL_ARRAY_BUFFER, line_vertices_);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
+  glBindVertexArray(0);
   build_static_mesh(terrain, planes, centre, extent);
 }
 
 Renderer::~Renderer() {
-  const GLuint buffers[] = {sphere_vertices_, sphere_indices_, instances_, mesh_vertices_, mesh_indices_};
-  glDeleteBuffers(5, buffers);
-  const GLuint arrays[] = {sphere_vao_, mesh_vao_};
-  glDeleteVertexArrays(2, arrays);
+  const GLuint buffers[] = {sphere_vertices_, sphere_indices_, instances_,
+                            mesh_vertices_,   mesh_indices_,   line_vertices_};
+  glDeleteBuffers(6, buffers);
+  const GLuint arrays[] = {sphere_vao_, mesh_vao_, line_vao_};
+  glDeleteVertexArrays(3, arrays);
   glDeleteProgram(sphere_program_);
   glDeleteProgram(mesh_program_);
+  glDeleteProgram(line_program_);
 }
 
 void Renderer::build_sphere_mesh(int subdivisions) {
@@ -126,13 +162,16 @@ void Renderer::build_sphere_mesh(int subdivisions) {
   sphere_indices_ = static_buffer(GL_ELEMENT_ARRAY_BUFFER, indices);
   glGenBuffers(1, &instances_);
   glBindBuffer(GL_ARRAY_BUFFER, instances_);
-  constexpr GLsizei kStride = 5 * sizeof(float);
+  constexpr GLsizei kStride = kInstanceFloats * sizeof(float);
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, kStride, nullptr);
   glVertexAttribDivisor(1, 1);
   glEnableVertexAttribArray(2);
   glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, kStride, reinterpret_cast<const void*>(4 * sizeof(float)));
   glVertexAttribDivisor(2, 1);
+  glEnableVertexAttribArray(3);
+  glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, kStride, reinterpret_cast<const void*>(5 * sizeof(float)));
+  glVertexAttribDivisor(3, 1);
   glBindVertexArray(0);
 }
 
@@ -194,15 +233,24 @@ void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane
   glBindVertexArray(0);
 }
 
-void Renderer::draw(const Frame& frame, bool changed, const OrbitCamera& camera, int width, int height) {
-  if (changed) {
+void Renderer::draw(const Frame& frame, bool changed, const OrbitCamera& camera, int width, int height,
+                    const DebugLines* lines) {
+  if (changed || colour_mode != uploaded_mode_) {
     const std::size_t n = frame.size();
-    instance_data_.resize(5 * n);
+    instance_data_.resize(kInstanceFloats * n);
+    const bool islands = colour_mode == ColourMode::Island && frame.island.size() == n;
+    const bool sleep = colour_mode == ColourMode::Sleep && frame.sleeping.size() == n;
     for (std::size_t k = 0; k < n; ++k) {
-      float* d = &instance_data_[5 * k];
+      float* d = &instance_data_[kInstanceFloats * k];
       d[0] = frame.centre[3 * k], d[1] = frame.centre[3 * k + 1], d[2] = frame.centre[3 * k + 2];
       d[3] = frame.radius[k], d[4] = frame.speed[k];
+      std::array<float, 3> own{0.0f, 0.0f, 0.0f};
+      float use_own = 0.0f;  // by speed
+      if (islands) own = island_colour(frame.island[k]), use_own = 1.0f;
+      if (sleep && frame.sleeping[k] != 0) own = kAsleepGrey, use_own = 1.0f;
+      d[5] = own[0], d[6] = own[1], d[7] = own[2], d[8] = use_own;
     }
+    uploaded_mode_ = colour_mode;
     glBindBuffer(GL_ARRAY_BUFFER, instances_);
     if (n > instance_capacity_) {
       instance_capacity_ = n;
@@ -244,10 +292,27 @@ void Renderer::draw(const Frame& frame, bool changed, const OrbitCamera& camera,
     glDrawElementsInstanced(GL_TRIANGLES, sphere_index_count_, GL_UNSIGNED_INT, nullptr,
                             static_cast<GLsizei>(instance_count_));
   }
+  glDisable(GL_CULL_FACE);
+  if (lines) {
+    glUseProgram(line_program_);
+    set_uniform(line_program_, "view_projection", view_projection);
+    draw_lines(lines->tested);  // boxes: hidden behind the terrain and spheres
+    glDisable(GL_DEPTH_TEST);
+    draw_lines(lines->overlay);  // normals, most inside a pile: over everything
+  }
   glBindVertexArray(0);
   glUseProgram(0);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_TEST);
+}
+
+void Renderer::draw_lines(const LineList& lines) {
+  if (lines.empty()) return;
+  glBindVertexArray(line_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, line_vertices_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lines.vertices.size() * sizeof(float)), lines.vertices.data(),
+               GL_STREAM_DRAW);
+  glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(2 * lines.segments()));
 }
 
 OffscreenTarget::OffscreenTarget(int width, int height) : width_(width), height_(height) {

@@ -1,10 +1,10 @@
 #pragma once
-// Draws a Frame: spheres instanced (one unit-sphere mesh, a centre, radius and speed per
+// Draws a Frame: spheres instanced (one unit-sphere mesh, a centre, radius, speed and colour per
 // instance), lit by one directional light and coloured by speed from blue (still) through
-// purple to red (max_speed and over); the terrain as a shaded mesh (green), planes as large
+// purple to red (max_speed and over), or by island or sleep state (colour_mode); the terrain as a shaded mesh (green), planes as large
 // grey quads. Colours are chosen so that a picture's pixels tell what they show (the headless
 // test counts them): spheres have less green than red or blue, the terrain more green than
-// either, the sky is grey.
+// either, the sky is grey. Debug lines (debug_lines.h) are unlit, in pure hues.
 
 #include <epoxy/gl.h>
 
@@ -15,6 +15,8 @@
 #include "hail/heightmap.h"
 #include "hail/plane.h"
 #include "view/camera.h"
+#include "view/debug_lines.h"
+#include "view/draw_choices.h"
 #include "view/frame.h"
 
 namespace hail::view {
@@ -30,21 +32,28 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Uploads the frame's spheres (when `changed`) and draws everything into the bound framebuffer.
-  void draw(const Frame& frame, bool changed, const OrbitCamera& camera, int width, int height);
+  /// Uploads the frame's spheres (when `changed` or the colour mode changed) and draws
+  /// everything into the bound framebuffer, and the debug lines over it when given.
+  void draw(const Frame& frame, bool changed, const OrbitCamera& camera, int width, int height,
+            const DebugLines* lines = nullptr);
 
   float max_speed = 10.0f;  ///< m/s drawn red
+  /// How spheres are coloured; Island needs Frame::island, else they are drawn by speed.
+  ColourMode colour_mode = ColourMode::Speed;
 
  private:
   void build_sphere_mesh(int subdivisions);
   void build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre,
                          float extent);
+  void draw_lines(const LineList& lines);  // line program and uniforms set
 
   GLuint sphere_program_ = 0, mesh_program_ = 0;
   GLuint sphere_vao_ = 0, sphere_vertices_ = 0, sphere_indices_ = 0, instances_ = 0;
   GLsizei sphere_index_count_ = 0;
   std::size_t instance_capacity_ = 0, instance_count_ = 0;
-  std::vector<float> instance_data_;  // centre x y z, radius, speed per sphere
+  std::vector<float> instance_data_;  // centre x y z, radius, speed, own colour r g b a per sphere
+  ColourMode uploaded_mode_ = ColourMode::Speed;
+  GLuint line_program_ = 0, line_vao_ = 0, line_vertices_ = 0;
   GLuint mesh_vao_ = 0, mesh_vertices_ = 0, mesh_indices_ = 0;
   GLsizei terrain_index_count_ = 0, plane_index_count_ = 0;
 };

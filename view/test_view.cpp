@@ -1,7 +1,8 @@
 // hail-view's parts that need no OpenGL (hail-view-tests, ctest label "view"): the simulation
 // thread hands over whole steps and its controls (pause, single step, reset, threads, spawn,
-// fire) do what they say, a thread change carrying the run on bitwise; the camera's cursor ray;
-// a replay's frames and speeds.
+// fire) do what they say, a thread change carrying the run on bitwise; the frames carry the
+// contacts, grid cells and islands of their own step when asked; the debug lines and island
+// labels; the camera's cursor ray; a replay's frames and speeds.
 
 #include <chrono>
 #include <cmath>
@@ -14,8 +15,12 @@
 #include "hail/recording.h"
 #include "tests/catch.h"
 #include "view/camera.h"
+#include "view/debug_lines.h"
+#include "view/islands.h"
 #include "view/live_simulation.h"
 #include "view/replay.h"
+#include "view/stacked_plot.h"
+#include "view/view_options.h"
 
 using namespace hail;
 using namespace hail::view;
@@ -116,7 +121,7 @@ TEST_CASE("Spawning drops a block of spheres where the ray meets the terrain; fi
   REQUIRE(frame.size() == n + 28);
   CHECK(frame.speed.back() == Approx(80.0f));
 
-  sim.choose_for_reset(60, PairSearch::Grid);  // taken at the reset, not before
+  sim.choose_for_reset(60, PairSearch::Grid, false);  // taken at the reset, not before
   const std::uint64_t at = frame.step;
   sim.step_once();
   frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == at + 1; });
@@ -168,4 +173,173 @@ TEST_CASE("A replay shows the recorded positions, with speeds from velocities or
     CHECK(frame.speed[0] == Approx(velocities ? 5.0f : 0.0f));
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Asked, the frames carry the contacts, grid cells and islands of their own step, also while paused",
+          "[view]") {
+  // 1,200 spheres: the automatic pair search is the grid.
+  LiveSimulation sim(rain(1200), {.threads = 1}, /*paused=*/true);
+  Frame frame = first_frame(sim);
+  CHECK(frame.contacts.empty());
+  const Capture all{.islands = true, .contacts = true, .grid = true};
+  sim.set_capture(all);
+  constexpr std::uint64_t kSteps = 150;
+  for (std::uint64_t k = 0; k < kSteps; ++k) sim.step_once();
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.step == kSteps; });
+  REQUIRE(frame.step == kSteps);
+  bench::Scene scene = rain(1200)({.threads = 1});
+  for (std::uint64_t k = 0; k < kSteps; ++k) scene.world->step(scene.dt);
+  Frame plain;
+  capture_frame(*scene.world, 0.0, kSteps, plain, all);
+  REQUIRE(!plain.contacts.empty());
+  REQUIRE(!plain.grid_cells.empty());
+  CHECK(frame.contacts == plain.contacts);  // those of the step shown, bitwise
+  CHECK(frame.grid_cells.size() == plain.grid_cells.size());
+  CHECK(frame.island == plain.island);
+  REQUIRE(frame.island.size() == frame.size());
+  // Spheres on the ground touch others: some island has more than one sphere.
+  std::vector<std::uint32_t> labels = frame.island;
+  std::sort(labels.begin(), labels.end());
+  CHECK(std::adjacent_find(labels.begin(), labels.end()) != labels.end());
+  // Each contact's point lies on the surface of a sphere of the frame, one radius from its centre.
+  const Vec3 point(frame.contacts[0], frame.contacts[1], frame.contacts[2]);
+  const Vec3 normal(frame.contacts[3], frame.contacts[4], frame.contacts[5]);
+  CHECK(normal.norm() == Approx(1.0f).margin(1e-4));
+  const Vec3 centre = point - frame.contacts[6] * normal;
+  bool found = false;
+  for (std::size_t k = 0; k < frame.size() && !found; ++k)
+    found = (Vec3(frame.centre[3 * k], frame.centre[3 * k + 1], frame.centre[3 * k + 2]) - centre).norm() < 1e-4f;
+  CHECK(found);
+
+  sim.set_capture({});  // shown at once, though paused: the same step without them
+  frame = wait_for(sim, frame, [&](const Frame& f) { return f.contacts.empty(); });
+  CHECK(frame.step == kSteps);
+  CHECK(frame.contacts.empty());
+  CHECK(frame.grid_cells.empty());
+  CHECK(frame.island.empty());
+}
+
+TEST_CASE("Debug lines: 12 edges a box, the BVH level's nodes and the leaves above, normals out of the surface",
+          "[view]") {
+  LineList list;
+  list.add_box({.min = Vec3(0, 0, 0), .max = Vec3(1, 2, 3)}, kBvhCyan);
+  REQUIRE(list.segments() == 12);
+  float length = 0.0f;
+  for (std::size_t k = 0; k < 12; ++k) {
+    const float* v = &list.vertices[12 * k];
+    const Vec3 a(v[0], v[1], v[2]), b(v[6], v[7], v[8]);
+    CHECK((a - b).cwiseAbs().minCoeff() == 0.0f);  // along one axis
+    length += (a - b).norm();
+    CHECK(v[3] == 0.0f);  // cyan
+    CHECK(v[4] == 1.0f);
+  }
+  CHECK(length == Approx(4.0f * (1 + 2 + 3)));
+
+  // root (inner) -> a leaf, and an inner node -> two leaves.
+  const DebugBox box;
+  const std::vector<BvhNodeBox> nodes = {{.box = box, .depth = 0},
+                                         {.box = box, .depth = 1, .leaf = true},
+                                         {.box = box, .depth = 1},
+                                         {.box = box, .depth = 2, .leaf = true},
+                                         {.box = box, .depth = 2, .leaf = true}};
+  CHECK(bvh_level(nodes, -1).empty());
+  CHECK(bvh_level(nodes, 0).size() == 1);
+  CHECK(bvh_level(nodes, 1).size() == 2);
+  CHECK(bvh_level(nodes, 2).size() == 3);  // the leaf at depth 1 and the two at 2
+  CHECK(bvh_level(nodes, 9).size() == 3);
+
+  Frame frame;
+  frame.contacts = {1.0f, 0.0f, 2.0f, 0.0f, -1.0f, 0.0f, 0.5f};  // a sphere of radius 0.5 on the ground
+  frame.grid_cells = {{.min = Vec3(0, 0, 0), .max = Vec3(2, 2, 2)}};
+  DebugLines lines;
+  build_debug_lines(frame, nodes, {}, lines);
+  CHECK(lines.tested.empty());
+  CHECK(lines.overlay.empty());
+  build_debug_lines(frame, nodes, {.normals = true, .bvh_depth = 1, .grid = true}, lines);
+  CHECK(lines.tested.segments() == 12 * (2 + 1));
+  REQUIRE(lines.overlay.segments() == 1);
+  const std::vector<float> up = {1.0f, 0.0f, 2.0f, 1.0f, 1.0f, 0.0f, 1.0f, 0.5f, 2.0f, 1.0f, 1.0f, 0.0f};
+  CHECK(lines.overlay.vertices == up);  // from the point, a radius up, yellow
+}
+
+TEST_CASE("Island labels: the smallest handle index of spheres in contact, kept asleep; immovable spheres in none",
+          "[view]") {
+  WorldSettings settings;
+  settings.threads = 1;
+  settings.gravity = Vec3(0.0f, 0.0f, 0.0f);
+  settings.sleep = true;
+  settings.sleep_time = 0.1f;
+  World world(settings);
+  // Two pairs just touching (overlap below the depenetration slop: nothing moves), one alone,
+  // one static sphere touching the last pair.
+  const float touching = 2.0f * 0.5f - 0.001f;
+  world.add_sphere({.position = Vec3(0, 0, 0), .radius = 0.5f});                             // 0
+  world.add_sphere({.position = Vec3(touching, 0, 0), .radius = 0.5f});                      // 1: with 0
+  world.add_sphere({.position = Vec3(20, 0, 0), .radius = 0.5f});                            // 2: alone
+  world.add_sphere({.position = Vec3(40, 0, 0), .radius = 0.5f});                            // 3
+  world.add_sphere({.position = Vec3(40 + touching, 0, 0), .radius = 0.5f});                 // 4: with 3
+  world.add_sphere({.position = Vec3(40, touching, 0), .radius = 0.5f, .is_static = true});  // 5
+  world.step(1.0f / 60.0f);
+  std::vector<std::uint32_t> labels;
+  island_labels(world, labels);
+  const auto label_of = [&](std::uint32_t index) { return labels[std::size_t(world.soa().slot_of_index(index))]; };
+  CHECK(label_of(0) == 0);
+  CHECK(label_of(1) == 0);
+  CHECK(label_of(2) == 2);
+  CHECK(label_of(3) == 3);
+  CHECK(label_of(4) == 3);  // the static sphere joins them to nothing
+  CHECK(label_of(5) == kNoIsland);
+  std::vector<std::uint32_t> awake_labels(6);
+  for (std::uint32_t i = 0; i < 6; ++i) awake_labels[i] = label_of(i);
+  for (int k = 0; k < 30; ++k) world.step(1.0f / 60.0f);  // 0.5 s at rest: asleep
+  const auto slot = [&](std::uint32_t index) { return std::size_t(world.soa().slot_of_index(index)); };
+  REQUIRE(world.is_sleeping(world.id_at(slot(0))));
+  REQUIRE(world.is_sleeping(world.id_at(slot(4))));
+  island_labels(world, labels);
+  for (std::uint32_t i = 0; i < 6; ++i) CHECK(labels[slot(i)] == awake_labels[i]);  // SphereSoA::sleep_island
+  Frame frame;
+  capture_frame(world, 0.0, 31, frame);
+  CHECK(frame.sleeping[slot(0)] == 1);
+
+  const auto c0 = island_colour(0), c1 = island_colour(1), c2 = island_colour(2);
+  CHECK(c0 != c1);
+  CHECK(c1 != c2);
+  CHECK(island_colour(kNoIsland) == std::array<float, 3>{0.5f, 0.5f, 0.5f});
+}
+
+TEST_CASE("The phase plot stacks each step's phases: a column's bands end where the next begins, its top the sum",
+          "[view]") {
+  const std::vector<std::vector<float>> phases = {{1.0f, 2.0f}, {0.5f, -1.0f}, {0.25f, 3.0f}};
+  const std::vector<float> tops = stack_series(phases);
+  REQUIRE(tops.size() == 2 * 4);
+  CHECK(tops == std::vector<float>{0.0f, 1.0f, 1.5f, 1.75f, 0.0f, 2.0f, 2.0f, 5.0f});  // a negative time counts as 0
+  CHECK(stack_series({}).empty());
+}
+
+TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[view]") {
+  const auto parse = [](std::vector<std::string> words) {
+    words.insert(words.begin(), "hail-view");
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    return parse_view_options(int(argv.size()), argv.data());
+  };
+  const std::optional<ViewOptions> plain = parse({});
+  REQUIRE(plain);
+  CHECK(plain->colour == ColourMode::Speed);
+  CHECK_FALSE(plain->draw.any());
+  CHECK_FALSE(plain->params.sleep);
+  const std::optional<ViewOptions> o =
+      parse({"--colour", "island", "--draw-bvh", "3", "--draw-normals", "--draw-grid", "--sleep", "--zoom", "2.5"});
+  REQUIRE(o);
+  CHECK(o->colour == ColourMode::Island);
+  CHECK(o->draw == DebugDraw{.normals = true, .bvh_depth = 3, .grid = true});
+  CHECK(capture_for(o->colour, o->draw) == Capture{.islands = true, .contacts = true, .grid = true});
+  CHECK(o->params.sleep);
+  CHECK(o->zoom == 2.5f);
+  CHECK_FALSE(o->continuous_collision);
+  CHECK(parse({"--ccd", "off"})->continuous_collision == false);
+  CHECK(parse({"--ccd", "on"})->continuous_collision == true);
+  CHECK(parse({"--colour", "sleep"})->colour == ColourMode::Sleep);
+  CHECK_THROWS_AS(parse({"--colour", "mass"}), std::invalid_argument);
+  CHECK_THROWS_AS(parse({"--draw-bvh", "-1"}), std::invalid_argument);
 }

@@ -16,6 +16,17 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--spheres", o.params.spheres, "sphere count of a built-in scene")->check(CLI::Range(1, 100'000'000));
   app.add_option("--threads", o.params.threads, "worker threads (0: all)")->check(CLI::Range(0, 4096));
+  app.add_flag("--sleep", o.params.sleep, "sleeping on (WorldSettings::sleep; a scene file's own setting otherwise)");
+  std::string ccd;
+  app.add_option("--ccd", ccd, "continuous collision on or off (default: the scene's own)")
+      ->check(CLI::IsMember({"on", "off"}));
+  std::string colour = "speed";
+  app.add_option("--colour", colour, "colour spheres by speed, island, or sleep (asleep grey-blue, awake by speed)")
+      ->check(CLI::IsMember({"speed", "island", "sleep"}));
+  app.add_flag("--draw-normals", o.draw.normals, "draw each contact's normal (yellow)");
+  app.add_option("--draw-bvh", o.draw.bvh_depth, "draw the terrain BVH's boxes at this depth (cyan; root 0)")
+      ->check(CLI::Range(0, 64));
+  app.add_flag("--draw-grid", o.draw.grid, "draw the pair grid's occupied cells (white), when the grid search runs");
   app.add_flag("--headless", o.headless, "render without showing a window (under Xvfb, say) and write --screenshot");
   app.add_option("--steps", o.steps, "headless: steps before the picture; replay: the frame to show first")
       ->check(CLI::Range(0, 100'000'000));
@@ -26,6 +37,8 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
       ->type_name("DIR");
   app.add_option("--every", o.every, "with --frames: steps (or recorded frames) between pictures")
       ->check(CLI::Range(1, 100'000'000));
+  app.add_option("--zoom", o.zoom, "the camera starts this many times closer than its framing of the spheres")
+      ->check(CLI::Range(0.01f, 100.0f));
   app.add_option("--width", o.width, "pixels")->check(CLI::Range(64, 8192));
   app.add_option("--height", o.height, "pixels")->check(CLI::Range(64, 8192));
   try {
@@ -36,6 +49,9 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     throw std::invalid_argument(e.what());
   }
+  if (!ccd.empty()) o.continuous_collision = ccd == "on";
+  for (std::size_t k = 0; k < kColourModeNames.size(); ++k)
+    if (colour == kColourModeNames[k]) o.colour = ColourMode(k);
   if (o.headless && o.screenshot_path.empty() && o.frames_dir.empty())
     throw std::invalid_argument("--headless needs --screenshot FILE.png or --frames DIR");
   if (!o.headless && (!o.screenshot_path.empty() || !o.frames_dir.empty()))

@@ -4,9 +4,11 @@
 #include <GLFW/glfw3.h>
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace hail::view {
 
@@ -37,12 +39,24 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-/// The box of the frame's finite sphere centres (empty: min > max).
+/// The box of the frame's finite sphere centres (empty: min > max), without the outliers: on
+/// each axis from the 2nd to the 98th percentile once there are 50 spheres, so that the few
+/// spheres that fell off a terrain's edge (hundreds of metres down by then) do not set the
+/// framing.
 Bounds sphere_box(const Frame& frame) {
   Bounds b{Eigen::Vector3f::Constant(kInf), Eigen::Vector3f::Constant(-kInf)};
-  for (std::size_t k = 0; k < frame.size(); ++k) {
-    const Eigen::Vector3f c(frame.centre[3 * k], frame.centre[3 * k + 1], frame.centre[3 * k + 2]);
-    if (c.allFinite()) b.min = b.min.cwiseMin(c), b.max = b.max.cwiseMax(c);
+  std::vector<float> axis;
+  for (int a = 0; a < 3; ++a) {
+    axis.clear();
+    for (std::size_t k = 0; k < frame.size(); ++k)
+      if (Eigen::Vector3f(frame.centre[3 * k], frame.centre[3 * k + 1], frame.centre[3 * k + 2]).allFinite())
+        axis.push_back(frame.centre[3 * k + std::size_t(a)]);
+    if (axis.empty()) continue;
+    const std::size_t cut = axis.size() >= 50 ? axis.size() / 50 : 0;
+    std::nth_element(axis.begin(), axis.begin() + std::ptrdiff_t(cut), axis.end());
+    b.min[a] = axis[cut];
+    std::nth_element(axis.begin(), axis.end() - 1 - std::ptrdiff_t(cut), axis.end());
+    b.max[a] = axis[axis.size() - 1 - cut];
   }
   return b;
 }

@@ -18,7 +18,8 @@ GLFWwindow* open_window(int width, int height, bool visible, const std::string& 
 /// glfwDestroyWindow and glfwTerminate.
 void close_window(GLFWwindow* window);
 
-/// The box around the scene's terrain (or the spheres, without one) and the frame's spheres.
+/// The box around the scene's terrain (or the spheres, without one) and the frame's spheres
+/// (but for outliers: the 2nd to 98th percentile of the centres on each axis).
 struct Bounds {
   Eigen::Vector3f min, max;
   [[nodiscard]] Eigen::Vector3f centre() const { return 0.5f * (min + max); }

@@ -34,6 +34,7 @@
 
 #include "hail/collision_filter.h"
 #include "hail/contact.h"
+#include "hail/debug_draw.h"
 #include "hail/errors.h"
 #include "hail/events.h"
 #include "hail/features.h"
@@ -336,6 +337,13 @@ class World {
   /// collision) are not contacts: last_impacts() lists them. No copy, no allocation; valid
   /// until the next step.
   [[nodiscard]] std::span<const Contact> last_contacts() const;
+  /// The pair grid the last step searched (its last substep's), as the boxes of the cells
+  /// that held a sphere (each once; include/hail/debug_draw.h), into `out`; empty unless that
+  /// step ran the grid search (StepStats::pair_search). The cells are where the spheres were
+  /// when the grid was built, before the step moved them: cubes two reaches (largest diameter
+  /// plus the step's margin) wide, counted from the lowest centre on each axis
+  /// (kernel/broadphase/sphere_grid.h). For drawing (hail-view --draw-grid): allocates.
+  void pair_grid_cells(std::vector<DebugBox>& out) const;
   // ---- Touch and hit events (include/hail/events.h; kernel/world/world_events.cpp) ----
 
   /// Turns touch and hit events on or off (both off by default; off, a step does nothing for

@@ -1,6 +1,7 @@
 #include "kernel/broadphase/sphere_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -155,6 +156,25 @@ SphereGridView SphereGrid::view() const {
           inv_cell_,
           max_radius_,
           {top_cell_[0], top_cell_[1], top_cell_[2]}};
+}
+
+void SphereGrid::occupied_cells(std::vector<DebugBox>& out) const {
+  out.clear();
+  if (bucket_start_.empty()) return;
+  const std::uint32_t sorted = bucket_start_[std::size_t(mask_) + 1];
+  std::vector<std::array<std::int32_t, 3>> cells(sorted);
+  for (std::uint32_t k = 0; k < sorted; ++k)
+    cells[k] = {grid_cell(z_[k], lowest_[2], inv_cell_), grid_cell(y_[k], lowest_[1], inv_cell_),
+                grid_cell(x_[k], lowest_[0], inv_cell_)};
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  const float cell = 1.0f / inv_cell_;
+  const Vec3 lowest(lowest_[0], lowest_[1], lowest_[2]);
+  out.reserve(cells.size());
+  for (const auto& [cz, cy, cx] : cells) {
+    const Vec3 min = lowest + cell * Vec3(float(cx), float(cy), float(cz));
+    out.push_back({.min = min, .max = min + Vec3::Constant(cell)});
+  }
 }
 
 void SphereGrid::find_pairs(const SphereSoA& s, std::size_t first, std::size_t last, float margin,

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hail/debug_draw.h"
 #include "hail/sphere_soa.h"
 #include "kernel/broadphase/sphere_pair_bounds.h"
 #include "kernel/broadphase/sphere_pairs.h"
@@ -136,6 +137,11 @@ class SphereGrid {
                          std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const;
   /// The sorted arrays, for the SIMD kernels.
   [[nodiscard]] SphereGridView view() const;
+  /// The boxes of the cells that hold a sphere since the last build, each once, sorted by
+  /// cell (z, y, x), into `out` (replacing what it held): for drawing the grid
+  /// (World::pair_grid_cells). Cells clamped at the grid's edge (grid_cell) are drawn where
+  /// the clamp puts them. Allocates; not for the step.
+  void occupied_cells(std::vector<DebugBox>& out) const;
 
  private:
   std::uint32_t mask_ = 0;
