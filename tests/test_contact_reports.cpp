@@ -47,7 +47,7 @@ TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then r
   // Planes make contacts only for touching spheres: a falling sphere meets the plane inside a
   // step, where the integrator bounces it at the exact time of impact (an Impact).
   const float m = 2.0f, e = 0.5f, h = 5.0f, r = 0.5f;
-  World world({.threads = 1});
+  World world({.threads = 1, .sleep = false});  // the resting impulse is the subject: asleep, none
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = e, .friction = 0.5f});
   const SphereId id =
       world.add_sphere({.position = {0, h + r, 0}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});
@@ -96,7 +96,7 @@ TEST_CASE("A sphere dropped onto flat terrain reports the bounce and then the re
   auto terrain = std::make_shared<const Terrain>(
       Heightmap::from_function(33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f},
                                [](float, float) { return 0.0f; }));
-  World world({.threads = 1});
+  World world({.threads = 1, .sleep = false});  // the resting impulse is the subject: asleep, none
   world.set_terrain(terrain, e, 0.5f);
   const SphereId id =
       world.add_sphere({.position = {0.3f, h + r, 0.2f}, .radius = r, .mass = m, .restitution = e, .friction = 0.5f});

@@ -457,6 +457,7 @@ namespace {
 WorldSettings unsorted() {
   WorldSettings s = settings_with({0, -9.81f, 0});
   s.reorder_interval = 0;
+  s.sleep = false;  // the settled pile's contacts are the subject: asleep, it would have none
   return s;
 }
 

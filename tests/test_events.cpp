@@ -203,8 +203,8 @@ TEST_CASE("Hits are reported only above the set speed", "[events]") {
 
 TEST_CASE("A sphere dropped onto a plane hits it at its fall speed, then rests touching for 200 steps", "[events]") {
   const float m = 2.0f, e = 0.5f, h = 5.0f, r = 0.5f;
-  for (const float plane_y : {0.0f, -2.0f}) {  // a second plane under the first: surface 1
-    World world({.threads = 1});
+  for (const float plane_y : {0.0f, -2.0f}) {     // a second plane under the first: surface 1
+    World world({.threads = 1, .sleep = false});  // resting touches are the subject: asleep, none
     if (plane_y < 0.0f) world.add_plane({.normal = {0, 1, 0}, .offset = -10.0f});
     world.add_plane({.normal = {0, 1, 0}, .offset = plane_y, .restitution = e});
     const std::uint32_t plane = plane_y < 0.0f ? 1 : 0;

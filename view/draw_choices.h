@@ -12,7 +12,7 @@ namespace hail::view {
 enum class ColourMode {
   Speed,   ///< blue at rest through purple to red at the panel's "red at" speed (the default)
   Island,  ///< by island (island_labels): a hue from a hash of its label; immovable spheres grey
-  Sleep,   ///< asleep grey-blue, awake by speed (WorldSettings::sleep: --sleep, the panel's checkbox)
+  Sleep,   ///< asleep grey-blue, awake by speed (WorldSettings::sleep: --sleep on|off, the panel's checkbox)
 };
 inline constexpr std::array<std::string_view, 3> kColourModeNames = {"speed", "island", "sleep"};
 

@@ -10,19 +10,20 @@ namespace hail::view {
 
 SceneFactory scene_factory(const ViewOptions& options) {
   if (!options.scene_file.empty())
-    return [path = options.scene_file, sleep = options.params.sleep,
-            ccd = options.continuous_collision](const SceneChoice& c) {
-      bench::SceneOverrides overrides;
-      overrides.threads = c.threads;
-      overrides.spheres = c.spheres;
-      overrides.pair_search = c.pair_search;
-      // --sleep turns sleeping on; without it the file's own setting stands.
-      overrides.sleep = c.sleep ? c.sleep : sleep ? std::optional<bool>(true) : std::nullopt;
-      overrides.continuous_collision = ccd;
-      return bench::load_scene_file(path, overrides);
-    };
+    return
+        [path = options.scene_file, sleep = options.sleep, ccd = options.continuous_collision](const SceneChoice& c) {
+          bench::SceneOverrides overrides;
+          overrides.threads = c.threads;
+          overrides.spheres = c.spheres;
+          overrides.pair_search = c.pair_search;
+          // The panel's choice, else --sleep on|off; without either the file's own setting stands.
+          overrides.sleep = c.sleep ? c.sleep : sleep;
+          overrides.continuous_collision = ccd;
+          return bench::load_scene_file(path, overrides);
+        };
   bench::SceneParams built_in = options.params;
   built_in.continuous_collision = options.continuous_collision.value_or(built_in.continuous_collision);
+  built_in.sleep = options.sleep.value_or(built_in.sleep);
   return [name = options.scene, params = built_in](const SceneChoice& c) {
     bench::SceneParams p = params;
     p.threads = c.threads;

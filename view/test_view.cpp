@@ -327,14 +327,14 @@ TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[vi
   REQUIRE(plain);
   CHECK(plain->colour == ColourMode::Speed);
   CHECK_FALSE(plain->draw.any());
-  CHECK_FALSE(plain->params.sleep);
-  const std::optional<ViewOptions> o =
-      parse({"--colour", "island", "--draw-bvh", "3", "--draw-normals", "--draw-grid", "--sleep", "--zoom", "2.5"});
+  CHECK_FALSE(plain->sleep);  // the scene's own (on by default)
+  const std::optional<ViewOptions> o = parse(
+      {"--colour", "island", "--draw-bvh", "3", "--draw-normals", "--draw-grid", "--sleep", "off", "--zoom", "2.5"});
   REQUIRE(o);
   CHECK(o->colour == ColourMode::Island);
   CHECK(o->draw == DebugDraw{.normals = true, .bvh_depth = 3, .grid = true});
   CHECK(capture_for(o->colour, o->draw) == Capture{.islands = true, .contacts = true, .grid = true});
-  CHECK(o->params.sleep);
+  CHECK(o->sleep == false);
   CHECK(o->zoom == 2.5f);
   CHECK_FALSE(o->continuous_collision);
   CHECK(parse({"--ccd", "off"})->continuous_collision == false);

@@ -16,7 +16,9 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--spheres", o.params.spheres, "sphere count of a built-in scene")->check(CLI::Range(1, 100'000'000));
   app.add_option("--threads", o.params.threads, "worker threads (0: all)")->check(CLI::Range(0, 4096));
-  app.add_flag("--sleep", o.params.sleep, "sleeping on (WorldSettings::sleep; a scene file's own setting otherwise)");
+  std::string sleep;
+  app.add_option("--sleep", sleep, "sleeping on or off (WorldSettings::sleep, on by default; default: the scene's own)")
+      ->check(CLI::IsMember({"on", "off"}));
   std::string ccd;
   app.add_option("--ccd", ccd, "continuous collision on or off (default: the scene's own)")
       ->check(CLI::IsMember({"on", "off"}));
@@ -50,6 +52,7 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
     throw std::invalid_argument(e.what());
   }
   if (!ccd.empty()) o.continuous_collision = ccd == "on";
+  if (!sleep.empty()) o.sleep = sleep == "on";
   for (std::size_t k = 0; k < kColourModeNames.size(); ++k)
     if (colour == kColourModeNames[k]) o.colour = ColourMode(k);
   if (o.headless && o.screenshot_path.empty() && o.frames_dir.empty())

@@ -14,8 +14,9 @@ struct ViewOptions {
   std::string scene = "terrain-rain";        ///< a built-in scene (bench/scenes)
   std::string scene_file;                    ///< --scene FILE.json instead
   std::string replay_path;                   ///< --replay FILE: play a recording (hail-bench run --record)
-  bench::SceneParams params;                 ///< --spheres, --threads, --sleep
+  bench::SceneParams params;                 ///< --spheres, --threads
   std::optional<bool> continuous_collision;  ///< --ccd on|off (nullopt: the scene's own)
+  std::optional<bool> sleep;                 ///< --sleep on|off (nullopt: the scene's own)
   bool headless = false;                     ///< --headless: no window shown; render --steps N, write --screenshot
   int steps = 0;                             ///< --steps N before the picture (headless), or the frame shown (replay)
   std::string screenshot_path;               ///< --screenshot FILE.png

@@ -122,6 +122,15 @@ void SleepIslands::update(SphereSoA& s, std::span<const Contact> contacts, float
   }
   for (const Contact& c : contacts)
     if (c.b != kStaticBody && s.inv_mass[c.a] > 0.0f && s.inv_mass[c.b] > 0.0f) unite(c.a, c.b);
+  // Supported: some sphere of the island touches the ground, a plane or an immovable sphere.
+  resize_geometric(supported_, n);
+  std::fill(supported_.begin(), supported_.begin() + static_cast<std::ptrdiff_t>(n), std::uint8_t{0});
+  for (const Contact& c : contacts) {
+    if (c.b == kStaticBody || !(s.inv_mass[c.b] > 0.0f))
+      supported_[find(c.a)] = 1;
+    else if (!(s.inv_mass[c.a] > 0.0f))
+      supported_[find(c.b)] = 1;
+  }
   resize_geometric(island_timer_, n);
   resize_geometric(island_label_, n);
   std::fill(island_timer_.begin(), island_timer_.begin() + static_cast<std::ptrdiff_t>(n),
@@ -139,7 +148,7 @@ void SleepIslands::update(SphereSoA& s, std::span<const Contact> contacts, float
   for (std::size_t i = 0; i < n; ++i) {
     if (!(s.inv_mass[i] > 0.0f) || sphere_sleeps(s, i)) continue;
     const std::uint32_t root = find(static_cast<std::uint32_t>(i));
-    if (!(island_timer_[root] >= settings.sleep_time)) continue;
+    if (!(island_timer_[root] >= settings.sleep_time) || !supported_[root]) continue;
     s.flags[i] |= kSphereFlagSleeping;
     s.sleep_island[i] = island_label_[root];
     s.vx[i] = s.vy[i] = s.vz[i] = 0.0f;

@@ -11,8 +11,13 @@
 //   timer        per sphere (SphereSoA::sleep_timer): seconds it has stayed at or below both
 //                WorldSettings::sleep_linear_speed and sleep_angular_speed; 0 once it is faster.
 //   sleep        at the end of a substep, every island whose smallest timer is at least
-//                sleep_time: flag kSphereFlagSleeping set, velocities zeroed, and its label (the
-//                smallest handle index in it, SphereSoA::sleep_island) kept with each sphere.
+//                sleep_time and which is supported (one of its spheres touches the terrain, a
+//                plane or an immovable sphere): flag kSphereFlagSleeping set, velocities zeroed,
+//                and its label (the smallest handle index in it, SphereSoA::sleep_island) kept
+//                with each sphere. An island touching nothing static is in free flight: put to
+//                sleep, a sphere drifting at 0.02 m/s in zero gravity stopped, and a head-on
+//                collision with a 1,000 times heavier sphere lost all its momentum
+//                (tests/test_known_answers.cpp, "C: head-on"). Box2D and Jolt sleep such bodies.
 //   wake         a contact between a sleeper and a sphere that moves (found by detection, before
 //                the solve; continuous collision's impacts after the sweep), a control call on a
 //                sleeper, removing it: its whole island (every sleeper with its label). An
@@ -93,6 +98,7 @@ class SleepIslands {
 
   std::vector<std::uint32_t> parent_;
   std::vector<float> island_timer_;          // per root: smallest timer of the island
+  std::vector<std::uint8_t> supported_;      // per root: the island touches something static
   std::vector<std::uint32_t> island_label_;  // per root: smallest handle index of the island
   std::vector<std::uint32_t> labels_;        // islands to wake
   std::vector<std::uint32_t> woken_slots_;   // slots woken by the last wake_touched
