@@ -19,6 +19,10 @@ void add_stress_options(CLI::App& app, StressOptions& o) {
   // A misspelt case name is refused before the header, naming the cases there are.
   app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
   app.add_flag("--quick", o.quick, "skip the slow cases");
+  app.add_option_function<std::string>(
+         "--solver", [&o](const std::string& v) { o.solver = v == "soft" ? Solver::SoftStep : Solver::Passes; },
+         "the contact solver every case runs: passes (the default) or soft (the soft step)")
+      ->check(CLI::IsMember({"passes", "soft"}));
   app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
 }
 
@@ -32,8 +36,9 @@ int stress_command(const StressOptions& o) {
   const bool quick = o.quick;
   const std::string& json_path = o.json_path;
   check_output_paths({json_path});
-  const std::vector<StressCase> cases = stress_cases();
-  std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
+  const std::vector<StressCase> cases = stress_cases(o.solver);
+  std::printf("hail-bench stress: the stability battery (%s, %s), solver %s\n", cpu_model().c_str(),
+              simd_path().c_str(), o.solver == Solver::SoftStep ? "soft" : "passes");
   std::printf(
       "  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
       "  no NaN, no centre below the terrain surface; worst values over every step\n\n");
