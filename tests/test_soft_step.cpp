@@ -128,7 +128,7 @@ TEST_CASE("SIMD soft-step passes equal their scalar reference bit for bit", "[so
     CHECK_FALSE(same_bits(simd, random_soft_run(count, seed)));
     if (count >= 23)
       CHECK(std::any_of(scalar.contacts.begin(), scalar.contacts.end(),
-                      [](const Contact& c) { return c.normal_impulse > 0.0f; }));
+                        [](const Contact& c) { return c.normal_impulse > 0.0f; }));
     const SolverBody& fixed = simd.bodies.back();  // the static body was never written
     CHECK((fixed.v[0] == 0.0f && fixed.v[1] == 0.0f && fixed.v[2] == 0.0f && fixed.dp[1] == 0.0f));
   }
@@ -157,7 +157,7 @@ TEST_CASE("The soft step leaves a sphere in no contact as the passes do", "[soft
     world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.5f, .friction = 0.5f});
     const SphereId id = world.add_sphere({.position = {0, 20, 0}, .velocity = {1, 0, 0}, .radius = 0.5f, .mass = 1});
     world.add_sphere({.position = {10, 0.5f, 0}, .radius = 0.5f, .mass = 1});  // on the ground: the solve runs
-    for (int k = 0; k < 60; ++k) world.step(1.0f / 60.0f);  // 1 s: still 14 m up
+    for (int k = 0; k < 60; ++k) world.step(1.0f / 60.0f);                     // 1 s: still 14 m up
     return std::pair{world.position(id), world.velocity(id)};
   };
   const auto [p_passes, v_passes] = fall(Solver::Passes);

@@ -32,10 +32,11 @@ enum class Solver {
   SoftStep,
 };
 
-/// The soft step's knobs (WorldSettings::soft_step; Solver::SoftStep). The defaults are Box2D
-/// v3's (4 substeps, contacts at 30 Hz at 60 steps a second, damping ratio 10, one relax
-/// iteration, pushes of at most 3 m/s); the work-precision figures behind keeping them:
-/// docs/benchmarks.md, "Soft step".
+/// The soft step's knobs (WorldSettings::soft_step; Solver::SoftStep). The defaults are from the
+/// work-precision figures of docs/benchmarks.md, "Soft step" (terrain-rain 4k): Box2D v3's 4
+/// substeps, one relax iteration, damping ratio 10 and pushes of at most 3 m/s, with the
+/// stiffest contact the substep resolves (0.25 cycles per substep: a smaller mean deepest
+/// overlap than Box2D's 30 Hz, 0.125 at 60 steps a second, at every substep count measured).
 struct SoftStepParams {
   /// Substeps per (sub)step, >= 1: each one warm start, one soft iteration, a position update
   /// and relax_iterations rigid ones over every contact. More: stiffer, deeper stacks hold,
@@ -45,8 +46,8 @@ struct SoftStepParams {
   /// times the substep's length), in (0, 0.25]: at 0.25 (Box2D v3's cap, a quarter of the
   /// substep rate) the spring is as stiff as the substep resolves; smaller values let piles
   /// sink further before they push back. Ground contacts (a static side) use twice this, as
-  /// Box2D's static softness does. 0.125: Box2D's 30 Hz at 60 steps of 4 substeps a second.
-  float contact_cycles = 0.125f;
+  /// Box2D's static softness does.
+  float contact_cycles = 0.25f;
   /// Damping ratio of the contact spring, > 0 (Box2D v3: 10, far over-damped): small values
   /// make overlapping spheres spring apart, large ones make them push apart slowly.
   float damping_ratio = 10.0f;

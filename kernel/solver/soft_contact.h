@@ -57,10 +57,10 @@ enum class SoftPassKind : std::uint8_t {
 /// What one pass of the soft step needs besides the batches and bodies.
 struct SoftPass {
   SoftPassKind kind = SoftPassKind::Solve;
-  float inv_h = 0.0f;                ///< 1 / substep
-  SoftCoefficients contact{};        ///< sphere-sphere contacts
-  SoftCoefficients ground{};         ///< contacts with a side that cannot move (twice as stiff)
-  float max_push_speed = 0.0f;       ///< m/s
+  float inv_h = 0.0f;           ///< 1 / substep
+  SoftCoefficients contact{};   ///< sphere-sphere contacts
+  SoftCoefficients ground{};    ///< contacts with a side that cannot move (twice as stiff)
+  float max_push_speed = 0.0f;  ///< m/s
   float restitution_threshold = 0.0f;
   float impulse_factor = 1.0f;  ///< Prepare: 1 / substeps; Restitution: substeps
 };
