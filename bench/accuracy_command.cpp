@@ -29,7 +29,7 @@ struct Variant {
   int substeps = 1;  ///< engine steps of dt / substeps per frame
 };
 
-std::vector<Variant> variants() {
+std::vector<Variant> variants(const AccuracyOptions& o) {
   auto hail_with = [](auto tweak) {
     return [tweak](const PeerScene& scene) {
       WorldSettings s;
@@ -45,9 +45,26 @@ std::vector<Variant> variants() {
   v.push_back({"hail-4-substeps", hail_with([](WorldSettings&) {}), 4});
   v.push_back({"hail-4+2-passes",
                hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
+  // The soft step (Solver::SoftStep) with the knobs given, then with fewer and more substeps,
+  // and with the uniform-acceleration integrator.
+  const SoftStepParams soft = o.soft;
+  auto soft_with = [&](int substeps, Integrator integrator) {
+    return hail_with([soft, substeps, integrator](WorldSettings& s) {
+      s.solver = Solver::SoftStep, s.soft_step = soft, s.integrator = integrator;
+      s.soft_step.substeps = substeps;
+    });
+  };
+  v.push_back({"hail-soft", soft_with(soft.substeps, Integrator::SemiImplicitEuler), 1});
+  v.push_back({"hail-soft-uniform-accel", soft_with(soft.substeps, Integrator::UniformAcceleration), 1});
+  for (int substeps : {1, 2, 8})
+    if (substeps != soft.substeps)
+      v.push_back({"hail-soft-" + std::to_string(substeps) + "-substeps",
+                   soft_with(substeps, Integrator::SemiImplicitEuler), 1});
   // Peers at their defaults, and with 4 substeps per frame (their usual accuracy knob).
   for (const PeerFactory& peer : peer_factories())
     v.push_back({peer.name, peer.make, peer.name.ends_with("-4-substeps") ? 4 : 1});
+  if (!o.only.empty())
+    std::erase_if(v, [&](const Variant& x) { return std::find(o.only.begin(), o.only.end(), x.name) == o.only.end(); });
   return v;
 }
 
@@ -154,7 +171,7 @@ do for [c=1:words(CASES)] {
 
 int accuracy_command(const AccuracyOptions& o) {
   prepare_output_dir(o.out_dir);  // before the runs: a folder that cannot be written fails now, not at the end
-  const std::vector<Variant> vs = variants();
+  const std::vector<Variant> vs = variants(o);
   std::vector<Row> rows;
   std::printf("hail-bench accuracy: error against wall time (%s, %s); median wall time of %d runs\n",
               cpu_model().c_str(), simd_path().c_str(), o.repeats);

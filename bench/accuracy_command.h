@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "hail/world_settings.h"
+
 namespace CLI {
 class App;
 }
@@ -20,6 +22,11 @@ struct AccuracyOptions {
   int repeats = 3;
   std::string out_dir = "hail-out/accuracy";
   bool no_plot = false, no_scenes = false, quiet = false;
+  /// The soft step's knobs of the hail-soft variant (--substeps, --contact-cycles, ...); the
+  /// hail-soft-N-substeps variants differ from it in the substeps alone.
+  SoftStepParams soft{};
+  /// --variants: only these engines / knobs (names as the table prints them); empty: all.
+  std::vector<std::string> only;
 };
 
 /// Declares accuracy's flags on `app`, writing `o`.

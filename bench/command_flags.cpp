@@ -22,6 +22,7 @@
 #include "run_command.h"
 #include "scale_command.h"
 #include "sleep_command.h"
+#include "solver_options.h"
 #include "stress_command.h"
 
 namespace hail::bench {
@@ -57,6 +58,7 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
   add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
   add_count(app, "--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step");
+  add_solver_options(app, p.solver, p.soft_step);
   add_count(app, "--tile", p.solver_tile_spheres, 0, 100'000'000,
             "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
       ->check(CLI::Validator(
@@ -205,6 +207,10 @@ void add_accuracy_options(CLI::App& app, AccuracyOptions& o) {
   app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
   app.add_flag("--no-scenes", o.no_scenes, "the known-answer cases only");
   app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
+  add_soft_step_options(app, o.soft);
+  app.add_option("--variants", o.only, "only these engines / knobs (as the table names them), comma-separated")
+      ->delimiter(',')
+      ->type_name("LIST");
 }
 
 int accuracy_command(const std::vector<std::string>& args) {
@@ -239,6 +245,10 @@ void add_stress_options(CLI::App& app, StressOptions& o) {
   // A misspelt case name is refused before the header, naming the cases there are.
   app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
   app.add_flag("--quick", o.quick, "skip the slow cases");
+  app.add_option_function<std::string>(
+         "--solver", [&o](const std::string& v) { o.solver = v == "soft" ? Solver::SoftStep : Solver::Passes; },
+         "the contact solver every case runs: passes (the default) or soft (the soft step)")
+      ->check(CLI::IsMember({"passes", "soft"}));
   app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
 }
 
@@ -349,6 +359,25 @@ void add_sleep_options(CLI::App& app, SleepOptions& o) {
 int sleep_command(const std::vector<std::string>& args) {
   const std::optional<SleepOptions> parsed = parse_command("sleep", add_sleep_options, args);
   return parsed ? sleep_command(*parsed) : 0;  // 0 after --help
+}
+
+// The solver's flags (run, and the soft step's knobs in accuracy); bench/solver_options.h
+
+void add_solver_options(CLI::App& app, Solver& solver, SoftStepParams& soft) {
+  app.add_option_function<std::string>(
+         "--solver", [&solver](const std::string& v) { solver = v == "soft" ? Solver::SoftStep : Solver::Passes; },
+         "the contact solver: passes (collision and resting passes, the default) or soft (Box2D v3's soft step)")
+      ->check(CLI::IsMember({"passes", "soft"}));
+  add_soft_step_options(app, soft);
+}
+
+void add_soft_step_options(CLI::App& app, SoftStepParams& soft) {
+  add_count(app, "--substeps", soft.substeps, 1, 1000, "soft step: substeps per step");
+  add_number(app, "--contact-cycles", soft.contact_cycles, 0.0, 0.25,
+             "soft step: contact stiffness, cycles per substep (ground contacts twice this)", /*exclude_min=*/true);
+  add_number(app, "--damping-ratio", soft.damping_ratio, 0.0, 1e6, "soft step: contact damping ratio",
+             /*exclude_min=*/true);
+  add_count(app, "--relax", soft.relax_iterations, 0, 1000, "soft step: relax iterations per substep");
 }
 
 }  // namespace hail::bench

@@ -37,6 +37,9 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--reorder")) v.reorder_interval = o.params.reorder_interval;
   if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
   if (given("--tile")) v.solver_tile_spheres = o.params.solver_tile_spheres;
+  if (given("--solver")) v.solver = o.params.solver;
+  for (const char* flag : {"--substeps", "--contact-cycles", "--damping-ratio", "--relax"})
+    if (given(flag)) v.soft_step = o.params.soft_step;
   if (given("--pairs")) v.pair_search = o.params.pair_search;
   if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
   if (given("--rotation")) v.rotation = o.params.rotation;
@@ -182,8 +185,9 @@ void print_report(const RunResult& r) {
         "  sleep     per step: %.0f spheres asleep, %.0f islands awake, islands phase %.3f ms; after the last step: "
         "%zu asleep, %zu islands awake\n",
         r.sleeping, r.islands, p.islands, r.sleeping_at_end, r.islands_at_end);
+  std::printf("  solver    %s\n", r.solver.c_str());
   std::printf(
-      "  solver    pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "
+      "  contacts  pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "
       "collision passes that applied an impulse\n",
       r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
   std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n",

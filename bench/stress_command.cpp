@@ -16,8 +16,9 @@ int stress_command(const StressOptions& o) {
   const bool quick = o.quick;
   const std::string& json_path = o.json_path;
   check_output_paths({json_path});
-  const std::vector<StressCase> cases = stress_cases();
-  std::printf("hail-bench stress: the stability battery (%s, %s)\n", cpu_model().c_str(), simd_path().c_str());
+  const std::vector<StressCase> cases = stress_cases(o.solver);
+  std::printf("hail-bench stress: the stability battery (%s, %s), solver %s\n", cpu_model().c_str(),
+              simd_path().c_str(), o.solver == Solver::SoftStep ? "soft" : "passes");
   std::printf(
       "  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
       "  no NaN, no centre below the terrain surface; worst values over every step\n\n");

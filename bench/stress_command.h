@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "hail/world_settings.h"
+
 namespace CLI {
 class App;
 }
@@ -13,7 +15,8 @@ namespace hail::bench {
 
 /// Every flag of `hail-bench stress`.
 struct StressOptions {
-  std::string only;  ///< --case NAME: this case alone
+  Solver solver = Solver::Passes;  ///< --solver passes|soft
+  std::string only;                ///< --case NAME: this case alone
   bool quick = false;
   std::string json_path;
 };

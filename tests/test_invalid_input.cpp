@@ -129,6 +129,15 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.collision_iterations = -1; }), "collision_iterations");
   rejected(with([](WorldSettings& s) { s.resting_iterations = -1; }), "resting_iterations");
   rejected(with([](WorldSettings& s) { s.depenetration_iterations = -1; }), "depenetration_iterations");
+  rejected(with([](WorldSettings& s) { s.solver = static_cast<hail::Solver>(7); }), "solver");
+  rejected(with([](WorldSettings& s) { s.soft_step.substeps = 0; }), "soft_step.substeps");
+  rejected(with([](WorldSettings& s) { s.soft_step.contact_cycles = 0; }), "soft_step.contact_cycles");
+  rejected(with([](WorldSettings& s) { s.soft_step.contact_cycles = 0.3f; }), "soft_step.contact_cycles");
+  rejected(with([](WorldSettings& s) { s.soft_step.contact_cycles = kNaN; }), "soft_step.contact_cycles");
+  rejected(with([](WorldSettings& s) { s.soft_step.damping_ratio = 0; }), "soft_step.damping_ratio");
+  rejected(with([](WorldSettings& s) { s.soft_step.damping_ratio = kInf; }), "soft_step.damping_ratio");
+  rejected(with([](WorldSettings& s) { s.soft_step.relax_iterations = -1; }), "soft_step.relax_iterations");
+  rejected(with([](WorldSettings& s) { s.soft_step.max_push_speed = -1; }), "soft_step.max_push_speed");
   rejected(with([](WorldSettings& s) { s.depenetration.fraction = 1.5f; }), "depenetration.fraction");
   rejected(with([](WorldSettings& s) { s.depenetration.slop_fraction = kNaN; }), "slop_fraction");
   rejected(with([](WorldSettings& s) { s.speculative_radii = -1; }), "speculative_radii");

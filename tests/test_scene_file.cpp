@@ -236,6 +236,23 @@ TEST_CASE("scene files: terrain from a heightmap file, relative to the scene fil
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][soft]") {
+  const Scene scene = parse_scene_text(scene_text(R"("settings": {"solver": "soft", "soft_step": {"substeps": 6,
+      "contact_cycles": 0.2, "damping_ratio": 5, "relax_iterations": 2, "max_push_speed": 1.5}})"),
+                                       "scene.json", {});
+  const hail::WorldSettings& s = scene.world->settings();
+  CHECK(s.solver == hail::Solver::SoftStep);
+  CHECK(s.soft_step.substeps == 6);
+  CHECK(s.soft_step.contact_cycles == 0.2f);
+  CHECK(s.soft_step.damping_ratio == 5.0f);
+  CHECK(s.soft_step.relax_iterations == 2);
+  CHECK(s.soft_step.max_push_speed == 1.5f);
+  // --solver passes on the command line has the last word.
+  const Scene overridden =
+      parse_scene_text(scene_text(R"("settings": {"solver": "soft"})"), "scene.json", {.solver = hail::Solver::Passes});
+  CHECK(overridden.world->settings().solver == hail::Solver::Passes);
+}
+
 TEST_CASE("scene files: every kind of bad input names the file and the field", "[scene_file]") {
   struct Case {
     std::string text, expected;
@@ -263,6 +280,10 @@ TEST_CASE("scene files: every kind of bad input names the file and the field", "
        "scene.json: settings.pair_search: must be one of \"auto\", \"brute\", \"grid\", \"sweep\", \"bvh\", got "
        "\"fast\""},
       {scene_text(R"("settings": {"integrator": "rk4"})"), "scene.json: settings.integrator: must be one of"},
+      {scene_text(R"("settings": {"solver": "jacobi"})"), "scene.json: settings.solver: must be one of"},
+      {scene_text(R"("settings": {"soft_step": {"substeps": 0}})"), "scene.json: settings.soft_step.substeps: must be"},
+      {scene_text(R"("settings": {"soft_step": {"contact_cycles": 0.5}})"), "soft_step.contact_cycles"},
+      {scene_text(R"("settings": {"soft_step": {"hertz": 30}})"), "settings.soft_step: unknown key \"hertz\""},
       {scene_text(R"("settings": {"warm_start": 1})"), "scene.json: settings.warm_start: must be true or false, got 1"},
       {scene_text(R"("settings": {"rotation": "off"})"),
        "scene.json: settings.rotation: must be true or false, got string \"off\""},

@@ -3,6 +3,7 @@
 // (with the reason in the commit), so that it still runs and the suite says so the day it
 // passes again; `hail-bench stress` prints the worst values of every case.
 
+#include <set>
 #include <string>
 
 #include "bench/scenes/stress_cases.h"
@@ -10,17 +11,39 @@
 
 namespace {
 
-void run_stress_case(const std::string& name) {
-  for (const hail::bench::StressCase& c : hail::bench::stress_cases()) {
-    if (c.name != name) continue;
-    const hail::bench::StressResult r = c.run();
-    INFO(r.invariants);
-    for (const std::string& f : r.failures) INFO(f);
-    CHECK(r.worst.steps > 0);
-    CHECK(r.failures.empty());
-    return;
-  }
+/// The cases the soft step (Solver::SoftStep) does not pass yet, and why (docs/benchmarks.md,
+/// "Soft step"). They run with it in the [!shouldfail] test at the end, so that the suite says
+/// so the day one passes.
+const std::set<std::string>& soft_step_failures() {
+  static const std::set<std::string> names{"speed-1e4-into-pile",      "plane-box",          "radius-1e-4-and-1e4",
+                                           "coincident-500-on-ground", "steep-terrain-rain", "wide-mix-rain"};
+  return names;
+}
+
+hail::bench::StressResult run_case(const std::string& name, hail::Solver solver) {
+  for (const hail::bench::StressCase& c : hail::bench::stress_cases(solver))
+    if (c.name == name) return c.run();
   FAIL("no stress case named " << name);
+  return {};
+}
+
+void require_passed(const hail::bench::StressResult& r) {
+  INFO(r.invariants);
+  for (const std::string& f : r.failures) INFO(f);
+  CHECK(r.worst.steps > 0);
+  CHECK(r.failures.empty());
+}
+
+/// Runs the case with each solver (WorldSettings::solver): the passes must pass it, and the
+/// soft step too unless it is listed in soft_step_failures.
+void run_stress_case(const std::string& name) {
+  {
+    INFO("solver: passes");
+    require_passed(run_case(name, hail::Solver::Passes));
+  }
+  if (soft_step_failures().count(name)) return;
+  INFO("solver: soft step");
+  require_passed(run_case(name, hail::Solver::SoftStep));
 }
 
 }  // namespace
@@ -70,4 +93,11 @@ TEST_CASE("Stress: rain of radii 0.05-5 m at one density (mass ratio 1e6)", "[st
 }
 TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") {
   run_stress_case("bowl-pile-10k-20s");
+}
+
+TEST_CASE("Stress: the cases the soft step does not pass yet", "[stress][soft][!shouldfail]") {
+  for (const std::string& name : soft_step_failures()) {
+    INFO("soft step, " << name);
+    require_passed(run_case(name, hail::Solver::SoftStep));
+  }
 }

@@ -305,6 +305,18 @@ void read_settings(const Object& o, WorldSettings& s) {
   if (auto v = o.choice<Integrator>("integrator", {{"semi-implicit-euler", Integrator::SemiImplicitEuler},
                                                    {"uniform-acceleration", Integrator::UniformAcceleration}}))
     s.integrator = *v;
+  if (auto v = o.choice<Solver>("solver", {{"passes", Solver::Passes}, {"soft", Solver::SoftStep}})) s.solver = *v;
+  if (o.has("soft_step")) {
+    const Object d(o["soft_step"], o.at("soft_step"),
+                   {"substeps", "contact_cycles", "damping_ratio", "relax_iterations", "max_push_speed"});
+    d.reject_unknown_keys();
+    s.soft_step.substeps = static_cast<int>(d.integer("substeps", s.soft_step.substeps, 1, 1000));
+    s.soft_step.contact_cycles = positive(d, "contact_cycles", s.soft_step.contact_cycles);
+    s.soft_step.damping_ratio = positive(d, "damping_ratio", s.soft_step.damping_ratio);
+    s.soft_step.relax_iterations =
+        static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, 1000));
+    s.soft_step.max_push_speed = positive(d, "max_push_speed", s.soft_step.max_push_speed);
+  }
   s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
   s.depenetration_iterations =
@@ -846,6 +858,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
     read_settings(Object(top["settings"], top.at("settings"),
                          {"time_scale",
                           "integrator",
+                          "solver",
+                          "soft_step",
                           "collision_iterations",
                           "resting_iterations",
                           "depenetration_iterations",
@@ -952,6 +966,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.dt) scene.dt = *overrides.dt;
   if (overrides.reorder_interval) settings.reorder_interval = *overrides.reorder_interval;
   if (overrides.resting_iterations) settings.resting_iterations = *overrides.resting_iterations;
+  if (overrides.solver) settings.solver = *overrides.solver;
+  if (overrides.soft_step) settings.soft_step = *overrides.soft_step;
   if (overrides.solver_tile_spheres) settings.solver_tile_spheres = *overrides.solver_tile_spheres;
   if (overrides.pair_search) settings.pair_search = *overrides.pair_search;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;

@@ -181,6 +181,15 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.reorder_interval = world.settings().reorder_interval;
   r.warm_start = world.settings().warm_start;
   r.continuous_collision = world.settings().continuous_collision;
+  if (const WorldSettings& ws = world.settings(); ws.solver == Solver::SoftStep) {
+    char text[128];
+    std::snprintf(text, sizeof text, "soft (%d substeps, %g cycles, damping %g, %d relax)", ws.soft_step.substeps,
+                  double(ws.soft_step.contact_cycles), double(ws.soft_step.damping_ratio),
+                  ws.soft_step.relax_iterations);
+    r.solver = text;
+  } else {
+    r.solver = "passes";
+  }
   r.tunnelling_checked = world.terrain() != nullptr || !world.planes().empty();
 
   if (!options.trace_path.empty()) world.enable_trace(true);
@@ -273,6 +282,7 @@ nlohmann::json to_json(const RunResult& r) {
       {"timed_steps_from", r.warmup},
       {"dt", r.dt},
       {"reorder_interval", r.reorder_interval},
+      {"solver", r.solver},
       {"ms_per_step_mean", r.mean_ms},
       {"ms_per_step_median", r.median_ms},
       {"ns_per_sphere_step", 1e6 * r.mean_ms / double(std::max<std::size_t>(r.spheres, 1))},

@@ -27,6 +27,7 @@ struct RunResult {
   std::string state_hash;
   std::string pair_search;  ///< the search the last step used
   bool continuous_collision = true;
+  std::string solver;  ///< "passes", or "soft (S substeps, C cycles, damping D, R relax)"
   /// Checked after every step (untimed), for every scene with a terrain or planes
   /// (tunnelling_checked): fast spheres that tunnel soon leave the terrain's extent, and light
   /// ones driven through may be pushed back out, where the end count (errors.tunnelled) no

@@ -21,9 +21,11 @@ struct SceneParams {
   float warm_start_factor = WorldSettings{}.warm_start_factor;
   int resting_iterations = WorldSettings{}.resting_iterations;            ///< --resting N
   std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
-  bool continuous_collision = WorldSettings{}.continuous_collision;       ///< --ccd on|off
-  bool rotation = WorldSettings{}.rotation;                               ///< --rotation on|off
-  bool sleep = WorldSettings{}.sleep;                                     ///< --sleep on|off
+  Solver solver = WorldSettings{}.solver;                                 ///< --solver passes|soft
+  SoftStepParams soft_step{};  ///< --substeps, --contact-cycles, --damping-ratio, --relax
+  bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
+  bool rotation = WorldSettings{}.rotation;                          ///< --rotation on|off
+  bool sleep = WorldSettings{}.sleep;                                ///< --sleep on|off
 };
 
 /// The WorldSettings the command-line parameters ask for (the rest at their defaults).
@@ -36,6 +38,8 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.warm_start_factor = p.warm_start_factor;
   s.resting_iterations = p.resting_iterations;
   s.solver_tile_spheres = p.solver_tile_spheres;
+  s.solver = p.solver;
+  s.soft_step = p.soft_step;
   s.continuous_collision = p.continuous_collision;
   s.rotation = p.rotation;
   s.sleep = p.sleep;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bench/scenes/stress_watch.h"
+#include "hail/world_settings.h"
 
 namespace hail::bench {
 
@@ -35,7 +36,8 @@ struct StressCase {
   std::function<StressResult()> run;
 };
 
-[[nodiscard]] std::vector<StressCase> stress_cases();
+/// The cases, each building its worlds with `solver` (WorldSettings::solver).
+[[nodiscard]] std::vector<StressCase> stress_cases(Solver solver = Solver::Passes);
 
 /// Fills result.failures from the worst values and the bounds.
 void judge(StressResult& result);

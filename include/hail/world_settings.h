@@ -19,6 +19,46 @@ enum class Integrator {
   UniformAcceleration,
 };
 
+/// Which contact solver a step runs (WorldSettings::solver).
+enum class Solver {
+  /// Collision passes (restitution, impulses passed along chains), then warm start and resting
+  /// passes of accumulated impulses (collision_iterations, resting_iterations): the default.
+  Passes,
+  /// Box2D v3's soft step (Catto, "Solver2D", 2024; SoftStepParams): the step's contacts are
+  /// solved in `substeps` short substeps, each one soft (spring-damper) iteration with the
+  /// separation updated from the spheres' displacements (no new collision detection) and the
+  /// positions advanced, then rigid relax iterations; restitution is applied once at the end.
+  /// collision_iterations and resting_iterations are not used.
+  SoftStep,
+};
+
+/// The soft step's knobs (WorldSettings::soft_step; Solver::SoftStep). The defaults are from the
+/// work-precision figures of docs/benchmarks.md, "Soft step" (terrain-rain 4k): Box2D v3's 4
+/// substeps, one relax iteration, damping ratio 10 and pushes of at most 3 m/s, with the
+/// stiffest contact the substep resolves (0.25 cycles per substep: a smaller mean deepest
+/// overlap than Box2D's 30 Hz, 0.125 at 60 steps a second, at every substep count measured).
+struct SoftStepParams {
+  /// Substeps per (sub)step, >= 1: each one warm start, one soft iteration, a position update
+  /// and relax_iterations rigid ones over every contact. More: stiffer, deeper stacks hold,
+  /// and each substep costs about what three resting passes of Solver::Passes cost.
+  int substeps = 4;
+  /// Stiffness of the sphere-sphere contact spring, in cycles per substep (its frequency in Hz
+  /// times the substep's length), in (0, 0.25]: at 0.25 (Box2D v3's cap, a quarter of the
+  /// substep rate) the spring is as stiff as the substep resolves; smaller values let piles
+  /// sink further before they push back. Ground contacts (a static side) use twice this, as
+  /// Box2D's static softness does.
+  float contact_cycles = 0.25f;
+  /// Damping ratio of the contact spring, > 0 (Box2D v3: 10, far over-damped): small values
+  /// make overlapping spheres spring apart, large ones make them push apart slowly.
+  float damping_ratio = 10.0f;
+  /// Rigid iterations (no position bias) after each substep's soft one, >= 0: they remove the
+  /// push velocity the soft iteration added, so that spheres pushed out of overlap do not fly.
+  int relax_iterations = 1;
+  /// Largest speed (m/s, > 0) at which the soft iteration pushes overlapping spheres apart
+  /// (Box2D v3's contactPushMaxVelocity, 3 m/s): deeper overlaps are resolved over several steps.
+  float max_push_speed = 3.0f;
+};
+
 /// Position correction after the solve (WorldSettings::depenetration).
 struct DepenetrationParams {
   float fraction = 0.8f;        ///< share of the excess overlap removed per pass
@@ -93,6 +133,9 @@ struct WorldSettings {
   /// Worker threads for step(); 0 = all hardware threads; 1 = strictly the calling thread.
   /// Ignored when the World is given the caller's task_arena.
   int threads = 0;
+  /// The contact solver (Solver): Passes (today's, the default) or SoftStep (soft_step's knobs).
+  Solver solver = Solver::Passes;
+  SoftStepParams soft_step{};
   /// Passes that bounce closing contacts with restitution, propagating impulses through
   /// chains (a Newton's cradle of n spheres needs n). Stops early once nothing is closing.
   int collision_iterations = 16;

@@ -13,7 +13,7 @@
 //
 // The scalar references stay beside the kernels' callers (find_sphere_pairs_scalar,
 // SphereGrid::find_pairs_scalar,
-// solve_*_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere,
+// solve_*_run_scalar, soft_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere,
 // closest_sphere_scalar,
 // closest_point_on_triangle), and
 // tests/test_simd_dispatch.cpp compares every path with them.
@@ -41,6 +41,7 @@ struct SortedAxisPairsView;
 struct SphereGridView;
 struct ContactBatchArrays;
 struct DepenetrationArrays;
+struct SoftPass;
 struct SphereQueryBvh;
 struct UnitRay;
 struct SphereRayHit;
@@ -97,6 +98,9 @@ struct SimdKernels {
                              std::size_t body_count, FrictionWork work);
   void (*contact_resting)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                           std::size_t body_count, float inv_dt, FrictionWork work);
+  /// ContactBatches::solve_soft (kernel/solver/contact_solve_simd.h): one pass of the soft step.
+  void (*contact_soft)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
+                       std::size_t body_count, const SoftPass& pass, FrictionWork work);
   /// ContactBatches::depenetrate (kernel/solver/contact_solve_simd.h).
   void (*contact_depenetrate)(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
                               const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);

@@ -26,6 +26,7 @@ constexpr SimdKernels kTable{
     .contact_collision = &HAIL_SIMD_NS::contact_collision,
     .contact_warm_start = &HAIL_SIMD_NS::contact_warm_start,
     .contact_resting = &HAIL_SIMD_NS::contact_resting,
+    .contact_soft = &HAIL_SIMD_NS::contact_soft,
     .contact_depenetrate = &HAIL_SIMD_NS::contact_depenetrate,
     .terrain_contacts = &HAIL_SIMD_NS::terrain_contacts,
     .terrain_push_out = &HAIL_SIMD_NS::terrain_push_out,

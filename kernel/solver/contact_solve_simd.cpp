@@ -206,6 +206,12 @@ void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::spa
   kernels_->contact_resting(arrays(), first, last, bodies.data(), bodies.size(), inv_dt, work);
 }
 
+void ContactBatches::solve_soft(std::size_t first, std::size_t last, std::span<SolverBody> bodies, const SoftPass& pass,
+                                FrictionWork work) {
+  if (first >= last) return;
+  kernels_->contact_soft(arrays(), first, last, bodies.data(), bodies.size(), pass, work);
+}
+
 void ContactBatches::depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres,
                                  std::uint32_t now, std::uint32_t previous) {
   if (first >= last) return;

@@ -29,6 +29,7 @@
 #include "hail/contact.h"
 #include "kernel/solver/contact_impulse.h"
 #include "kernel/solver/depenetrate.h"
+#include "kernel/solver/soft_contact.h"
 #include "kernel/solver/solver_body.h"
 
 namespace hail {
@@ -102,6 +103,10 @@ class ContactBatches {
   /// Resting pass (solve_resting) over batches [first, last).
   void solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,
                      FrictionWork work = kWithFriction);
+  /// One pass of the soft step (Solver::SoftStep: soft_run_scalar's rules, kernel/solver/soft_step.h)
+  /// over batches [first, last) of one colour; batches of one colour may run in parallel.
+  void solve_soft(std::size_t first, std::size_t last, std::span<SolverBody> bodies, const SoftPass& pass,
+                  FrictionWork work = kWithFriction);
   /// One depenetration pass (push_apart, kernel/solver/depenetrate.h) over batches [first, last) of
   /// one colour, numbered `now` (StepPipeline::depenetrate): a contact neither of whose spheres
   /// moved since `previous` (moved[slot] < previous; 0 in the first pass: none skipped) is

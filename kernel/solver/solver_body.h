@@ -6,6 +6,7 @@
 // The solve phase copies velocities in, runs every pass on these, and copies them back; the
 // values and the float operations are the same, so the result is bitwise the same.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -25,9 +26,16 @@ struct alignas(64) SolverBody {
   /// contact neither of whose bodies changed since it last applied nothing cannot apply now, so
   /// collision passes skip it (kernel/solver/contact_solve_simd.h): the same result, less work.
   std::uint32_t changed_in_pass;
-  float unused[6];
+  /// The soft step's (kernel/solver/soft_step.h): the gravity scale a substep's g h is
+  /// multiplied by (0 for immovable spheres), and the displacement dp since the step began,
+  /// from which the contacts' separations follow (the fourth float of dp's group is unused).
+  float gravity_scale;
+  float unused;
+  float dp[3];
+  float unused_after_dp;
 };
 static_assert(sizeof(SolverBody) == 64, "one solver body per cache line");
+static_assert(offsetof(SolverBody, dp) == 48, "dp is the fourth group of four floats (kernel/simd/body_rows.h)");
 
 /// Copies spheres [first, last) of the SoA into bodies; angular velocities only when the passes
 /// will use them (`angular`: FrictionWork kWithFriction), else the bodies' w is left as it was.

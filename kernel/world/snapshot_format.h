@@ -149,9 +149,13 @@ template <class Settings, class F>
 void for_each_setting(Settings& s, F&& f) {
   // A field added to WorldSettings changes its size (mostly): list it here, and raise
   // kSnapshotVersion.
-  static_assert(sizeof(WorldSettings) == 136, "a WorldSettings field was added: list it in for_each_setting");
+  static_assert(sizeof(WorldSettings) == 160, "a WorldSettings field was added: list it in for_each_setting");
   f(s.gravity, "gravity"), f(s.time_scale, "time_scale"), f(s.max_substep, "max_substep");
   f(s.max_substeps, "max_substeps"), f(s.integrator, "integrator");
+  f(s.solver, "solver"), f(s.soft_step.substeps, "soft_step.substeps");
+  f(s.soft_step.contact_cycles, "soft_step.contact_cycles"), f(s.soft_step.damping_ratio, "soft_step.damping_ratio");
+  f(s.soft_step.relax_iterations, "soft_step.relax_iterations");
+  f(s.soft_step.max_push_speed, "soft_step.max_push_speed");
   f(s.collision_iterations, "collision_iterations"), f(s.resting_iterations, "resting_iterations");
   f(s.depenetration_iterations, "depenetration_iterations"), f(s.solver_tile_spheres, "solver_tile_spheres");
   f(s.depenetration.fraction, "depenetration.fraction");

@@ -36,8 +36,9 @@ void read_setting(snapshot::Reader& r, T& field, const char* name) {
     field = r.flag(name);
   } else if constexpr (std::is_enum_v<T>) {
     const auto v = r.value<std::uint32_t>(name);
-    constexpr std::uint32_t kCount = std::is_same_v<T, Integrator> ? 2u : 5u;  // Integrator, PairSearch
-    static_assert(std::is_same_v<T, Integrator> || std::is_same_v<T, PairSearch>);
+    // Integrator, Solver, PairSearch
+    constexpr std::uint32_t kCount = std::is_same_v<T, Integrator> || std::is_same_v<T, Solver> ? 2u : 5u;
+    static_assert(std::is_same_v<T, Integrator> || std::is_same_v<T, Solver> || std::is_same_v<T, PairSearch>);
     if (v >= kCount) r.refuse(std::string("setting ") + name + " is " + std::to_string(v) + ", not one of its values");
     field = static_cast<T>(v);
   } else if constexpr (std::is_same_v<T, std::size_t>) {

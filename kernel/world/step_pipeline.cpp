@@ -36,6 +36,7 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/depenetrate.h"
 #include "kernel/solver/integrate.h"
+#include "kernel/solver/soft_step.h"
 #include "kernel/solver/solver_body.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
@@ -594,54 +595,12 @@ struct StepPipeline {
     });
   }
 
-  void solve() {
-    SphereSoA& s = w.spheres;
-    const std::size_t n = s.size();
-    const std::size_t tile_spheres = solver_tile_size(w.settings.solver_tile_spheres, n);
-    const SolveStartVelocities velocities{s.vx.data(), s.vy.data(), s.vz.data(), 1.0f / params.dt};
-    colour(n, tile_spheres, velocities);
-    // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
-    // batches are staged from and the scalar parts stream through.
-    resize_geometric(st.coloured_contacts, st.contacts.size());
-    for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace, Phase::Solve);
-      for (std::size_t k = first; k < last; ++k) st.coloured_contacts[k] = st.contacts[st.colouring.order[k]];
-    });
-    std::swap(st.contacts, st.coloured_contacts);
-    // What the passes compute: no friction (no contact has any), friction on linear velocities
-    // (rotation off), or friction with the angular terms. Angular velocities are loaded only
-    // for the last: normal impulses (the shock pass's too) never turn a sphere.
-    const FrictionWork work = friction_work(friction_needed_, rotation);
-    const bool angular = rotation && friction_needed_;
-    // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
-    if (st.solver_bodies.size() < n + 1) resize_geometric(st.solver_bodies, n + 1);
-    const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
-    bodies[n] = SolverBody{};
-    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace, Phase::Solve);
-      load_solver_bodies(s, first, last, bodies, angular);
-    });
+  /// Solver::Passes: collision passes, warm start, resting passes (kernel/solver/contact_impulse.h).
+  void passes(std::size_t stages, std::span<SolverBody> bodies, FrictionWork work, float threshold, float inv_dt,
+              std::size_t tile_spheres) {
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
-    batches.plan(col.colour_begin, col.serial);
-    for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
-      ScopedTraceRecord record(w.trace, Phase::Solve);
-      batches.fill(first, last, st.contacts, std::span<const float>(s.radius.data(), n));
-    });
-    w.stats.colours = col.sequential_colours();
-    w.stats.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
-    w.stats.tile_contacts = st.contacts.size() - w.stats.shared_contacts;
-    w.stats.collision_passes = 0;
-    const float threshold = params.restitution_threshold;
-    const float inv_dt = 1.0f / params.dt;
-    // The passes below are about (collision + 1 + resting) x (1 + shared colours) short
-    // stages: one crew for all of them (jobs/stage_crew.h) instead of a parallel loop each.
     const std::size_t tiles = col.tile_count();
-    const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
-    assign_geometric(st.tile_changed, tiles, std::uint32_t{0});
-    const std::size_t stages = (static_cast<std::size_t>(w.settings.collision_iterations) + 1 +
-                                static_cast<std::size_t>(w.settings.resting_iterations)) *
-                               stages_per_pass;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -679,7 +638,126 @@ struct StepPipeline {
         });
       }
     });
-    if (shock) {
+  }
+
+  /// Solver::SoftStep (kernel/solver/soft_step.h): prepare, then per substep of h gravity (from
+  /// the second), warm start, one soft iteration (and the shock pass where masses differ),
+  /// positions, relax iterations; then restitution.
+  void soft_step(StageCrew& crew, std::span<SolverBody> bodies, FrictionWork work, float h) {
+    const SoftStepParams& knobs = w.settings.soft_step;
+    ContactBatches& batches = st.contact_batches;
+    const std::size_t n = bodies.size() - 1;
+    const float hertz = knobs.contact_cycles / h;
+    SoftPass pass;
+    pass.inv_h = 1.0f / h;
+    pass.contact = make_soft(hertz, knobs.damping_ratio, h);
+    pass.ground = make_soft(2.0f * hertz, knobs.damping_ratio, h);
+    pass.max_push_speed = knobs.max_push_speed;
+    pass.restitution_threshold = params.restitution_threshold;
+    auto run = [&](SoftPassKind kind) {
+      pass.kind = kind;
+      for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        batches.solve_soft(first, last, bodies, pass, work);
+        soft_run_scalar(scalar, bodies, pass, work);
+      });
+    };
+    auto for_bodies = [&](auto&& f) {
+      crew.stage(block_count(n, kSphereBlock), [&](std::size_t b) {
+        ScopedTraceRecord record(w.trace, Phase::Solve);
+        f(b * kSphereBlock, std::min(n, (b + 1) * kSphereBlock));
+      });
+    };
+    const float g_h[3] = {params.gravity[0] * h, params.gravity[1] * h, params.gravity[2] * h};
+    pass.impulse_factor = 1.0f / static_cast<float>(knobs.substeps);
+    run(SoftPassKind::Prepare);
+    for (int k = 0; k < knobs.substeps; ++k) {
+      if (k > 0) for_bodies([&](std::size_t first, std::size_t last) { soft_add_gravity(bodies, first, last, g_h); });
+      for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
+        batches.warm_start(first, last, bodies, work);
+        warm_start_run_scalar(scalar, bodies, work);
+      });
+      run(SoftPassKind::Solve);
+      // Where masses differ, the shock pass (planned by solve()) after each soft iteration,
+      // before the positions move: one soft iteration passes a heavy sphere's weight down a
+      // stack no better than a resting pass does (kernel/solver/shock_propagation.h).
+      if (shock) {
+        ScopedTraceRecord record(w.trace, Phase::Solve);
+        st.shock.solve(st.contacts, bodies, 1.0f / params.dt);  // a gap closes at most once over the substeps
+      }
+      for_bodies([&](std::size_t first, std::size_t last) { soft_move(bodies, first, last, h); });
+      for (int r = 0; r < knobs.relax_iterations; ++r) run(SoftPassKind::Relax);
+    }
+    pass.impulse_factor = static_cast<float>(knobs.substeps);
+    run(SoftPassKind::Restitution);
+  }
+
+  void solve() {
+    SphereSoA& s = w.spheres;
+    const std::size_t n = s.size();
+    const std::size_t tile_spheres = solver_tile_size(w.settings.solver_tile_spheres, n);
+    const SolveStartVelocities velocities{s.vx.data(), s.vy.data(), s.vz.data(), 1.0f / params.dt};
+    colour(n, tile_spheres, velocities);
+    // Contacts moved into colour order, so that each colour is a contiguous run that the SIMD
+    // batches are staged from and the scalar parts stream through.
+    resize_geometric(st.coloured_contacts, st.contacts.size());
+    for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace, Phase::Solve);
+      for (std::size_t k = first; k < last; ++k) st.coloured_contacts[k] = st.contacts[st.colouring.order[k]];
+    });
+    std::swap(st.contacts, st.coloured_contacts);
+    // What the passes compute: no friction (no contact has any), friction on linear velocities
+    // (rotation off), or friction with the angular terms. Angular velocities are loaded only
+    // for the last: normal impulses (the shock pass's too) never turn a sphere.
+    const FrictionWork work = friction_work(friction_needed_, rotation);
+    const bool angular = rotation && friction_needed_;
+    // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
+    if (st.solver_bodies.size() < n + 1) resize_geometric(st.solver_bodies, n + 1);
+    const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
+    bodies[n] = SolverBody{};
+    const bool soft = w.settings.solver == Solver::SoftStep;
+    const int substeps = w.settings.soft_step.substeps;
+    const float h = params.dt / static_cast<float>(substeps);
+    for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace, Phase::Solve);
+      load_solver_bodies(s, first, last, bodies, angular);
+      if (!soft) return;
+      const float g_rest[3] = {params.gravity[0] * (params.dt - h), params.gravity[1] * (params.dt - h),
+                               params.gravity[2] * (params.dt - h)};
+      soft_load_bodies(s, first, last, bodies, g_rest, params.gravity_scaled);
+    });
+    const ContactColouring& col = st.colouring;
+    ContactBatches& batches = st.contact_batches;
+    batches.plan(col.colour_begin, col.serial);
+    for_each_block(batches.batch_count(), kBatchChunk, [&](std::size_t, std::size_t first, std::size_t last) {
+      ScopedTraceRecord record(w.trace, Phase::Solve);
+      batches.fill(first, last, st.contacts, std::span<const float>(s.radius.data(), n));
+    });
+    w.stats.colours = col.sequential_colours();
+    w.stats.shared_contacts = col.colour_begin.back() - col.colour_begin[col.shared_colour_begin()];
+    w.stats.tile_contacts = st.contacts.size() - w.stats.shared_contacts;
+    w.stats.collision_passes = 0;
+    const float threshold = params.restitution_threshold;
+    const float inv_dt = 1.0f / params.dt;
+    // The passes below are about (collision + 1 + resting) x (1 + shared colours) short
+    // stages: one crew for all of them (jobs/stage_crew.h) instead of a parallel loop each.
+    const std::size_t tiles = col.tile_count();
+    const std::size_t stages_per_pass = (tiles > 0 ? 1 : 0) + col.colour_count() - col.shared_colour_begin();
+    assign_geometric(st.tile_changed, tiles, std::uint32_t{0});
+    const std::size_t stages = (static_cast<std::size_t>(w.settings.collision_iterations) + 1 +
+                                static_cast<std::size_t>(w.settings.resting_iterations)) *
+                               stages_per_pass;
+    if (soft) {
+      // Prepare and restitution, and per substep warm start, the soft iteration and the relax
+      // ones over the contacts, gravity and positions over the bodies.
+      const std::size_t contact_passes = 2 + static_cast<std::size_t>(substeps) *
+                                                 (2 + static_cast<std::size_t>(w.settings.soft_step.relax_iterations));
+      if (shock) st.shock.plan(st.contacts, bodies);
+      st.crew.run(contact_passes * stages_per_pass + 2 * static_cast<std::size_t>(substeps),
+                  [&](StageCrew& crew) { soft_step(crew, bodies, work, h); });
+    } else {
+      passes(stages, bodies, work, threshold, inv_dt, tile_spheres);
+    }
+    if (shock && !soft) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
       ScopedTraceRecord record(w.trace, Phase::Solve);
       st.shock.plan(st.contacts, bodies);
@@ -690,9 +768,16 @@ struct StepPipeline {
       batches.store_impulses(st.contacts, first, last);
     });
     remember_impulses();
+    // Integration's gravity term under the uniform-acceleration integrator, which the soft
+    // step's positions already hold (soft_store_bodies).
+    const float uniform = params.integrator == Integrator::UniformAcceleration ? 0.5f * params.dt * params.dt : 0.0f;
+    const float g_half_dt2[3] = {params.gravity[0] * uniform, params.gravity[1] * uniform, params.gravity[2] * uniform};
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      store_solver_velocities(bodies, first, last, s, angular);
+      if (soft)
+        soft_store_bodies(bodies, first, last, s, angular, params.dt, g_half_dt2);
+      else
+        store_solver_velocities(bodies, first, last, s, angular);
     });
   }
 

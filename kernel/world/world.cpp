@@ -32,6 +32,22 @@ void World::validate(const WorldSettings& s) {
           "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
   require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
   require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
+  require(s.solver == Solver::Passes || s.solver == Solver::SoftStep,
+          "WorldSettings::solver must be Solver::Passes or Solver::SoftStep, got " +
+              std::to_string(static_cast<int>(s.solver)));
+  require(s.soft_step.substeps >= 1,
+          "WorldSettings::soft_step.substeps must be >= 1, got " + std::to_string(s.soft_step.substeps));
+  require(std::isfinite(s.soft_step.contact_cycles) && s.soft_step.contact_cycles > 0.0f &&
+              s.soft_step.contact_cycles <= 0.25f,
+          describe("WorldSettings::soft_step.contact_cycles must be in (0, 0.25] cycles per substep, got",
+                   s.soft_step.contact_cycles));
+  require(std::isfinite(s.soft_step.damping_ratio) && s.soft_step.damping_ratio > 0.0f,
+          describe("WorldSettings::soft_step.damping_ratio must be finite and > 0, got", s.soft_step.damping_ratio));
+  require(s.soft_step.relax_iterations >= 0, "WorldSettings::soft_step.relax_iterations must be >= 0, got " +
+                                                 std::to_string(s.soft_step.relax_iterations));
+  require(std::isfinite(s.soft_step.max_push_speed) && s.soft_step.max_push_speed > 0.0f,
+          describe("WorldSettings::soft_step.max_push_speed must be finite and > 0 (m/s), got",
+                   s.soft_step.max_push_speed));
   require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
   require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
     return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
