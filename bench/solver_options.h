@@ -2,7 +2,6 @@
 // The contact solver's flags, shared by `hail-bench run` and `hail-bench accuracy`: --solver
 // passes|soft (WorldSettings::solver) and the soft step's knobs (WorldSettings::soft_step).
 
-
 #include "hail/world_settings.h"
 
 namespace CLI {

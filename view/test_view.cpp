@@ -279,6 +279,9 @@ TEST_CASE("Island labels: the smallest handle index of spheres in contact, kept 
   world.add_sphere({.position = Vec3(40, 0, 0), .radius = 0.5f});                            // 3
   world.add_sphere({.position = Vec3(40 + touching, 0, 0), .radius = 0.5f});                 // 4: with 3
   world.add_sphere({.position = Vec3(40, touching, 0), .radius = 0.5f, .is_static = true});  // 5
+  // An island sleeps only where it is supported (kernel/world/sleep_islands.h): a static sphere
+  // under the first pair too.
+  world.add_sphere({.position = Vec3(0, -touching, 0), .radius = 0.5f, .is_static = true});  // 6
   world.step(1.0f / 60.0f);
   std::vector<std::uint32_t> labels;
   island_labels(world, labels);
