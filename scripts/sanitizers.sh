@@ -52,7 +52,8 @@ say "SIMD paths built: $simd_paths"
 
 # Every hail-bench command once, small: a scene by name and one from a file, with --json and
 # --trace; compare; accuracy at one dt; one stress case (tests/test_stress.cpp runs them all);
-# scale over two counts; query, pairs and bvh-build at their smallest sizes. Outputs (and the
+# scale over two counts; query, pairs, bvh-build and rays at their smallest sizes; sleep on a
+# small pile; a run with the soft-step solver. Outputs (and the
 # last command's log) go to build/asan/bench-smoke/. Each command's exit status counts: a failure
 # or a sanitizer report fails.
 bench_smoke() {
@@ -68,6 +69,9 @@ bench_smoke() {
     "query --queries 1000 --repeats 1"
     "pairs --max 256 --repeats 1"
     "bvh-build --max-side 256"
+    "rays --sizes 500 --rays 256 --repeats 1"
+    "sleep bowl-pile --sizes 200 --steps 40 --every 20 --drop-spheres 0 --no-plot --out $out/sleep"
+    "run terrain-rain --spheres 200 --steps 5 --threads 2 --solver soft"
   )
   local c t0
   for c in "${commands[@]}"; do

@@ -20,8 +20,10 @@
 #include "bench/compare_command.h"
 #include "bench/pairs_command.h"
 #include "bench/query_command.h"
+#include "bench/rays_command.h"
 #include "bench/run_command.h"
 #include "bench/scale_command.h"
+#include "bench/sleep_command.h"
 #include "bench/stress_command.h"
 #include "catch.h"
 
@@ -140,9 +142,10 @@ TEST_CASE(
 TEST_CASE("Every hail-bench command parses with CLI11: unknown flags and bad counts are refused", "[bench][cli]") {
   // query, pairs and bvh-build once ignored unknown flags and reported a bad number as "stoi".
   const std::pair<const char*, Command> commands[] = {
-      {"run", bench::run_command},       {"accuracy", bench::accuracy_command},  {"compare", bench::compare_command},
-      {"stress", bench::stress_command}, {"scale", bench::scale_command},        {"query", bench::query_command},
-      {"pairs", bench::pairs_command},   {"bvh-build", bench::bvh_build_command}};
+      {"run", bench::run_command},       {"accuracy", bench::accuracy_command},   {"compare", bench::compare_command},
+      {"stress", bench::stress_command}, {"scale", bench::scale_command},         {"query", bench::query_command},
+      {"pairs", bench::pairs_command},   {"bvh-build", bench::bvh_build_command}, {"rays", bench::rays_command},
+      {"sleep", bench::sleep_command}};
   for (const auto& [name, command] : commands) {
     INFO(name);
     CHECK(refusal(command, {"--bogus-flag"}) ==
@@ -311,7 +314,8 @@ TEST_CASE("hail-bench (the whole command line): every command refuses an unknown
   const auto [help_status, help] = stdout_of(bench::hail_bench, {"--help"}, capture);
   CHECK(help_status == 0);
   INFO(help);
-  for (const char* command : {"run", "accuracy", "compare", "stress", "scale", "query", "pairs", "bvh-build"}) {
+  for (const char* command :
+       {"run", "accuracy", "compare", "stress", "scale", "query", "pairs", "bvh-build", "rays", "sleep"}) {
     INFO(command);
     CHECK(contains(help, std::string("  ") + command + " "));  // hail-bench --help lists every command
     // Each command refuses an unknown flag with exit status 2, naming it (query, pairs and
@@ -335,4 +339,24 @@ TEST_CASE("hail-bench (the whole command line): every command refuses an unknown
   CHECK(output_of(2, bench::hail_bench, {"--simd", "neon", "run"}, capture).first == 2);
   CHECK(output_of(2, bench::hail_bench, {"no-such-command"}, capture).first == 2);
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("hail-bench sleep runs sleeping off then on and writes the share asleep per sample", "[bench][cli][sleep]") {
+  const auto dir = fresh_dir("hail-test-cli-args-sleep");
+  const std::string capture = (dir / "out.txt").string();
+  const auto [status, out] = stdout_of(bench::sleep_command,
+                                       {"bowl-pile", "--sizes", "300", "--steps", "120", "--every", "30", "--threads",
+                                        "1", "--drop-spheres", "0", "--no-plot", "--out", dir.string()},
+                                       capture);
+  INFO(out);
+  CHECK(status == 0);
+  CHECK(contains(out, "      300   off "));
+  CHECK(contains(out, "      300    on "));
+  std::ifstream csv(dir / "asleep-300.csv");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(csv, line);) lines.push_back(line);
+  REQUIRE(lines.size() == 5);  // the header and steps 30, 60, 90, 120
+  CHECK(lines[0].rfind("step,time_s,asleep_share,", 0) == 0);
+  CHECK(lines[4].rfind("120,2,", 0) == 0);
+  CHECK(contains(refusal(bench::sleep_command, {"--sizes", "300,x"}), "--sizes entry: must be a whole number"));
 }
