@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 #include "bench/scenes/scenes.h"
@@ -75,6 +76,14 @@ long long parse_count(const std::string& what, const std::string& text, long lon
   const std::string error = check_count(value, min, max);
   if (!error.empty()) throw std::invalid_argument(what + ": " + error);
   return std::stoll(value);
+}
+
+std::vector<long long> parse_count_list(const std::string& what, const std::string& text, long long min,
+                                        long long max) {
+  std::vector<long long> counts;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) counts.push_back(parse_count(what, item, min, max));
+  return counts;
 }
 
 double parse_real(const std::string& what, const std::string& text, double min, double max, bool exclude_min) {

@@ -29,10 +29,7 @@ double median(std::vector<double> v) {
 }
 
 std::vector<long long> parse_sizes(const std::string& text) {
-  std::vector<long long> sizes;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) sizes.push_back(parse_count("--sizes entry", item, 1, 10'000'000));
+  std::vector<long long> sizes = parse_count_list("--sizes entry", text, 1, 10'000'000);
   if (sizes.empty()) throw std::invalid_argument("--sizes: no sphere count given");
   return sizes;
 }

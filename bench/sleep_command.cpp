@@ -17,12 +17,8 @@ namespace hail::bench {
 namespace {
 
 std::vector<std::size_t> parse_sizes(const std::string& text) {
-  std::vector<std::size_t> sizes;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ','))
-    sizes.push_back(static_cast<std::size_t>(parse_count("--sizes entry", item, 1, 100'000'000)));
-  return sizes;
+  const std::vector<long long> counts = parse_count_list("--sizes entry", text, 1, 100'000'000);
+  return {counts.begin(), counts.end()};
 }
 
 /// One sample of a run, taken after every --every-th step.
