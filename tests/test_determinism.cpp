@@ -54,22 +54,25 @@ TEST_CASE("More threads than cores still give the same state", "[determinism][th
 }
 
 TEST_CASE("Solver tiles give bitwise the same state for 1, 2, 3 and 8 threads", "[determinism][solver][threads]") {
-  // 256 spheres per tile: 8 tiles solved in parallel, then the contacts between them. (With
-  // the default, the tests above run two tiles of 1,000.)
-  const std::uint64_t one = run_cloud(1, 240, hail::PairSearch::Automatic, 0.1f, 256);
-  CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
-  CHECK(run_cloud(3, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
-  CHECK(run_cloud(8, 240, hail::PairSearch::Automatic, 0.1f, 256) == one);
+  // 128 spheres per tile: 16 tiles solved in parallel, then the contacts between them. (With
+  // the default, the tests above run 8 tiles of 256.)
+  const std::uint64_t one = run_cloud(1, 240, hail::PairSearch::Automatic, 0.1f, 128);
+  CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 128) == one);
+  CHECK(run_cloud(3, 240, hail::PairSearch::Automatic, 0.1f, 128) == one);
+  CHECK(run_cloud(8, 240, hail::PairSearch::Automatic, 0.1f, 128) == one);
   // Tiles change the order in which contacts are solved, so the state: the tiles were used.
   CHECK(run_cloud(2, 240, hail::PairSearch::Automatic, 0.1f, 0) != one);
 }
 
-TEST_CASE("Solver tiles hold the setting's spheres, or half a smaller world's", "[solver]") {
+TEST_CASE("Solver tiles hold the setting's spheres, or fewer so that 16 threads or a small world get several",
+          "[solver]") {
   CHECK(hail::solver_tile_size(0, 100000) == 0);  // tiles off
   CHECK(hail::solver_tile_size(2048, 100000) == 2048);
-  CHECK(hail::solver_tile_size(2048, 4096) == 2048);
-  CHECK(hail::solver_tile_size(2048, 4000) == 2000);  // two tiles, not one of 2,048 and one of 1,952
-  CHECK(hail::solver_tile_size(2048, 1001) == 501);
+  CHECK(hail::solver_tile_size(2048, 32768) == 2048);  // 16 tiles of the setting
+  CHECK(hail::solver_tile_size(2048, 16000) == 1000);  // 16 tiles for 16 threads
+  CHECK(hail::solver_tile_size(2048, 4000) == 256);    // 16 tiles (15 full), none under 256
+  CHECK(hail::solver_tile_size(2048, 1001) == 256);    // 4 tiles of at least 256
+  CHECK(hail::solver_tile_size(2048, 301) == 151);     // two halves of a small world
   CHECK(hail::solver_tile_size(2048, 100) == hail::kMinSolverTileSpheres);
   CHECK(hail::solver_tile_size(64, 1000) == 64);
 }

@@ -95,13 +95,27 @@ inline constexpr std::size_t kGiantPairSearchMinSpheres = 16000;
 /// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
 inline constexpr std::size_t kMinSolverTileSpheres = 64;
 
-/// Spheres per solver tile for `spheres` spheres: WorldSettings::solver_tile_spheres, or half the
-/// spheres (rounded up, at least kMinSolverTileSpheres) when that is smaller; 0 without tiles.
-/// It depends on the sphere count alone, never on the thread count.
+/// The tiles a world is cut into, at least, while each still holds kMinParallelTileSpheres: the
+/// users' largest desktop CPUs (Ryzen 7 2700X: 8 cores, 16 threads) then have a tile per thread
+/// from 4,096 spheres up. The tile stage is one parallel stage over all tiles, so a world of
+/// fewer tiles than threads leaves threads idle through most of the solve.
+inline constexpr std::size_t kSolverTilesWanted = 16;
+/// Smallest tile the split for many threads makes (a smaller world gets fewer tiles): below it a
+/// tile's contacts among themselves fill few SIMD batches and more of the contacts cross tiles.
+inline constexpr std::size_t kMinParallelTileSpheres = 256;
+
+/// Spheres per solver tile for `spheres` spheres: WorldSettings::solver_tile_spheres, or less for
+/// a world of fewer than kSolverTilesWanted tiles of that size: a sixteenth of its spheres
+/// (rounded up), at least kMinParallelTileSpheres, and at least half the world (rounded up, at
+/// least kMinSolverTileSpheres) when that is smaller still, so that a small world gets two
+/// tiles. 0 without tiles. It depends on the sphere count alone, never on the thread count.
+/// For the default 2,048: 200 spheres give 2 tiles of 100, 1,000 give 4 of 256, 4,000 give 16
+/// of 256, 16,000 give 16 of 1,000, and from 32,768 on the tiles hold 2,048.
 [[nodiscard]] constexpr std::size_t solver_tile_size(std::size_t setting, std::size_t spheres) {
   if (setting == 0) return 0;
   const std::size_t half = std::max<std::size_t>((spheres + 1) / 2, kMinSolverTileSpheres);
-  return std::min(setting, half);
+  const std::size_t share = (spheres + kSolverTilesWanted - 1) / kSolverTilesWanted;
+  return std::min(setting, std::max(share, std::min(half, kMinParallelTileSpheres)));
 }
 
 /// The search PairSearch::Automatic picks for n spheres with radii in [min_radius, max_radius].
@@ -147,8 +161,9 @@ struct WorldSettings {
   /// Morton order, so compact regions) whose contacts among themselves are solved together,
   /// one tile per thread at a time, before the contacts between tiles. A tile's bodies stay in
   /// its core's cache through all its colours, and a pass has one parallel stage for all tiles
-  /// instead of one per colour. A world of fewer than twice this many spheres is cut into two
-  /// tiles of half its spheres (solver_tile_size), so that two threads still share the tiles.
+  /// instead of one per colour. A world of fewer than 16 tiles of this many spheres gets
+  /// smaller tiles (solver_tile_size: 16 tiles of at least 256 spheres, or two halves of a small
+  /// world), so that 16 threads share the tiles from 4,096 spheres up.
   /// 0: no tiles (every colour spans all spheres). The order in which contacts are solved
   /// depends on the tile size, so states differ bitwise between tile sizes (never between
   /// thread counts). The default and its measurements: docs/benchmarks.md, "Solver tiles".
