@@ -9,7 +9,8 @@
 # every hail-bench command once on a small input (bench_smoke below: a few seconds each), so that
 # the command-line parsing, file output (--json, --trace, CSV) and each command's own code run
 # under the sanitizers too. A sanitizer report aborts the process that made it, so ctest or the
-# command fails. The preset builds -O2 -g1 without ASan's use-after-scope checks, which made the
+# command fails. The preset builds -O1 -g1 (the SIMD kernels -O2; -O1 compiles the largest file
+# in a third of the time, docs/robustness.md) without ASan's use-after-scope checks, which made the
 # SIMD kernels 7x slower (the whole suite took 5 minutes instead of 2 on 2 cores); every other
 # ASan and UBSan check is on, and float-cast-overflow (an out-of-range float cast to an integer,
 # which -fsanitize=undefined leaves out in GCC) besides.
