@@ -485,7 +485,12 @@ StressResult far_rain_shifted_home() {
   StressResult all;
   all.name = "far-1e4-rain-shifted-home";
   all.invariants = "1,024 spheres raining onto terrain-rain's terrain 1e4 m out, 2.5 s; shift_origin home; 2.5 s more";
-  all.bounds = StressBounds{};
+  // The sphere overlap bound is the rain's, not 5%: one sphere's deepest overlap while the layer
+  // lands and slides into the valleys is chaotic. The same case at the origin, with solver tiles
+  // of 128 to 2,048 spheres, gave 3.1% to 8.7% of the radius (far out: 2.3% to 9.9%); what the
+  // case guards, precision far out and across the shift, is in the ground bound (5%, 1.0-1.5%
+  // measured), the centres-below-the-surface count and the energy.
+  all.bounds = StressBounds{.sphere_penetration = 0.15};
   merge_into(all, watch(w, all.name, all.invariants, 150, 1.0f / 60.0f, all.bounds, 1000.0), "1e4 m out: ");
   w.shift_origin({kFar, 0.0f, kFar});
   merge_into(all, watch(w, all.name, all.invariants, 150, 1.0f / 60.0f, all.bounds, 1000.0), "shifted home: ");
