@@ -131,7 +131,11 @@ Settled drop_and_wait(Solver solver, bool terrain, int steps) {
 
 TEST_CASE("Uniform acceleration: a sphere dropped on a plane or a terrain comes to rest", "[uniform][rest]") {
   const Solver solver = GENERATE(Solver::Passes, Solver::SoftStep);
-  const bool terrain = false;  // the terrain: restitution's approach speed (next commit)
+#if HAIL_WITH_TERRAIN
+  const bool terrain = GENERATE(false, true);
+#else
+  const bool terrain = false;
+#endif
   // A drop from 2 m at e = 0.5 bounces out in about 2.5 s: 400 steps leave time to spare.
   const Settled s = drop_and_wait(solver, terrain, 400);
   INFO("solver " << int(solver) << (terrain ? " terrain" : " plane") << ": speed " << s.speed << " m/s, height "

@@ -612,6 +612,11 @@ struct StepPipeline {
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
     const std::size_t tiles = col.tile_count();
+    // Under the uniform-acceleration integrator restitution takes the approach speed, the
+    // closing speed less what this step's gravity added (solve_collision's gravity_closing).
+    const float gravity_dt[3] = {params.gravity[0] * params.dt, params.gravity[1] * params.dt,
+                                 params.gravity[2] * params.dt};
+    const float* approach = uniform_acceleration ? gravity_dt : nullptr;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -621,8 +626,10 @@ struct StepPipeline {
         auto tile_wanted = [&](std::size_t t) { return pass == 0 || st.tile_changed[t] >= number; };
         for_each_batch_chunk(
             crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
-              const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
-              const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+              const bool simd =
+                  batches.solve_collision(first, last, bodies, params.dt, threshold, number, work, approach);
+              const bool rest =
+                  solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work, approach);
               if (!(simd || rest)) return;
               any.store(true, std::memory_order_relaxed);
               if (tile < tiles)
@@ -731,7 +738,13 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       load_solver_bodies(s, first, last, bodies, angular);
-      if (!soft) return;
+      if (!soft) {
+        // The collision passes' approach speeds under the uniform integrator (gravity_closing_speed).
+        if (uniform_acceleration)
+          for (std::size_t i = first; i < last; ++i)
+            bodies[i].gravity_scale = s.inv_mass[i] > 0.0f ? (params.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
+        return;
+      }
       const float g_rest[3] = {params.gravity[0] * (params.dt - h), params.gravity[1] * (params.dt - h),
                                params.gravity[2] * (params.dt - h)};
       soft_load_bodies(s, first, last, bodies, g_rest, params.gravity_scaled);
