@@ -59,6 +59,13 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
   add_count(app, "--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step");
   add_solver_options(app, p.solver, p.soft_step);
+  app.add_option_function<std::string>(
+         "--integrator",
+         [&p](const std::string& v) {
+           p.integrator = v == "uniform-acceleration" ? Integrator::UniformAcceleration : Integrator::SemiImplicitEuler;
+         },
+         "how positions follow velocities (WorldSettings::integrator)")
+      ->check(CLI::IsMember({"semi-implicit-euler", "uniform-acceleration"}));
   add_count(app, "--tile", p.solver_tile_spheres, 0, 100'000'000,
             "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
       ->check(CLI::Validator(
@@ -158,8 +165,10 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   app.callback([&app, &o] {
     if (o.home_after > 0 && o.origin == 0.0)
       usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
+    // The solver's flags too (they were left out, and --solver passes with --scene ran the file's solver).
     for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
-                             "--ccd", "--rotation", "--warm-start", "--sleep"})
+                             "--ccd", "--rotation", "--warm-start", "--sleep", "--solver", "--substeps",
+                             "--contact-cycles", "--damping-ratio", "--relax", "--integrator"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
     o.scene_named = app.count("scene") > 0;
     if (o.dump_every > 0 && o.dump_state_path.empty())

@@ -38,6 +38,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
   if (given("--tile")) v.solver_tile_spheres = o.params.solver_tile_spheres;
   if (given("--solver")) v.solver = o.params.solver;
+  if (given("--integrator")) v.integrator = o.params.integrator;
   for (const char* flag : {"--substeps", "--contact-cycles", "--damping-ratio", "--relax"})
     if (given(flag)) v.soft_step = o.params.soft_step;
   if (given("--pairs")) v.pair_search = o.params.pair_search;

@@ -208,6 +208,21 @@ TEST_CASE("hail-bench run --scene FILE: flags given override the file's values, 
   const nlohmann::json overridden = run_json({"--steps", "6"});
   CHECK(overridden["steps"] == 6);
   CHECK(overridden["dt"].get<double>() == Approx(0.01));
+  // The solver's flags apply to a scene file too (--solver and the soft step's knobs were not
+  // passed on): the spheres fall (the integrator moves them differently) and the second one
+  // overlaps the third (the solvers part them differently).
+  std::ofstream(scene) << R"({"format": "hail-scene", "version": 1, "dt": 0.01, "steps": 4,
+    "spheres": [{"list": [{"position": [0, 1, 0], "radius": 0.5}, {"position": [2, 1, 0], "radius": 0.5},
+                          {"position": [2.8, 1, 0], "radius": 0.5}]}]})";
+  const nlohmann::json plain = run_json({});
+  const nlohmann::json uniform = run_json({"--integrator", "uniform-acceleration"})["state_hash"];
+  const nlohmann::json euler = run_json({"--integrator", "semi-implicit-euler"})["state_hash"];
+  CHECK(uniform != euler);
+  const bool uniform_default = hail::WorldSettings{}.integrator == hail::Integrator::UniformAcceleration;
+  CHECK((uniform_default ? uniform : euler) == plain["state_hash"]);
+  const nlohmann::json soft = run_json({"--solver", "soft"});
+  CHECK(soft["state_hash"] != plain["state_hash"]);
+  CHECK(run_json({"--solver", "soft", "--substeps", "2"})["state_hash"] != soft["state_hash"]);
   std::filesystem::remove_all(dir);
 }
 

@@ -67,8 +67,20 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   const std::size_t count = GENERATE(1, 7, 8, 9, 16, 23, 256, 1001);
   const float threshold = GENERATE(0.0f, 1.0f);
   const FrictionWork work = GENERATE(from_range(friction_modes()));
-  INFO(count << " contacts, restitution threshold " << threshold << ", friction mode " << int(work));
+  // The uniform-acceleration integrator's approach speeds (solve_collision's gravity_closing):
+  // gravity scales of 1, 0.5 and 2 (0 for immovable bodies), so that pairs differ too.
+  const bool approach = GENERATE(false, true);
+  INFO(count << " contacts, restitution threshold " << threshold << ", friction mode " << int(work) << ", approach "
+             << approach);
   Problem simd = random_run(count, static_cast<std::uint32_t>(count * 31 + 7));
+  if (approach)
+    for (std::size_t i = 0; i + 1 < simd.bodies.size(); ++i)
+      simd.bodies[i].gravity_scale = simd.bodies[i].inv_mass > 0.0f ? (i % 3 == 0   ? 1.0f
+                                                                       : i % 3 == 1 ? 0.5f
+                                                                                    : 2.0f)
+                                                                    : 0.0f;
+  const float gravity_dt_values[3] = {0.5f, -9.81f / 60.0f, 0.25f};
+  const float* gravity_dt = approach ? gravity_dt_values : nullptr;
   Problem scalar = simd;
   // One colour holding every contact: all in batches, the last one padded when count % W != 0
   // (the padding lanes must change nothing); no scalar tail.
@@ -83,9 +95,9 @@ TEST_CASE("SIMD contact passes equal their scalar reference bit for bit", "[solv
   bool simd_any = false, scalar_any = false;
   for (std::uint32_t pass = 0; pass < 4; ++pass) {
     // From pass 1 on, batches whose bodies did not change are skipped: must change nothing.
-    simd_any |= batches.solve_collision(0, batches.batch_end(0), simd.bodies, dt, threshold, pass, work);
-    simd_any |= solve_collision_run_scalar(tail, simd.bodies, dt, threshold, pass, work);
-    scalar_any |= solve_collision_run_scalar(scalar.contacts, scalar.bodies, dt, threshold, pass, work);
+    simd_any |= batches.solve_collision(0, batches.batch_end(0), simd.bodies, dt, threshold, pass, work, gravity_dt);
+    simd_any |= solve_collision_run_scalar(tail, simd.bodies, dt, threshold, pass, work, gravity_dt);
+    scalar_any |= solve_collision_run_scalar(scalar.contacts, scalar.bodies, dt, threshold, pass, work, gravity_dt);
   }
   CHECK(simd_any == scalar_any);
   batches.store_impulses(simd.contacts);

@@ -251,6 +251,10 @@ TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][sof
   const Scene overridden =
       parse_scene_text(scene_text(R"("settings": {"solver": "soft"})"), "scene.json", {.solver = hail::Solver::Passes});
   CHECK(overridden.world->settings().solver == hail::Solver::Passes);
+  // --integrator too, over the file's.
+  const Scene integrated = parse_scene_text(scene_text(R"("settings": {"integrator": "semi-implicit-euler"})"),
+                                            "scene.json", {.integrator = hail::Integrator::UniformAcceleration});
+  CHECK(integrated.world->settings().integrator == hail::Integrator::UniformAcceleration);
 }
 
 TEST_CASE("scene files: every kind of bad input names the file and the field", "[scene_file]") {

@@ -967,6 +967,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.reorder_interval) settings.reorder_interval = *overrides.reorder_interval;
   if (overrides.resting_iterations) settings.resting_iterations = *overrides.resting_iterations;
   if (overrides.solver) settings.solver = *overrides.solver;
+  if (overrides.integrator) settings.integrator = *overrides.integrator;
   if (overrides.soft_step) settings.soft_step = *overrides.soft_step;
   if (overrides.solver_tile_spheres) settings.solver_tile_spheres = *overrides.solver_tile_spheres;
   if (overrides.pair_search) settings.pair_search = *overrides.pair_search;

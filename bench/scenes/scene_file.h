@@ -30,6 +30,7 @@ struct SceneOverrides {
   std::optional<int> reorder_interval = std::nullopt;
   std::optional<int> resting_iterations = std::nullopt;
   std::optional<Solver> solver = std::nullopt;
+  std::optional<Integrator> integrator = std::nullopt;
   std::optional<SoftStepParams> soft_step = std::nullopt;  ///< all the soft step's knobs, when any flag gave one
   std::optional<std::size_t> solver_tile_spheres = std::nullopt;
   std::optional<PairSearch> pair_search = std::nullopt;

@@ -22,7 +22,8 @@ struct SceneParams {
   int resting_iterations = WorldSettings{}.resting_iterations;            ///< --resting N
   std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
   Solver solver = WorldSettings{}.solver;                                 ///< --solver passes|soft
-  SoftStepParams soft_step{};  ///< --substeps, --contact-cycles, --damping-ratio, --relax
+  Integrator integrator = WorldSettings{}.integrator;  ///< --integrator semi-implicit-euler|uniform-acceleration
+  SoftStepParams soft_step{};                          ///< --substeps, --contact-cycles, --damping-ratio, --relax
   bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
   bool rotation = WorldSettings{}.rotation;                          ///< --rotation on|off
   bool sleep = WorldSettings{}.sleep;                                ///< --sleep on|off
@@ -39,6 +40,7 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.resting_iterations = p.resting_iterations;
   s.solver_tile_spheres = p.solver_tile_spheres;
   s.solver = p.solver;
+  s.integrator = p.integrator;
   s.soft_step = p.soft_step;
   s.continuous_collision = p.continuous_collision;
   s.rotation = p.rotation;

@@ -18,7 +18,8 @@ namespace {
 
 template <FrictionWork kWork>
 bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                    std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass) {
+                    std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
+                    const float* gravity_dt) {
   constexpr bool kFriction = has_rotation(kWork);  // Lanes' angular terms
   // c.width == W: ContactBatches::plan laid the batches out for this path and keeps its table.
   const batch zero(0.0f), one(1.0f);
@@ -35,15 +36,26 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     const batch closing = -L.normal_velocity();
     const batch gap = batch::load_aligned(c.gap + o);
     const batch kn = L.ima + L.imb;
-    const lane_mask closing_fast = !(closing <= batch(restitution_threshold));
-    const lane_mask gap_stays_open = (gap > zero) & (closing * batch(dt) <= gap);
+    // solve_collision's gravity_closing (uniform-acceleration integrator), else zero: then
+    // closing - 0 and closing - 0.5 * 0 are closing, bit for bit, as the rule was.
+    batch gravity_closing = zero;
+    if (gravity_dt) {
+      alignas(64) float scale_a[W], scale_b[W];
+      for (std::size_t l = 0; l < W; ++l)
+        scale_a[l] = L.body_a[l]->gravity_scale, scale_b[l] = L.b_static ? 0.0f : L.body_b[l]->gravity_scale;
+      const batch gn = L.n[0] * batch(gravity_dt[0]) + L.n[1] * batch(gravity_dt[1]) + L.n[2] * batch(gravity_dt[2]);
+      gravity_closing = gn * (batch::load_aligned(scale_a) - batch::load_aligned(scale_b));
+    }
+    const lane_mask closing_fast = !(closing - gravity_closing <= batch(restitution_threshold)) & (closing > zero);
+    const lane_mask gap_stays_open = (gap > zero) & ((closing - batch(0.5f) * gravity_closing) * batch(dt) <= gap);
     const lane_mask movable = !(kn <= zero);
     const lane_mask active = closing_fast & !gap_stays_open & movable;
     const std::uint32_t lanes = lane_bits(active);
     if (lanes == 0) continue;  // nothing changes: no scatter needed
     L.load_angular();
     any = true;
-    const batch j = (one + batch::load_aligned(c.restitution + o)) * closing * (one / kn);
+    const batch restitution = batch::load_aligned(c.restitution + o);
+    const batch j = ((one + restitution) * closing - restitution * gravity_closing) * (one / kn);
     const batch bounce = batch::load_aligned(c.bounce_impulse + o);
     xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
     if constexpr (has_friction(kWork)) {
@@ -140,16 +152,18 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
 // (HAIL_WITH_ROTATION=OFF), where World never asks for them.
 bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                       FrictionWork work) {
+                       FrictionWork work, const float* gravity_dt) {
   switch (work) {
     case kNoFriction:
-      return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+      return collision_pass<kNoFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass,
+                                         gravity_dt);
     case kLinearFriction:
-      return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+      return collision_pass<kLinearFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass,
+                                             gravity_dt);
     case kWithFriction:
       break;
   }
-  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass);
+  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, gravity_dt);
 }
 
 void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,

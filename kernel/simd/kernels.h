@@ -23,7 +23,7 @@ void grid_find_pairs(const SphereGridView& grid, const SphereSoA& spheres, std::
                      float margin, std::vector<SpherePair>& out, std::vector<std::uint32_t>& row);
 bool contact_collision(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
-                       FrictionWork work);
+                       FrictionWork work, const float* gravity_dt);
 void contact_warm_start(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                         std::size_t body_count, FrictionWork work);
 void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,

@@ -258,14 +258,27 @@ inline void apply_warm_start(const Contact& c, ContactBodies& k) {
 /// Collision pass on one contact. Returns true when it applied an impulse, whose normal part j
 /// it adds to c.bounce_impulse (the bounce an embedder reads; nothing in the solve reads it).
 /// A speculative contact (gap > 0) collides only if it closes the gap within dt.
+///
+/// `gravity_closing`: how much of the closing speed this step's gravity added (predict), the
+/// contact's gravity_closing_speed under Integrator::UniformAcceleration, else 0. The bodies
+/// then approach at closing - gravity_closing (their start-of-step velocities), and move over
+/// the step by the mean of the two, (closing - gravity_closing / 2) dt: restitution and its
+/// threshold take the approach speed, the impulse stops the whole closing speed and gives back
+/// e times the approach, and the speculative test the mean. With 0 it is the rule as it was
+/// (semi-implicit Euler moves with the end velocity). Without it a sphere resting on terrain
+/// under the uniform integrator was bounced by e (its approach + g dt), from up to g dt^2 / 2
+/// above the ground, and never settled (docs/accuracy.md).
 template <FrictionWork kFriction = kWithFriction>
-inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restitution_threshold) {
+inline bool solve_collision(Contact& c, ContactBodies& k, float dt, float restitution_threshold,
+                            float gravity_closing = 0.0f) {
   const float closing = -normal_relative_velocity(c, k);
-  if (closing <= restitution_threshold) return false;
-  if (c.gap > 0.0f && closing * dt <= c.gap) return false;
+  // closing > 0 as well: bodies that approached but which a gravity scale difference already
+  // separates need no impulse (with gravity_closing 0 the threshold, >= 0, implies it).
+  if (closing - gravity_closing <= restitution_threshold || !(closing > 0.0f)) return false;
+  if (c.gap > 0.0f && (closing - 0.5f * gravity_closing) * dt <= c.gap) return false;
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f) return false;
-  const float j = (1.0f + c.restitution) * closing * (1.0f / kn);
+  const float j = ((1.0f + c.restitution) * closing - c.restitution * gravity_closing) * (1.0f / kn);
   c.bounce_impulse += j;
   if constexpr (has_friction(kFriction)) {
     float vt[3], fresh[3] = {0, 0, 0}, delta[3];

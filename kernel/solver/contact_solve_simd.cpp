@@ -14,11 +14,12 @@ namespace {
 
 template <FrictionWork kFriction>
 bool collision_run(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt, float restitution_threshold,
-                   std::uint32_t pass) {
+                   std::uint32_t pass, const float* gravity_dt) {
   bool any = false;
   for (Contact& c : contacts) {
     ContactBodies k = gather_bodies<kFriction>(bodies, c);
-    if (solve_collision<kFriction>(c, k, dt, restitution_threshold)) {
+    const float gravity_closing = gravity_dt ? gravity_closing_speed(bodies, c, gravity_dt) : 0.0f;
+    if (solve_collision<kFriction>(c, k, dt, restitution_threshold, gravity_closing)) {
       scatter_bodies<kFriction>(bodies, c, k);
       bodies[c.a].changed_in_pass = pass + 1;
       if (c.b != kStaticBody) bodies[c.b].changed_in_pass = pass + 1;
@@ -49,16 +50,17 @@ void warm_start_run(std::span<const Contact> contacts, std::span<SolverBody> bod
 }  // namespace
 
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass, FrictionWork work) {
+                                float restitution_threshold, std::uint32_t pass, FrictionWork work,
+                                const float* gravity_dt) {
   switch (work) {
     case kNoFriction:
-      return collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass);
+      return collision_run<kNoFriction>(contacts, bodies, dt, restitution_threshold, pass, gravity_dt);
     case kLinearFriction:
-      return collision_run<kLinearFriction>(contacts, bodies, dt, restitution_threshold, pass);
+      return collision_run<kLinearFriction>(contacts, bodies, dt, restitution_threshold, pass, gravity_dt);
     case kWithFriction:
       break;
   }
-  return collision_run<kRotationWork>(contacts, bodies, dt, restitution_threshold, pass);
+  return collision_run<kRotationWork>(contacts, bodies, dt, restitution_threshold, pass, gravity_dt);
 }
 
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
@@ -194,10 +196,11 @@ void ContactBatches::stage(std::span<const Contact> contacts, std::span<const st
 }
 
 bool ContactBatches::solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                                     float restitution_threshold, std::uint32_t pass, FrictionWork work) {
+                                     float restitution_threshold, std::uint32_t pass, FrictionWork work,
+                                     const float* gravity_dt) {
   if (first >= last) return false;
   return kernels_->contact_collision(arrays(), first, last, bodies.data(), bodies.size(), dt, restitution_threshold,
-                                     pass, work);
+                                     pass, work, gravity_dt);
 }
 
 void ContactBatches::solve_resting(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float inv_dt,

@@ -95,9 +95,11 @@ class ContactBatches {
   /// true when any lane applied an impulse. Batches of one colour may run in parallel. From
   /// pass 1 on, a batch none of whose bodies changed since the previous pass began is skipped:
   /// none of its contacts applied then, so none can now (SolverBody::changed_in_pass); the
-  /// result is the same as evaluating it.
+  /// result is the same as evaluating it. `gravity_dt` (g dt; Integrator::UniformAcceleration,
+  /// else null): restitution from the approach speed (solve_collision's gravity_closing).
   bool solve_collision(std::size_t first, std::size_t last, std::span<SolverBody> bodies, float dt,
-                       float restitution_threshold, std::uint32_t pass, FrictionWork work = kWithFriction);
+                       float restitution_threshold, std::uint32_t pass, FrictionWork work = kWithFriction,
+                       const float* gravity_dt = nullptr);
   /// Warm start (apply_warm_start) of batches [first, last): their staged impulses applied.
   void warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work = kWithFriction);
   /// Resting pass (solve_resting) over batches [first, last).
@@ -147,7 +149,8 @@ class ContactBatches {
 /// velocities; angular velocities neither read nor written), kWithFriction the full rules; the
 /// same holds for ContactBatches, bit for bit.
 bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float dt,
-                                float restitution_threshold, std::uint32_t pass = 0, FrictionWork work = kWithFriction);
+                                float restitution_threshold, std::uint32_t pass = 0, FrictionWork work = kWithFriction,
+                                const float* gravity_dt = nullptr);
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
                               FrictionWork work = kWithFriction);
 void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies,

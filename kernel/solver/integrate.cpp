@@ -164,21 +164,21 @@ double earliest_root(double d0, double vn, double an, double limit) {
 }  // namespace
 
 namespace {
-/// integrate_positions' loop; `Scaled` as in add_gravity, `Filtered`: spheres whose filter
-/// rejects p.ground skip the planes.
-template <bool Scaled, bool Filtered>
+/// integrate_positions' loop; `Filtered`: spheres whose filter rejects p.ground skip the planes.
+template <bool Filtered>
 void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
                      const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
   const bool uniform = p.integrator == Integrator::UniformAcceleration;
-  const float c = uniform ? 1.0f : 0.0f;  // weight of the a t^2 / 2 term within the step
   for (std::size_t i = first; i < last; ++i) {
     if (!skip.empty() && skip[i]) continue;
-    // The sphere's gravity scale (1 by default, so a[] is bitwise what it was without scales).
-    const float movable = s.inv_mass[i] > 0.0f ? (Scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
-    const float a[3] = {p.gravity[0] * c * movable, p.gravity[1] * c * movable, p.gravity[2] * c * movable};
+    float a[3] = {0.0f, 0.0f, 0.0f};
+    if (uniform) {
+      const float v_end[3] = {s.vx[i], s.vy[i], s.vz[i]};
+      uniform_step_acceleration(s, i, p, v_end, a);
+    }
     float x[3] = {s.px[i], s.py[i], s.pz[i]};
-    // Velocity at the start of the (sub)step: the solved end velocity minus the gravity the
-    // uniform-acceleration integrator adds back along the parabola.
+    // Velocity at the start of the (sub)step that reaches the solved end velocity under a
+    // (semi-implicit Euler: a = 0, the end velocity itself).
     float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
     float remaining = p.dt;
     if (!planes.empty() && (!Filtered || meets_ground(s, i, p.ground)))
@@ -196,12 +196,8 @@ void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::spa
 
 void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
                          const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
-  if (p.gravity_scaled)
-    p.ground_filtered ? integrate_range<true, true>(s, first, last, planes, p, skip, impacts)
-                      : integrate_range<true, false>(s, first, last, planes, p, skip, impacts);
-  else
-    p.ground_filtered ? integrate_range<false, true>(s, first, last, planes, p, skip, impacts)
-                      : integrate_range<false, false>(s, first, last, planes, p, skip, impacts);
+  p.ground_filtered ? integrate_range<true>(s, first, last, planes, p, skip, impacts)
+                    : integrate_range<false>(s, first, last, planes, p, skip, impacts);
 }
 
 }  // namespace hail

@@ -7,6 +7,7 @@
 // bounced there (restitution and friction), and moved on for the rest of the step, so bounce
 // heights carry no error from where inside a step the impact fell.
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,7 +32,49 @@ struct IntegrationParams {
   /// planes' filter, World::set_ground_filter) pass through the planes.
   bool ground_filtered = false;
   CollisionFilter ground{};
+  /// Some sphere has a force to apply (World::apply_force): the free-flight acceleration of
+  /// the uniform-acceleration integrator then includes F inv_mass (else the force arrays are zero).
+  bool forces = false;
+  /// Integrator::UniformAcceleration: each sphere's velocity at the start of the (sub)step,
+  /// before forces and gravity (StepState::start_vx..vz); unused (null) otherwise.
+  const float* start_vx = nullptr;
+  const float* start_vy = nullptr;
+  const float* start_vz = nullptr;
 };
+
+/// The acceleration the uniform-acceleration integrator moves sphere i with over the step,
+/// given its solved end velocity `v_end`: the mean acceleration actually applied,
+/// (v_end - v_start) / dt, with its share along the free-flight acceleration f (gravity times
+/// the sphere's scale, plus F inv_mass) clamped to [0, 1] of f and its part across f at most
+/// |f| long. In free flight that is f (the exact parabola); a sphere whose contact cancelled
+/// this step's gravity gets zero (it stays where it rests: reconstructing the start velocity
+/// as v_end - f dt lifted it by |g| dt^2 / 2 every step); an impulse far larger than f dt
+/// moves it at most |f| dt^2 away from x + v_end dt. Positions then move by
+/// v_end dt - a dt^2 / 2 (integrate_positions; soft_store_bodies takes the same off).
+inline void uniform_step_acceleration(const SphereSoA& s, std::size_t i, const IntegrationParams& p,
+                                      const float v_end[3], float a[3]) {
+  const float movable = s.inv_mass[i] > 0.0f ? (p.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
+  float f[3] = {p.gravity[0] * movable, p.gravity[1] * movable, p.gravity[2] * movable};
+  if (p.forces)
+    f[0] += s.force_x[i] * s.inv_mass[i], f[1] += s.force_y[i] * s.inv_mass[i], f[2] += s.force_z[i] * s.inv_mass[i];
+  const float ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+  if (!(ff > 0.0f)) {
+    a[0] = a[1] = a[2] = 0.0f;
+    return;
+  }
+  const float inv_dt = 1.0f / p.dt;
+  const float mean[3] = {(v_end[0] - p.start_vx[i]) * inv_dt, (v_end[1] - p.start_vy[i]) * inv_dt,
+                         (v_end[2] - p.start_vz[i]) * inv_dt};
+  const float share = (mean[0] * f[0] + mean[1] * f[1] + mean[2] * f[2]) / ff;
+  float across[3] = {mean[0] - share * f[0], mean[1] - share * f[1], mean[2] - share * f[2]};
+  const float across2 = across[0] * across[0] + across[1] * across[1] + across[2] * across[2];
+  if (across2 > ff) {
+    const float shrink = std::sqrt(ff / across2);
+    for (float& c : across) c *= shrink;
+  }
+  const float along = share < 0.0f ? 0.0f : share > 1.0f ? 1.0f : share;
+  for (int d = 0; d < 3; ++d) a[d] = along * f[d] + across[d];
+}
 
 /// v += F inv_mass dt and, with `rotation`, w += T inv_inertia dt for spheres [first, last),
 /// F and T their accumulated force and torque (World::apply_force / apply_torque); static

@@ -76,15 +76,19 @@ void soft_move(std::span<SolverBody> bodies, std::size_t first, std::size_t last
 }
 
 void soft_store_bodies(std::span<const SolverBody> bodies, std::size_t first, std::size_t last, SphereSoA& s,
-                       bool angular, float dt, const float g_half_dt2[3]) {
+                       bool angular, const IntegrationParams& p) {
+  const bool uniform = p.integrator == Integrator::UniformAcceleration;
+  const float dt = p.dt, half_dt2 = 0.5f * p.dt * p.dt;
   for (std::size_t i = first; i < last; ++i) {
     const SolverBody& b = bodies[i];
     if (!b.changed_in_pass) continue;  // in no contact: as predict left it
     s.vx[i] = b.v[0], s.vy[i] = b.v[1], s.vz[i] = b.v[2];
     if (angular) s.wx[i] = b.w[0], s.wy[i] = b.w[1], s.wz[i] = b.w[2];
-    s.px[i] += b.dp[0] - (b.v[0] * dt - g_half_dt2[0] * b.gravity_scale);
-    s.py[i] += b.dp[1] - (b.v[1] * dt - g_half_dt2[1] * b.gravity_scale);
-    s.pz[i] += b.dp[2] - (b.v[2] * dt - g_half_dt2[2] * b.gravity_scale);
+    float a[3] = {0.0f, 0.0f, 0.0f};
+    if (uniform) uniform_step_acceleration(s, i, p, b.v, a);
+    s.px[i] += b.dp[0] - (b.v[0] * dt - a[0] * half_dt2);
+    s.py[i] += b.dp[1] - (b.v[1] * dt - a[1] * half_dt2);
+    s.pz[i] += b.dp[2] - (b.v[2] * dt - a[2] * half_dt2);
   }
 }
 

@@ -23,6 +23,7 @@
 #include "hail/contact.h"
 #include "hail/sphere_soa.h"
 #include "kernel/solver/contact_impulse.h"
+#include "kernel/solver/integrate.h"
 #include "kernel/solver/soft_contact.h"
 #include "kernel/solver/solver_body.h"
 
@@ -42,10 +43,10 @@ void soft_add_gravity(std::span<SolverBody> bodies, std::size_t first, std::size
 /// dp += v h for the marked bodies of [first, last).
 void soft_move(std::span<SolverBody> bodies, std::size_t first, std::size_t last, float h);
 /// The marked bodies of [first, last) back to the SoA: velocities (angular ones with
-/// `angular`), and positions moved by dp less what integrate_positions will move them over dt
-/// (v dt, less a dt^2 / 2 of gravity under Integrator::UniformAcceleration: `g_half_dt2`, else
-/// zero), so that integration ends them where the substeps did.
+/// `angular`), and positions moved by dp less what integrate_positions will move them over
+/// p.dt (v dt, less a dt^2 / 2 under Integrator::UniformAcceleration, a its
+/// uniform_step_acceleration), so that integration ends them where the substeps did.
 void soft_store_bodies(std::span<const SolverBody> bodies, std::size_t first, std::size_t last, SphereSoA& s,
-                       bool angular, float dt, const float g_half_dt2[3]);
+                       bool angular, const IntegrationParams& p);
 
 }  // namespace hail

@@ -67,6 +67,17 @@ inline void store_solver_velocities(std::span<const SolverBody> bodies, std::siz
   }
 }
 
+/// The closing speed along c's normal that this step's gravity added to its bodies (predict):
+/// (g dt . n) (scale_a - scale_b), `gravity_dt` = g dt, scales from SolverBody::gravity_scale
+/// (the static body's is 0). Zero between spheres of one scale. solve_collision's
+/// `gravity_closing` under Integrator::UniformAcceleration.
+[[nodiscard]] inline float gravity_closing_speed(std::span<const SolverBody> bodies, const Contact& c,
+                                                 const float gravity_dt[3]) {
+  const float scale_b = c.b != kStaticBody ? bodies[c.b].gravity_scale : 0.0f;
+  const float gn = gravity_dt[0] * c.nx + gravity_dt[1] * c.ny + gravity_dt[2] * c.nz;
+  return gn * (bodies[c.a].gravity_scale - scale_b);
+}
+
 /// gather_bodies (kernel/solver/contact_impulse.h) from solver bodies: the same values.
 template <FrictionWork kWork = kWithFriction>
 inline ContactBodies gather_bodies(std::span<const SolverBody> bodies, const Contact& c) {

@@ -93,8 +93,9 @@ struct StepPipeline {
   bool rotation = true;    // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
   bool forces = false;     // some sphere has a force or torque to apply (World::apply_force / apply_torque)
   bool filtering = false;  // some collision filter is not the default (World::set_collision_filter, set_ground_filter)
-  CollisionFilter ground{};  // the terrain's and planes' filter (World::set_ground_filter)
-  bool sleeping = false;     // WorldSettings::sleep: sleepers are left out (kernel/world/sleep_islands.h)
+  CollisionFilter ground{};           // the terrain's and planes' filter (World::set_ground_filter)
+  bool sleeping = false;              // WorldSettings::sleep: sleepers are left out (kernel/world/sleep_islands.h)
+  bool uniform_acceleration = false;  // Integrator::UniformAcceleration: start velocities kept (predict)
 
   /// No sphere of slots [first, last) moves (all asleep, or immovable and still): a block of
   /// sleepers, which predict, static detection and integration skip whole.
@@ -122,6 +123,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
       const bool still = sleeping && block_still(first, last);
+      if (uniform_acceleration) remember_start_velocities(first, last);
       if (!still && forces) apply_forces(s, first, last, params.dt, rotation);
       st.block_max_speed[b] =
           still ? 0.0f
@@ -148,6 +150,15 @@ struct StepPipeline {
     // Heaviest over lightest = largest inverse mass over smallest.
     shock = max_inv_mass > w.settings.shock_mass_ratio * min_inv_mass;
     margin = std::min(2.0f * max_speed * params.dt, w.settings.speculative_radii * max_radius);
+  }
+
+  /// The uniform-acceleration integrator's start velocities (IntegrationParams::start_vx..vz):
+  /// the velocities of spheres [first, last) before this (sub)step's forces and gravity.
+  void remember_start_velocities(std::size_t first, std::size_t last) {
+    const SphereSoA& s = w.spheres;
+    std::copy(s.vx.data() + first, s.vx.data() + last, st.start_vx.data() + first);
+    std::copy(s.vy.data() + first, s.vy.data() + last, st.start_vy.data() + first);
+    std::copy(s.vz.data() + first, s.vz.data() + last, st.start_vz.data() + first);
   }
 
   /// Radii and inverse masses (of movable spheres) of spheres [first, last), branch-free.
@@ -601,6 +612,11 @@ struct StepPipeline {
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
     const std::size_t tiles = col.tile_count();
+    // Under the uniform-acceleration integrator restitution takes the approach speed, the
+    // closing speed less what this step's gravity added (solve_collision's gravity_closing).
+    const float gravity_dt[3] = {params.gravity[0] * params.dt, params.gravity[1] * params.dt,
+                                 params.gravity[2] * params.dt};
+    const float* approach = uniform_acceleration ? gravity_dt : nullptr;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -610,8 +626,10 @@ struct StepPipeline {
         auto tile_wanted = [&](std::size_t t) { return pass == 0 || st.tile_changed[t] >= number; };
         for_each_batch_chunk(
             crew, tile_wanted, [&](std::size_t tile, std::size_t first, std::size_t last, std::span<Contact> scalar) {
-              const bool simd = batches.solve_collision(first, last, bodies, params.dt, threshold, number, work);
-              const bool rest = solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work);
+              const bool simd =
+                  batches.solve_collision(first, last, bodies, params.dt, threshold, number, work, approach);
+              const bool rest =
+                  solve_collision_run_scalar(scalar, bodies, params.dt, threshold, number, work, approach);
               if (!(simd || rest)) return;
               any.store(true, std::memory_order_relaxed);
               if (tile < tiles)
@@ -720,7 +738,13 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       load_solver_bodies(s, first, last, bodies, angular);
-      if (!soft) return;
+      if (!soft) {
+        // The collision passes' approach speeds under the uniform integrator (gravity_closing_speed).
+        if (uniform_acceleration)
+          for (std::size_t i = first; i < last; ++i)
+            bodies[i].gravity_scale = s.inv_mass[i] > 0.0f ? (params.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
+        return;
+      }
       const float g_rest[3] = {params.gravity[0] * (params.dt - h), params.gravity[1] * (params.dt - h),
                                params.gravity[2] * (params.dt - h)};
       soft_load_bodies(s, first, last, bodies, g_rest, params.gravity_scaled);
@@ -768,14 +792,10 @@ struct StepPipeline {
       batches.store_impulses(st.contacts, first, last);
     });
     remember_impulses();
-    // Integration's gravity term under the uniform-acceleration integrator, which the soft
-    // step's positions already hold (soft_store_bodies).
-    const float uniform = params.integrator == Integrator::UniformAcceleration ? 0.5f * params.dt * params.dt : 0.0f;
-    const float g_half_dt2[3] = {params.gravity[0] * uniform, params.gravity[1] * uniform, params.gravity[2] * uniform};
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       if (soft)
-        soft_store_bodies(bodies, first, last, s, angular, params.dt, g_half_dt2);
+        soft_store_bodies(bodies, first, last, s, angular, params);
       else
         store_solver_velocities(bodies, first, last, s, angular);
     });
@@ -936,6 +956,13 @@ struct StepPipeline {
     w.stats.pushed_out = 0;
     pair_margins = w.settings.pair_margin_travel > 0.0f && w.settings.sphere_collisions;
     if (pair_margins && st.travel.size() < w.spheres.size()) resize_geometric(st.travel, w.spheres.size());
+    uniform_acceleration = params.integrator == Integrator::UniformAcceleration;
+    if (uniform_acceleration) {
+      const std::size_t n = w.spheres.size();
+      for (std::vector<float>* v : {&st.start_vx, &st.start_vy, &st.start_vz})
+        if (v->size() < n) resize_geometric(*v, n);
+      params.start_vx = st.start_vx.data(), params.start_vy = st.start_vy.data(), params.start_vz = st.start_vz.data();
+    }
     if (guarding) {
       const std::size_t n = w.spheres.size();
       for (std::vector<float>* v : {&st.start_x, &st.start_y, &st.start_z, &st.reach2})
@@ -1142,6 +1169,7 @@ void World::substep(float scaled) {
   pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
   pipeline.params.rotation = pipeline.rotation;
   pipeline.forces = forces_pending_;
+  pipeline.params.forces = forces_pending_;
   pipeline.filtering = filtered_;
   pipeline.ground = ground_filter_;
   pipeline.params.gravity_scaled = gravity_scaled_;

@@ -62,6 +62,8 @@ struct StepState {
   // Terrain guard (predict -> end of step): where each sphere started and how far (squared) its
   // terrain contacts reached.
   std::vector<float> start_x, start_y, start_z, reach2;
+  /// Integrator::UniformAcceleration only: each sphere's velocity before predict (IntegrationParams::start_vx).
+  std::vector<float> start_vx, start_vy, start_vz;
   std::vector<float> travel;            ///< per sphere |v| dt this step (pair margins)
   std::vector<std::uint32_t> moved_at;  ///< per sphere: last depenetration (pass, colour) that moved it
   // Morton re-sort.
