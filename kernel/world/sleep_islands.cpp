@@ -18,6 +18,13 @@ void sort_unique(std::vector<SphereId>& ids) {
   std::sort(ids.begin(), ids.end(), [](SphereId a, SphereId b) { return a.index < b.index; });
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
 }
+
+/// |w x n|^2: the square of how fast spin w slides the surface past a contact of normal n, over
+/// the radius. Spin about n itself (a twist in place) slides nothing.
+[[nodiscard]] float slide2(float wx, float wy, float wz, const Contact& c) {
+  const float x = wy * c.nz - wz * c.ny, y = wz * c.nx - wx * c.nz, z = wx * c.ny - wy * c.nx;
+  return x * x + y * y + z * z;
+}
 }  // namespace
 
 std::uint32_t SleepIslands::find(std::uint32_t i) {
@@ -108,16 +115,27 @@ bool SleepIslands::anything_moves(const SphereSoA& s) {
   return false;
 }
 
+void SleepIslands::measure_spin(const SphereSoA& s, std::span<const Contact> contacts) {
+  resize_geometric(spin2_, s.size());
+  std::fill(spin2_.begin(), spin2_.end(), -1.0f);  // no loaded contact: all of the spin counts
+  for (const Contact& c : contacts) {
+    if (!(c.normal_impulse > 0.0f)) continue;  // touching without load: it holds the spin to nothing
+    spin2_[c.a] = std::max(spin2_[c.a], slide2(s.wx[c.a], s.wy[c.a], s.wz[c.a], c));
+    if (c.b != kStaticBody) spin2_[c.b] = std::max(spin2_[c.b], slide2(s.wx[c.b], s.wy[c.b], s.wz[c.b], c));
+  }
+}
+
 void SleepIslands::update(SphereSoA& s, std::span<const Contact> contacts, float dt, const WorldSettings& settings) {
   const std::size_t n = s.size();
   const float linear2 = settings.sleep_linear_speed * settings.sleep_linear_speed;
   const float angular2 = settings.sleep_angular_speed * settings.sleep_angular_speed;
+  measure_spin(s, contacts);
   resize_geometric(parent_, n);
   for (std::size_t i = 0; i < n; ++i) {
     parent_[i] = static_cast<std::uint32_t>(i);
     if (sphere_sleeps(s, i) || !(s.inv_mass[i] > 0.0f)) continue;
     const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-    const float w2 = s.wx[i] * s.wx[i] + s.wy[i] * s.wy[i] + s.wz[i] * s.wz[i];
+    const float w2 = spin2_[i] >= 0.0f ? spin2_[i] : s.wx[i] * s.wx[i] + s.wy[i] * s.wy[i] + s.wz[i] * s.wz[i];
     s.sleep_timer[i] = v2 > linear2 || w2 > angular2 ? 0.0f : s.sleep_timer[i] + dt;
   }
   for (const Contact& c : contacts)

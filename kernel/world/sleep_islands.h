@@ -10,6 +10,16 @@
 //                one island; two piles on a static sphere are two).
 //   timer        per sphere (SphereSoA::sleep_timer): seconds it has stayed at or below both
 //                WorldSettings::sleep_linear_speed and sleep_angular_speed; 0 once it is faster.
+//   spin         what counts against sleep_angular_speed: for a sphere with contacts that carry
+//                load (normal impulse > 0 this substep), the largest |w x n| over their normals
+//                n, how fast the spin slides its surface past any of them (over its radius);
+//                with none, all of |w|. Spin about a loaded normal (a twist in place) slides
+//                nothing, and hail has no torsional or rolling resistance that would ever stop
+//                it: a sphere pinched between two neighbours, spinning about the line through
+//                the two contacts, kept a 2,000-sphere bowl pile awake for good (0.51 rad/s
+//                about a horizontal axis, no linear velocity). A spin that slides a loaded
+//                contact still counts: friction works on it. The largest of squares is exact
+//                and order-free, so the result does not depend on the order of the contacts.
 //   sleep        at the end of a substep, every island whose smallest timer is at least
 //                sleep_time and which is supported (one of its spheres touches the terrain, a
 //                plane or an immovable sphere): flag kSphereFlagSleeping set, velocities zeroed,
@@ -90,6 +100,9 @@ class SleepIslands {
   void clear_events();
 
  private:
+  /// spin2_: per sphere, the largest squared slide of its spin over its loaded contacts
+  /// (see "spin" above), or -1 where it has none.
+  void measure_spin(const SphereSoA& s, std::span<const Contact> contacts);
   std::uint32_t find(std::uint32_t i);
   void unite(std::uint32_t a, std::uint32_t b);
   /// Wakes every sleeper whose label is in labels_ (sorted, unique); returns whether any woke.
@@ -97,6 +110,7 @@ class SleepIslands {
   void wake_slot(SphereSoA& s, std::size_t i);
 
   std::vector<std::uint32_t> parent_;
+  std::vector<float> spin2_;                 // per slot: what counts of the spin (measure_spin)
   std::vector<float> island_timer_;          // per root: smallest timer of the island
   std::vector<std::uint8_t> supported_;      // per root: the island touches something static
   std::vector<std::uint32_t> island_label_;  // per root: smallest handle index of the island
