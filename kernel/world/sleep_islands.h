@@ -37,8 +37,9 @@
 //                left out of the step: sleepers cost no solve and no depenetration.
 // Islands are found by a union-find whose roots are the smallest slot of each island, so the
 // partition, its labels and every decision are the same whatever order the contacts come in
-// and on any thread count. The pass is serial: O(spheres + contacts), and only over a substep
-// in which something moves (a world whose every movable sphere sleeps skips the substep).
+// and on any thread count. The pass is serial: O(spheres + contacts), one pass over the
+// contacts, and only over a substep in which something moves (a world whose every movable
+// sphere sleeps skips the substep).
 
 #include <cstddef>
 #include <cstdint>
@@ -100,9 +101,6 @@ class SleepIslands {
   void clear_events();
 
  private:
-  /// spin2_: per sphere, the largest squared slide of its spin over its loaded contacts
-  /// (see "spin" above), or -1 where it has none.
-  void measure_spin(const SphereSoA& s, std::span<const Contact> contacts);
   std::uint32_t find(std::uint32_t i);
   void unite(std::uint32_t a, std::uint32_t b);
   /// Wakes every sleeper whose label is in labels_ (sorted, unique); returns whether any woke.
@@ -110,12 +108,13 @@ class SleepIslands {
   void wake_slot(SphereSoA& s, std::size_t i);
 
   std::vector<std::uint32_t> parent_;
-  std::vector<float> spin2_;                 // per slot: what counts of the spin (measure_spin)
-  std::vector<float> island_timer_;          // per root: smallest timer of the island
-  std::vector<std::uint8_t> supported_;      // per root: the island touches something static
-  std::vector<std::uint32_t> island_label_;  // per root: smallest handle index of the island
-  std::vector<std::uint32_t> labels_;        // islands to wake
-  std::vector<std::uint32_t> woken_slots_;   // slots woken by the last wake_touched
+  std::vector<float> spin2_;                  // per slot: largest squared slide of its loaded contacts, or -1
+  std::vector<std::uint8_t> touches_static_;  // per slot: a contact with something static
+  std::vector<float> island_timer_;           // per root: smallest timer of the island
+  std::vector<std::uint8_t> supported_;       // per root: the island touches something static
+  std::vector<std::uint32_t> island_label_;   // per root: smallest handle index of the island
+  std::vector<std::uint32_t> labels_;         // islands to wake
+  std::vector<std::uint32_t> woken_slots_;    // slots woken by the last wake_touched
   std::vector<SphereId> slept_, woken_, published_slept_, published_woken_;
   std::size_t islands_ = 0;
 };
