@@ -295,6 +295,91 @@ TEST_CASE("Sleeping settings are checked", "[sleep]") {
   }
 }
 
+namespace {
+
+/// A sphere pinched between a static sphere below and a heavy one (10 kg) resting on top of it,
+/// all three on the vertical through the origin, spinning at `spin` about that line, the line
+/// through its two contacts (both carry load: the heavy one's weight and its own).
+struct Pinch {
+  SphereId spinner, heavy;
+};
+Pinch add_pinched_spinner(World& world, float spin) {
+  world.add_sphere({.position = {0.0f, 0.5f, 0.0f}, .is_static = true});
+  const SphereId spinner = world.add_sphere({.position = {0.0f, 1.5f, 0.0f}, .angular_velocity = {0.0f, spin, 0.0f}});
+  const SphereId heavy = world.add_sphere({.position = {0.0f, 2.5f, 0.0f}, .mass = 10.0f});
+  return {spinner, heavy};
+}
+
+/// Contacts of the last step that touch `slot` and carry load (normal impulse > 0).
+std::size_t loaded_contacts(const World& world, std::uint32_t slot) {
+  const auto contacts = world.last_contacts();
+  return static_cast<std::size_t>(std::count_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
+    return (c.a == slot || c.b == slot) && c.normal_impulse > 0.0f;
+  }));
+}
+
+}  // namespace
+
+TEST_CASE("A sphere pinched between two static ones, spinning about the line through the contacts, sleeps", "[sleep]") {
+  // The twist slides neither contact, and hail has no torsional resistance: the spin never
+  // decays (sleeping off, it is all there after 5 s), yet it moves nothing.
+  constexpr float kSpin = 2.0f;  // rad/s, 20 times sleep_angular_speed
+  WorldSettings off_settings = sleepy();
+  off_settings.sleep = false;
+  World off(off_settings);
+  const Pinch pinch_off = add_pinched_spinner(off, kSpin);
+  for (int k = 0; k < 300; ++k) {
+    off.step(kDt);
+    REQUIRE(loaded_contacts(off, static_cast<std::uint32_t>(off.slot_of(pinch_off.spinner))) == 2);
+  }
+  CHECK(off.angular_velocity(pinch_off.spinner).y() == Approx(kSpin).epsilon(1e-3));
+  CHECK(off.velocity(pinch_off.spinner).norm() < WorldSettings{}.sleep_linear_speed);
+  CHECK(off.position(pinch_off.heavy).x() == 0.0f);  // the column stands
+  CHECK(off.position(pinch_off.heavy).z() == 0.0f);
+
+  World on(sleepy());
+  const Pinch pinch = add_pinched_spinner(on, kSpin);
+  const int steps = settle(on, 300);
+  CHECK(steps < 60);  // sleep_time (0.5 s, 30 steps) and a little
+  CHECK(on.is_sleeping(pinch.spinner));
+  CHECK(on.is_sleeping(pinch.heavy));
+  CHECK(on.angular_velocity(pinch.spinner) == Vec3::Zero());
+}
+
+TEST_CASE("A sphere that spins about its one loaded contact's normal sleeps; spin across it keeps it awake",
+          "[sleep]") {
+  for (const bool across : {false, true}) {
+    INFO((across ? "across the normal" : "about the normal"));
+    World world(sleepy());
+    world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f, .friction = 0.0f});  // nothing stops the spin
+    const Vec3 spin = across ? Vec3(0.0f, 0.0f, 1.0f) : Vec3(0.0f, 1.0f, 0.0f);
+    const SphereId id = world.add_sphere({.position = {0, 0.5f, 0}, .angular_velocity = spin, .friction = 0.0f});
+    for (int k = 0; k < 120; ++k) world.step(kDt);
+    CHECK(world.is_sleeping(id) == !across);
+  }
+}
+
+TEST_CASE("A sphere rolling slowly on the ground stays awake while it rolls", "[sleep]") {
+  // Slower than sleep_linear_speed, but its spin (0.4 rad/s) slides the ground contact (it is
+  // across the normal): counted, it keeps the sphere awake. With no rolling resistance it
+  // rolls on for good.
+  World world(sleepy());
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
+  constexpr float kRadius = 0.1f, kSpeed = 0.04f;
+  REQUIRE(kSpeed < WorldSettings{}.sleep_linear_speed);
+  REQUIRE(kSpeed / kRadius > WorldSettings{}.sleep_angular_speed);
+  const SphereId ball = world.add_sphere({.position = {0, kRadius, 0},
+                                          .velocity = {kSpeed, 0, 0},
+                                          .angular_velocity = {0, 0, -kSpeed / kRadius},
+                                          .radius = kRadius});
+  for (int k = 0; k < 300; ++k) {  // 5 s, ten times sleep_time
+    world.step(kDt);
+    REQUIRE(!world.is_sleeping(ball));
+  }
+  CHECK(world.position(ball).x() == Approx(5.0f * kSpeed).epsilon(0.05));  // it rolled all the while
+  CHECK(world.velocity(ball).x() == Approx(kSpeed).epsilon(0.05));
+}
+
 TEST_CASE("A pile with sleeping on steps bitwise the same on 1 and 2 threads and every SIMD path", "[sleep][threads]") {
   std::vector<std::uint64_t> hashes;
   std::vector<std::size_t> sleeping;
@@ -364,8 +449,10 @@ TEST_CASE("A pile woken by a drop has the contacts and warm starts of the same p
   off_settings.sleep = false;
   World on(sleepy()), off(off_settings);
   // 3 x 3 x 4 touching spheres in a box of planes (one island), and inside it a sphere that
-  // meets the ground and no sphere (collision filters) spinning about the vertical for ever, so
-  // that every step has a contact to store while the pile sleeps.
+  // meets the ground and no sphere (collision filters), frictionless, spinning about a
+  // horizontal axis for ever (its spin slides its one contact, so it counts and keeps the
+  // sphere awake; a spin about the vertical would not), so that every step has a contact to
+  // store while the pile sleeps.
   for (World* w : {&on, &off}) {
     w->add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
     w->add_plane({.normal = {1, 0, 0}, .offset = -1.5f});
@@ -376,8 +463,10 @@ TEST_CASE("A pile woken by a drop has the contacts and warm starts of the same p
       w->add_sphere({.position = {static_cast<float>(k % 3 - 1), 0.5f + 1.02f * static_cast<float>(k / 9),
                                   static_cast<float>((k / 3) % 3 - 1) + 0.01f * static_cast<float>(k % 2)}});
     w->set_ground_filter({.category = 4, .mask = kAllCategories});
-    w->add_sphere(
-        {.position = {0.0f, 0.5f, 0.0f}, .angular_velocity = {0, 3, 0}, .filter = {.category = 2, .mask = 4}});
+    w->add_sphere({.position = {0.0f, 0.5f, 0.0f},
+                   .angular_velocity = {3, 0, 0},
+                   .friction = 0.0f,
+                   .filter = {.category = 2, .mask = 4}});
   }
   int settled = 0;
   while (settled < 1200 && on.last_step_stats().sleeping < 36) on.step(kDt), ++settled;

@@ -262,7 +262,14 @@ struct WorldSettings {
   /// spheres keep a residual jitter); too large, a slow roll stops dead.
   float sleep_linear_speed = 0.05f;
   /// rad/s, finite and >= 0: a sphere spinning faster resets its sleep timer. 0.1 rad/s is
-  /// 0.05 m/s at the surface of a sphere of radius 0.5 m (the linear speed above).
+  /// 0.05 m/s at the surface of a sphere of radius 0.5 m (the linear speed above). What is
+  /// compared is the spin that slides a contact: for a sphere whose contacts carry load
+  /// (normal impulse > 0 that substep), the largest |w x n| over their normals n; for one with
+  /// none, all of |w|. Spin about a loaded contact's normal (a twist in place) is left out:
+  /// hail has no torsional or rolling resistance, so nothing would ever stop it, and it moves
+  /// nothing (a sphere pinched between two neighbours, spinning about the line through the two
+  /// contacts, kept a whole 2,000-sphere pile awake). Spin across a normal (rolling, or
+  /// slipping against friction) counts in full.
   float sleep_angular_speed = 0.1f;
   /// s, finite and >= 0: how long an island must stay below both speeds to sleep. Box2D v3
   /// (b2_timeToSleep) and Jolt (mTimeBeforeSleep) both use 0.5 s: long enough that a sphere at

@@ -18,6 +18,13 @@ void sort_unique(std::vector<SphereId>& ids) {
   std::sort(ids.begin(), ids.end(), [](SphereId a, SphereId b) { return a.index < b.index; });
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
 }
+
+/// |w x n|^2: the square of how fast spin w slides the surface past a contact of normal n, over
+/// the radius. Spin about n itself (a twist in place) slides nothing.
+[[nodiscard]] float slide2(float wx, float wy, float wz, const Contact& c) {
+  const float x = wy * c.nz - wz * c.ny, y = wz * c.nx - wx * c.nz, z = wx * c.ny - wy * c.nx;
+  return x * x + y * y + z * z;
+}
 }  // namespace
 
 std::uint32_t SleepIslands::find(std::uint32_t i) {
@@ -110,39 +117,46 @@ bool SleepIslands::anything_moves(const SphereSoA& s) {
 
 void SleepIslands::update(SphereSoA& s, std::span<const Contact> contacts, float dt, const WorldSettings& settings) {
   const std::size_t n = s.size();
-  const float linear2 = settings.sleep_linear_speed * settings.sleep_linear_speed;
-  const float angular2 = settings.sleep_angular_speed * settings.sleep_angular_speed;
+  const auto count = static_cast<std::ptrdiff_t>(n);
   resize_geometric(parent_, n);
-  for (std::size_t i = 0; i < n; ++i) {
-    parent_[i] = static_cast<std::uint32_t>(i);
-    if (sphere_sleeps(s, i) || !(s.inv_mass[i] > 0.0f)) continue;
-    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-    const float w2 = s.wx[i] * s.wx[i] + s.wy[i] * s.wy[i] + s.wz[i] * s.wz[i];
-    s.sleep_timer[i] = v2 > linear2 || w2 > angular2 ? 0.0f : s.sleep_timer[i] + dt;
-  }
-  for (const Contact& c : contacts)
-    if (c.b != kStaticBody && s.inv_mass[c.a] > 0.0f && s.inv_mass[c.b] > 0.0f) unite(c.a, c.b);
-  // Supported: some sphere of the island touches the ground, a plane or an immovable sphere.
-  resize_geometric(supported_, n);
-  std::fill(supported_.begin(), supported_.begin() + static_cast<std::ptrdiff_t>(n), std::uint8_t{0});
+  resize_geometric(spin2_, n);
+  resize_geometric(touches_static_, n);
+  for (std::size_t i = 0; i < n; ++i) parent_[i] = static_cast<std::uint32_t>(i);
+  std::fill(spin2_.begin(), spin2_.begin() + count, -1.0f);  // no loaded contact: all of the spin counts
+  std::fill(touches_static_.begin(), touches_static_.begin() + count, std::uint8_t{0});
+  // One pass over the contacts: the islands (movable spheres joined), what touches the ground,
+  // a plane or an immovable sphere, and the spin that slides each sphere's loaded contacts.
   for (const Contact& c : contacts) {
     if (c.b == kStaticBody || !(s.inv_mass[c.b] > 0.0f))
-      supported_[find(c.a)] = 1;
+      touches_static_[c.a] = 1;
     else if (!(s.inv_mass[c.a] > 0.0f))
-      supported_[find(c.b)] = 1;
+      touches_static_[c.b] = 1;
+    else
+      unite(c.a, c.b);
+    if (!(c.normal_impulse > 0.0f)) continue;  // touching without load: it holds the spin to nothing
+    spin2_[c.a] = std::max(spin2_[c.a], slide2(s.wx[c.a], s.wy[c.a], s.wz[c.a], c));
+    if (c.b != kStaticBody) spin2_[c.b] = std::max(spin2_[c.b], slide2(s.wx[c.b], s.wy[c.b], s.wz[c.b], c));
   }
+  // Per island (at its root): the smallest timer, the smallest handle index, and whether it is
+  // supported (some sphere of it touches something static).
+  const float linear2 = settings.sleep_linear_speed * settings.sleep_linear_speed;
+  const float angular2 = settings.sleep_angular_speed * settings.sleep_angular_speed;
+  resize_geometric(supported_, n);
   resize_geometric(island_timer_, n);
   resize_geometric(island_label_, n);
-  std::fill(island_timer_.begin(), island_timer_.begin() + static_cast<std::ptrdiff_t>(n),
-            std::numeric_limits<float>::infinity());
-  std::fill(island_label_.begin(), island_label_.begin() + static_cast<std::ptrdiff_t>(n),
-            std::numeric_limits<std::uint32_t>::max());
+  std::fill(supported_.begin(), supported_.begin() + count, std::uint8_t{0});
+  std::fill(island_timer_.begin(), island_timer_.begin() + count, std::numeric_limits<float>::infinity());
+  std::fill(island_label_.begin(), island_label_.begin() + count, std::numeric_limits<std::uint32_t>::max());
   islands_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(s.inv_mass[i] > 0.0f) || sphere_sleeps(s, i)) continue;
+    const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+    const float w2 = spin2_[i] >= 0.0f ? spin2_[i] : s.wx[i] * s.wx[i] + s.wy[i] * s.wy[i] + s.wz[i] * s.wz[i];
+    s.sleep_timer[i] = v2 > linear2 || w2 > angular2 ? 0.0f : s.sleep_timer[i] + dt;
     const std::uint32_t root = find(static_cast<std::uint32_t>(i));
     island_timer_[root] = std::min(island_timer_[root], s.sleep_timer[i]);
     island_label_[root] = std::min(island_label_[root], s.id_at(i).index);
+    supported_[root] |= touches_static_[i];
     if (root == i) ++islands_;
   }
   for (std::size_t i = 0; i < n; ++i) {

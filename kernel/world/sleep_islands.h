@@ -10,6 +10,16 @@
 //                one island; two piles on a static sphere are two).
 //   timer        per sphere (SphereSoA::sleep_timer): seconds it has stayed at or below both
 //                WorldSettings::sleep_linear_speed and sleep_angular_speed; 0 once it is faster.
+//   spin         what counts against sleep_angular_speed: for a sphere with contacts that carry
+//                load (normal impulse > 0 this substep), the largest |w x n| over their normals
+//                n, how fast the spin slides its surface past any of them (over its radius);
+//                with none, all of |w|. Spin about a loaded normal (a twist in place) slides
+//                nothing, and hail has no torsional or rolling resistance that would ever stop
+//                it: a sphere pinched between two neighbours, spinning about the line through
+//                the two contacts, kept a 2,000-sphere bowl pile awake for good (0.51 rad/s
+//                about a horizontal axis, no linear velocity). A spin that slides a loaded
+//                contact still counts: friction works on it. The largest of squares is exact
+//                and order-free, so the result does not depend on the order of the contacts.
 //   sleep        at the end of a substep, every island whose smallest timer is at least
 //                sleep_time and which is supported (one of its spheres touches the terrain, a
 //                plane or an immovable sphere): flag kSphereFlagSleeping set, velocities zeroed,
@@ -27,8 +37,9 @@
 //                left out of the step: sleepers cost no solve and no depenetration.
 // Islands are found by a union-find whose roots are the smallest slot of each island, so the
 // partition, its labels and every decision are the same whatever order the contacts come in
-// and on any thread count. The pass is serial: O(spheres + contacts), and only over a substep
-// in which something moves (a world whose every movable sphere sleeps skips the substep).
+// and on any thread count. The pass is serial: O(spheres + contacts), one pass over the
+// contacts, and only over a substep in which something moves (a world whose every movable
+// sphere sleeps skips the substep).
 
 #include <cstddef>
 #include <cstdint>
@@ -97,11 +108,13 @@ class SleepIslands {
   void wake_slot(SphereSoA& s, std::size_t i);
 
   std::vector<std::uint32_t> parent_;
-  std::vector<float> island_timer_;          // per root: smallest timer of the island
-  std::vector<std::uint8_t> supported_;      // per root: the island touches something static
-  std::vector<std::uint32_t> island_label_;  // per root: smallest handle index of the island
-  std::vector<std::uint32_t> labels_;        // islands to wake
-  std::vector<std::uint32_t> woken_slots_;   // slots woken by the last wake_touched
+  std::vector<float> spin2_;                  // per slot: largest squared slide of its loaded contacts, or -1
+  std::vector<std::uint8_t> touches_static_;  // per slot: a contact with something static
+  std::vector<float> island_timer_;           // per root: smallest timer of the island
+  std::vector<std::uint8_t> supported_;       // per root: the island touches something static
+  std::vector<std::uint32_t> island_label_;   // per root: smallest handle index of the island
+  std::vector<std::uint32_t> labels_;         // islands to wake
+  std::vector<std::uint32_t> woken_slots_;    // slots woken by the last wake_touched
   std::vector<SphereId> slept_, woken_, published_slept_, published_woken_;
   std::size_t islands_ = 0;
 };

@@ -157,7 +157,10 @@ TEST_CASE("add_sphere within reserve() and the accessors allocate nothing", "[al
 TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
   for (const int threads : {1, 3}) {
     INFO(threads << " threads");
-    World world({.threads = threads});
+    // Sleeping off: the subject is the step over a resting pile, every phase of it (solve,
+    // friction, shock) on its contacts. Sleeping on, the pile falls asleep and the step skips
+    // them: the next test.
+    World world({.threads = threads, .sleep = false});
     build_box(world);
     for (int k = 0; k < 384; ++k) world.add_sphere(sphere_k(k, 2.0f));
     for (int step = 0; step < 600; ++step) world.step(kDt);  // 10 s: a settled pile
@@ -176,6 +179,31 @@ TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
     });
     CHECK(allocations == 0);
     CHECK(world.nan_count() == 0);
+  }
+}
+
+TEST_CASE("Once a scene's spheres sleep, its steps allocate nothing", "[allocation][sleep]") {
+  // The allocation test's pile with sleeping on, and a sphere drifting for ever in zero gravity
+  // far from it, touching nothing: the steps keep running (a world whose spheres all sleep
+  // skips them), over sleepers. Falling asleep may allocate (the sleep events' lists grow);
+  // once the pile sleeps, nothing may.
+  for (const int threads : {1, 3}) {
+    INFO(threads << " threads");
+    World world({.threads = threads});
+    build_box(world);
+    for (int k = 0; k < 384; ++k) world.add_sphere(sphere_k(k, 2.0f));
+    const SphereId drifter = world.add_sphere({.position = {0.0f, 50.0f, 0.0f}, .velocity = {0.1f, 0.0f, 0.0f}});
+    world.set_gravity_scale(drifter, 0.0f);
+    int steps = 0;
+    while (steps < 3000 && world.last_step_stats().sleeping < 384) world.step(kDt), ++steps;
+    REQUIRE(world.last_step_stats().sleeping == 384);
+    world.step(kDt);  // the step after the last fell asleep publishes their events
+    const std::size_t allocations = allocations_during([&] {
+      for (int step = 0; step < 120; ++step) world.step(kDt);  // past several Morton re-sorts
+    });
+    CHECK(world.last_step_stats().sleeping == 384);
+    CHECK(!world.is_sleeping(drifter));
+    CHECK(allocations == 0);
   }
 }
 
