@@ -15,8 +15,10 @@ namespace {
 /// "Soft step"). They run with it in the [!shouldfail] test at the end, so that the suite says
 /// so the day one passes.
 const std::set<std::string>& soft_step_failures() {
-  static const std::set<std::string> names{"speed-1e4-into-pile",      "plane-box",          "radius-1e-4-and-1e4",
-                                           "coincident-500-on-ground", "steep-terrain-rain", "wide-mix-rain"};
+  // speed-1e4-into-pile left the list with the 16-tile rule (commit 9e7d4e8): the soft step
+  // passes it now (sphere overlap under 5% of the radius).
+  static const std::set<std::string> names{"plane-box", "radius-1e-4-and-1e4", "coincident-500-on-ground",
+                                           "steep-terrain-rain", "wide-mix-rain"};
   return names;
 }
 
