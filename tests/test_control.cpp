@@ -113,21 +113,33 @@ TEST_CASE("A torque spins a sphere for one step by T dt / I", "[control]") {
 }
 
 TEST_CASE("Gravity scale 0 floats, 2 falls twice as far as 1: closed-form positions", "[control]") {
-  World world(settings_with({0, -8, 0}));
-  const SphereId still = world.add_sphere(ball({-10, 100, 0}));
-  const SphereId normal = world.add_sphere(ball({0, 100, 0}));
-  const SphereId heavy = world.add_sphere(ball({10, 100, 0}));
-  world.set_gravity_scale(still, 0.0f);
-  world.set_gravity_scale(heavy, 2.0f);
-  constexpr int kSteps = 10;
-  for (int k = 0; k < kSteps; ++k) world.step(kDt);
-  // Semi-implicit Euler: v_k = k g s dt, y_k = y_0 + g s dt^2 k (k + 1) / 2, exact in float here.
-  const float drop = -8.0f * kDt * kDt * kSteps * (kSteps + 1) / 2.0f;
-  CHECK(world.position(still) == Vec3(-10, 100, 0));
-  CHECK(world.velocity(still) == Vec3::Zero());
-  CHECK(world.position(normal) == Vec3(0, 100 + drop, 0));
-  CHECK(world.position(heavy) == Vec3(10, 100 + 2.0f * drop, 0));
-  CHECK(world.velocity(heavy) == Vec3(0, 2.0f * -8.0f * kDt * kSteps, 0));
+  for (const Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::UniformAcceleration}) {
+    WorldSettings settings = settings_with({0, -8, 0});
+    settings.integrator = integrator;
+    World world(settings);
+    const SphereId still = world.add_sphere(ball({-10, 100, 0}));
+    const SphereId normal = world.add_sphere(ball({0, 100, 0}));
+    const SphereId heavy = world.add_sphere(ball({10, 100, 0}));
+    world.set_gravity_scale(still, 0.0f);
+    world.set_gravity_scale(heavy, 2.0f);
+    constexpr int kSteps = 10;
+    for (int k = 0; k < kSteps; ++k) world.step(kDt);
+    CHECK(world.position(still) == Vec3(-10, 100, 0));
+    CHECK(world.velocity(still) == Vec3::Zero());
+    CHECK(world.velocity(heavy) == Vec3(0, 2.0f * -8.0f * kDt * kSteps, 0));
+    if (integrator == Integrator::SemiImplicitEuler) {
+      // v_k = k g s dt, y_k = y_0 + g s dt^2 k (k + 1) / 2, exact in float here.
+      const float drop = -8.0f * kDt * kDt * kSteps * (kSteps + 1) / 2.0f;
+      CHECK(world.position(normal) == Vec3(0, 100 + drop, 0));
+      CHECK(world.position(heavy) == Vec3(10, 100 + 2.0f * drop, 0));
+    } else {
+      // The parabola, y = y_0 + g s t^2 / 2 (to float rounding over the steps).
+      const float drop = -8.0f * (kDt * kSteps) * (kDt * kSteps) / 2.0f;
+      CHECK(world.position(normal).y() == Approx(100 + drop).epsilon(1e-6));
+      CHECK(world.position(heavy).y() == Approx(100 + 2.0f * drop).epsilon(1e-6));
+      CHECK(world.position(heavy).x() == 10.0f);
+    }
+  }
 }
 
 TEST_CASE("Material, mass and radius changes reach the sphere's arrays", "[control]") {
@@ -448,7 +460,13 @@ TEST_CASE("User data, filters, gravity scales and forces follow their spheres th
   world.step(kStep);
   const float pushed = 6.0f * (1.0f * kStep);  // F (inv_mass dt), inv_mass 1
   CHECK(world.velocity(floater) == Vec3(0, 0, pushed));
-  CHECK(world.position(floater) == Vec3(100, 50, 100 + pushed * kStep));
+  // Semi-implicit Euler moves with the end velocity; the uniform-acceleration integrator with
+  // the mean of the step's start and end (the force's uniform acceleration).
+  const float moved_by = world.settings().integrator == Integrator::SemiImplicitEuler ? pushed * kStep
+                                                                                     : 0.5f * pushed * kStep;
+  CHECK(world.position(floater).x() == 100.0f);
+  CHECK(world.position(floater).y() == 50.0f);
+  CHECK(world.position(floater).z() == Approx(100 + moved_by).epsilon(1e-7));
 }
 
 namespace {

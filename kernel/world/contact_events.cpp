@@ -78,7 +78,7 @@ void ContactEventTracker::begin_step() {
   hit_events_.clear();
 }
 
-void ContactEventTracker::remember_solve_start(const SphereSoA& s) {
+void ContactEventTracker::remember_solve_start(const SphereSoA& s, const float* gravity_dt) {
   const std::size_t n = s.size();
   auto keep = [&](std::vector<float>& out, const AlignedArray<float>& in) {
     resize_geometric(out, n);
@@ -86,6 +86,11 @@ void ContactEventTracker::remember_solve_start(const SphereSoA& s) {
   };
   keep(start_px_, s.px), keep(start_py_, s.py), keep(start_pz_, s.pz);
   keep(start_vx_, s.vx), keep(start_vy_, s.vy), keep(start_vz_, s.vz);
+  if (!gravity_dt) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float scale = s.inv_mass[i] > 0.0f ? s.gravity_scale[i] : 0.0f;  // as predict added it
+    start_vx_[i] -= gravity_dt[0] * scale, start_vy_[i] -= gravity_dt[1] * scale, start_vz_[i] -= gravity_dt[2] * scale;
+  }
 }
 
 void ContactEventTracker::add_touch(const SphereSoA& s, std::uint32_t a, std::uint32_t b, std::uint32_t feature) {

@@ -66,8 +66,11 @@ class ContactEventTracker {
   [[nodiscard]] bool wants_hits() const { return settings_.hits; }
 
   void begin_step();
-  /// Keeps slots' positions and velocities as the contact solve starts (hits only).
-  void remember_solve_start(const SphereSoA& s);
+  /// Keeps slots' positions and velocities as the contact solve starts (hits only). With
+  /// `gravity_dt` (g dt, given under Integrator::UniformAcceleration) the velocities are kept
+  /// without this step's gravity, so that a hit reports the approach speed its restitution
+  /// took (solve_collision's gravity_closing), not that speed plus g dt.
+  void remember_solve_start(const SphereSoA& s, const float* gravity_dt = nullptr);
   /// After a substep: `contacts` and `impacts` are its lists (slots of `s` as it is now).
   void collect_substep(const SphereSoA& s, std::span<const Contact> contacts, std::span<const Impact> impacts,
                        const EventSurfaces& surfaces);

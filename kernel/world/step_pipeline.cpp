@@ -1056,7 +1056,11 @@ struct StepPipeline {
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      if (st.events.wants_hits()) st.events.remember_solve_start(w.spheres);  // approach speeds
+      if (st.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
+        const float gravity_dt[3] = {params.gravity[0] * params.dt, params.gravity[1] * params.dt,
+                                     params.gravity[2] * params.dt};
+        st.events.remember_solve_start(w.spheres, uniform_acceleration ? gravity_dt : nullptr);
+      }
       solve();
     } else {
       w.stats.colours = w.stats.tile_contacts = w.stats.shared_contacts = 0;
