@@ -40,13 +40,14 @@ std::vector<Variant> variants(const AccuracyOptions& o) {
   };
   std::vector<Variant> v;
   v.push_back({"hail", hail_with([](WorldSettings&) {}), 1});
-  v.push_back(
-      {"hail-uniform-accel", hail_with([](WorldSettings& s) { s.integrator = Integrator::UniformAcceleration; }), 1});
+  // The default integrator is the uniform-acceleration one; semi-implicit Euler was until 0.2.0.
+  v.push_back({"hail-semi-implicit-euler",
+               hail_with([](WorldSettings& s) { s.integrator = Integrator::SemiImplicitEuler; }), 1});
   v.push_back({"hail-4-substeps", hail_with([](WorldSettings&) {}), 4});
   v.push_back({"hail-4+2-passes",
                hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
   // The soft step (Solver::SoftStep) with the knobs given, then with fewer and more substeps,
-  // and with the uniform-acceleration integrator.
+  // and with semi-implicit Euler.
   const SoftStepParams soft = o.soft;
   auto soft_with = [&](int substeps, Integrator integrator) {
     return hail_with([soft, substeps, integrator](WorldSettings& s) {
@@ -54,12 +55,12 @@ std::vector<Variant> variants(const AccuracyOptions& o) {
       s.soft_step.substeps = substeps;
     });
   };
-  v.push_back({"hail-soft", soft_with(soft.substeps, Integrator::SemiImplicitEuler), 1});
-  v.push_back({"hail-soft-uniform-accel", soft_with(soft.substeps, Integrator::UniformAcceleration), 1});
+  const Integrator by_default = WorldSettings{}.integrator;
+  v.push_back({"hail-soft", soft_with(soft.substeps, by_default), 1});
+  v.push_back({"hail-soft-semi-implicit-euler", soft_with(soft.substeps, Integrator::SemiImplicitEuler), 1});
   for (int substeps : {1, 2, 8})
     if (substeps != soft.substeps)
-      v.push_back({"hail-soft-" + std::to_string(substeps) + "-substeps",
-                   soft_with(substeps, Integrator::SemiImplicitEuler), 1});
+      v.push_back({"hail-soft-" + std::to_string(substeps) + "-substeps", soft_with(substeps, by_default), 1});
   // Peers at their defaults, and with 4 substeps per frame (their usual accuracy knob).
   for (const PeerFactory& peer : peer_factories())
     v.push_back({peer.name, peer.make, peer.name.ends_with("-4-substeps") ? 4 : 1});
