@@ -70,7 +70,9 @@ TEST_CASE("The memory limit: default 80% of what is available, 0 none, else the 
   CHECK(bench::memory_limit_bytes(0.0) == 0.0);
   CHECK(bench::memory_limit_bytes(2.5) == 2.5e9);
   const auto available = bench::available_memory_bytes();
-  if (available) CHECK(bench::memory_limit_bytes(-1.0) == 0.8 * double(*available));
+  // Within 1%, not equal: the memory available moves between the two reads while other tests
+  // run beside this one (ctest -j; CI once saw 95 kB of 24.8 GB between them).
+  if (available) CHECK(bench::memory_limit_bytes(-1.0) == Approx(0.8 * double(*available)).epsilon(0.01));
   CHECK(bench::describe_memory_limit(0.0, 0.0).find("none") != std::string::npos);
   CHECK(bench::describe_memory_limit(2.5, 2.5e9).find("2.50 GB") != std::string::npos);
 }
