@@ -105,7 +105,7 @@ double earliest_root(double d0, double vn, double an, double limit) {
 /// code's choices").
 ///
 /// `a` (the uniform integrator's acceleration; zero under semi-implicit Euler) loses its part into
-/// a plane that the sphere comes to rest on: after an impact that leaves the sphere no fast
+/// a plane that the sphere comes to rest on: after an impact that leaves the sphere not fast
 /// enough to stay off the plane for the rest of the step, the plane carries the pull. Without
 /// that the sphere fell into the plane by |a| remaining^2 / 2 after its last impact (1.2 mm at
 /// 60 Hz) and stayed there, since the solver owns a contact from the moment it touches.
