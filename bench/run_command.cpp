@@ -183,9 +183,9 @@ void print_report(const RunResult& r) {
   std::printf("  parts     %s\n", describe_parts(r).c_str());
   if (r.sleep)
     std::printf(
-        "  sleep     per step: %.0f spheres asleep, %.0f islands awake, islands phase %.3f ms; after the last step: "
-        "%zu asleep, %zu islands awake\n",
-        r.sleeping, r.islands, p.islands, r.sleeping_at_end, r.islands_at_end);
+        "  sleep     per step: %.0f spheres asleep, %.0f awake and ready to sleep, islands phase %.3f ms; after the "
+        "last step: %zu asleep, %zu ready\n",
+        r.sleeping, r.ready_to_sleep, p.islands, r.sleeping_at_end, r.ready_to_sleep_at_end);
   std::printf("  solver    %s\n", r.solver.c_str());
   std::printf(
       "  contacts  pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "

@@ -61,17 +61,19 @@ bool none_sleeping(const World& world, const std::vector<SphereId>& ids) {
   return std::none_of(ids.begin(), ids.end(), [&](SphereId id) { return world.is_sleeping(id); });
 }
 
-/// A box of planes with `n` spheres dropped into it in a loose lattice.
-void add_pile(World& world, int n) {
+/// A box of planes with `n` spheres dropped into it in a loose lattice, `row` to a row.
+void add_pile(World& world, int n, int row = 6) {
+  const float half = 0.55f * static_cast<float>(row) + 0.7f;
   world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
-  world.add_plane({.normal = {1, 0, 0}, .offset = -4.0f});
-  world.add_plane({.normal = {-1, 0, 0}, .offset = -4.0f});
-  world.add_plane({.normal = {0, 0, 1}, .offset = -4.0f});
-  world.add_plane({.normal = {0, 0, -1}, .offset = -4.0f});
+  world.add_plane({.normal = {1, 0, 0}, .offset = -half});
+  world.add_plane({.normal = {-1, 0, 0}, .offset = -half});
+  world.add_plane({.normal = {0, 0, 1}, .offset = -half});
+  world.add_plane({.normal = {0, 0, -1}, .offset = -half});
+  const float start = -0.55f * static_cast<float>(row) + 0.3f;
   for (int k = 0; k < n; ++k) {
-    const float x = -3.0f + 1.1f * static_cast<float>(k % 6) + 0.01f * static_cast<float>(k % 7);
-    const float z = -3.0f + 1.1f * static_cast<float>((k / 6) % 6);
-    const float y = 0.6f + 1.1f * static_cast<float>(k / 36);
+    const float x = start + 1.1f * static_cast<float>(k % row) + 0.01f * static_cast<float>(k % 7);
+    const float z = start + 1.1f * static_cast<float>((k / row) % row);
+    const float y = 0.6f + 1.1f * static_cast<float>(k / (row * row));
     world.add_sphere({.position = {x, y, z}, .velocity = {0.3f * static_cast<float>(k % 3 - 1), 0, 0}});
   }
 }
@@ -401,6 +403,52 @@ TEST_CASE("A pile with sleeping on steps bitwise the same on 1 and 2 threads and
     CHECK(sleeping[k] == sleeping[0]);
   }
   CHECK(sleeping[0] > 0);  // the test saw sleepers
+}
+
+TEST_CASE("Islands built in parallel blocks decide the same on 1 and 2 threads", "[sleep][threads]") {
+  // 2,500 spheres: two blocks of spheres and several of contacts for the islands phase, whose
+  // union-find and per-island flags are shared by the threads (kernel/world/sleep_islands.cpp).
+  struct Run {
+    std::vector<std::size_t> sleeping, ready;
+    std::uint64_t hash = 0;
+  };
+  std::vector<Run> runs;
+  for (int threads : {1, 2}) {
+    World world(sleepy(threads));
+    add_pile(world, 2500, 20);
+    Run run;
+    for (int k = 0; k < 500; ++k) {
+      world.step(kDt);
+      run.sleeping.push_back(world.last_step_stats().sleeping);
+      run.ready.push_back(world.last_step_stats().ready_to_sleep);
+    }
+    run.hash = world.state_hash();
+    runs.push_back(run);
+  }
+  CHECK(runs[1].hash == runs[0].hash);
+  CHECK(runs[1].sleeping == runs[0].sleeping);
+  CHECK(runs[1].ready == runs[0].ready);
+  // The test saw spheres ready to sleep and held awake by their islands, and islands asleep.
+  CHECK(std::any_of(runs[0].ready.begin(), runs[0].ready.end(), [](std::size_t n) { return n > 0; }));
+  CHECK(*std::max_element(runs[0].sleeping.begin(), runs[0].sleeping.end()) > 0);
+}
+
+TEST_CASE("A sphere at rest long enough is counted ready, and held awake by a newer one of its island", "[sleep]") {
+  World world(sleepy());
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0.0f});
+  const SphereId first = world.add_sphere({.position = {0.0f, 0.5f, 0.0f}});
+  for (int k = 0; k < 24; ++k) world.step(kDt);  // 0.4 s at rest: not yet sleep_time (0.5 s)
+  CHECK(world.last_step_stats().ready_to_sleep == 0);
+  // A second sphere at rest, touching the first: one island, whose newer sphere's timer is short.
+  const SphereId second = world.add_sphere({.position = {1.0f, 0.5f, 0.0f}});
+  for (int k = 0; k < 12; ++k) world.step(kDt);  // 0.6 s for the first, 0.2 s for the second
+  CHECK(world.last_step_stats().ready_to_sleep == 1);
+  CHECK(world.last_step_stats().sleeping == 0);
+  CHECK(!world.is_sleeping(first));
+  for (int k = 0; k < 30; ++k) world.step(kDt);  // the second has rested 0.7 s too
+  CHECK(world.is_sleeping(first));
+  CHECK(world.is_sleeping(second));
+  CHECK(world.last_step_stats().ready_to_sleep == 0);  // counts only awake spheres
 }
 
 TEST_CASE("A snapshot with sleepers restores their sleep exactly", "[sleep]") {

@@ -237,7 +237,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.swept_meeting_spheres += weight * double(stats.sweep.meets_spheres);
       r.sweep_events += weight * double(stats.sweep.events);
       r.sleeping += weight * double(stats.sleeping);
-      r.islands += weight * double(stats.islands);
+      r.ready_to_sleep += weight * double(stats.ready_to_sleep);
     }
     r.sweep_capped += world.last_step_stats().sweep.capped;
     count_parts(world.last_step_stats().ran, r.parts_ran);
@@ -263,7 +263,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.state_hash = hex_hash(world.state_hash());
   r.sleep = world.settings().sleep;
   r.sleeping_at_end = world.last_step_stats().sleeping;
-  r.islands_at_end = world.last_step_stats().islands;
+  r.ready_to_sleep_at_end = world.last_step_stats().ready_to_sleep;
   constexpr const char* kPairSearchNames[] = {"auto", "brute force", "grid", "sweep and prune", "sphere BVH"};
   r.pair_search = kPairSearchNames[static_cast<int>(world.last_step_stats().pair_search)];
   if (!options.trace_path.empty()) write_trace(options.trace_path, world.trace(), world.thread_count());
@@ -332,9 +332,9 @@ nlohmann::json to_json(const RunResult& r) {
       {"sleep",
        {{"on", r.sleep},
         {"sleeping_mean", r.sleeping},
-        {"islands_mean", r.islands},
+        {"ready_to_sleep_mean", r.ready_to_sleep},
         {"sleeping_at_end", r.sleeping_at_end},
-        {"islands_at_end", r.islands_at_end}}},
+        {"ready_to_sleep_at_end", r.ready_to_sleep_at_end}}},
       {"phases_ran_steps",
        [&] {
          nlohmann::json parts = nlohmann::json::object();

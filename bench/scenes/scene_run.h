@@ -41,11 +41,11 @@ struct RunResult {
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
   double swept_meeting_spheres = 0;    ///< of the swept, those swept against spheres too (mean per timed step)
   std::size_t sweep_capped = 0;        ///< spheres that reached max_sweep_events, summed over all steps
-  /// Sleeping (WorldSettings::sleep): whether it was on; spheres asleep and islands of awake
-  /// spheres, mean per timed step and after the last step (StepStats::sleeping, islands).
+  /// Sleeping (WorldSettings::sleep): whether it was on; spheres asleep and awake spheres ready
+  /// to sleep, mean per timed step and after the last step (StepStats::sleeping, ready_to_sleep).
   bool sleep = false;
-  double sleeping = 0, islands = 0;
-  std::size_t sleeping_at_end = 0, islands_at_end = 0;
+  double sleeping = 0, ready_to_sleep = 0;
+  std::size_t sleeping_at_end = 0, ready_to_sleep_at_end = 0;
   /// Memory (bench/scenes/memory_use.h), measured outside the timed steps: the heap the run added,
   /// after set-up (the World with its spheres, the terrain) and at the end (everything the
   /// World keeps between steps too: contacts, solver arrays, caches); 0 where the C library

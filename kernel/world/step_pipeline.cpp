@@ -1153,7 +1153,7 @@ void World::step(float dt) {
   stats_.lifted_out = lifted;
   if (settings_.sleep) {
     stats_.sleeping = SleepIslands::count_sleeping(spheres_);
-    stats_.islands = sleep.islands();
+    stats_.ready_to_sleep = sleep.ready_to_sleep();
     sleep.publish();
   }
 }
