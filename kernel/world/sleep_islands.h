@@ -43,8 +43,9 @@
 //                held awake. A joined group of candidates with no such contact is a whole
 //                island: the decisions are exactly those of a union-find over every contact,
 //                and a step in which few spheres rest pays for one read of the contacts and of
-//                a byte per sphere (terrain-rain, 256k spheres, 2 threads: 2.4 ms a step
-//                against 13.4 for that union-find, serial; docs/benchmarks.md, Sleeping).
+//                a byte per sphere (terrain-rain, 2 threads: 2.1 ms a step against 12.0 for
+//                that union-find, serial, at 256k spheres; 6.3 against 38.5 at 1M;
+//                docs/benchmarks.md, "The islands phase").
 //   ready        StepStats::ready_to_sleep: awake spheres whose timers have reached sleep_time,
 //                the spheres an island holds awake.
 // The union-find's roots are the smallest slot of each island, so the partition, its labels
