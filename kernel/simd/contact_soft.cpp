@@ -31,12 +31,16 @@ template <class L>
 }
 
 void prepare_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
-                  std::size_t body_count, float factor) {
-  const batch f(factor);
+                  std::size_t body_count, const SoftPass& p) {
+  const batch zero(0.0f), factor(p.impulse_factor), limit(-p.max_push_speed);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
     const Lanes<false> L(c, k, o, bodies, body_count, Lanes<false>::kDeferAngular);
     L.normal_velocity().store_aligned(c.bounce_impulse + o);
+    // prepare_soft: a contact whose push is saturated starts from no impulse (soft_push_saturated)
+    const lane_mask ground = (L.ima == zero) | (L.imb == zero);
+    const batch bias_rate = xsimd::select(ground, batch(p.ground.bias_rate), batch(p.contact.bias_rate));
+    const batch f = xsimd::select(bias_rate * batch::load_aligned(c.gap + o) > limit, factor, zero);
     (batch::load_aligned(c.normal_impulse + o) * f).store_aligned(c.normal_impulse + o);
     for (float* t : {c.tx, c.ty, c.tz}) (batch::load_aligned(t + o) * f).store_aligned(t + o);
     mark_bodies(L);
@@ -149,7 +153,7 @@ void soft_pass(const ContactBatchArrays& c, std::size_t first, std::size_t last,
                std::size_t body_count, const SoftPass& p) {
   switch (p.kind) {
     case SoftPassKind::Prepare:
-      return prepare_pass(c, first, last, bodies, body_count, p.impulse_factor);
+      return prepare_pass(c, first, last, bodies, body_count, p);
     case SoftPassKind::Solve:
     case SoftPassKind::Relax:
       return iteration_pass<kWork>(c, first, last, bodies, body_count, p);

@@ -123,10 +123,25 @@ inline void solve_soft(Contact& c, ContactBodies& k, float separation, const Sof
   }
 }
 
+/// Whether a contact's push is saturated at `separation`: it overlaps so deeply that the soft
+/// iteration pushes it apart at max_push_speed (soft_target's limit), deeper than any contact
+/// at rest sinks (about 17 cm between spheres at the defaults and dt 1/60, 9 cm on the ground).
+[[nodiscard]] inline bool soft_push_saturated(const ContactBodies& k, float separation, const SoftPass& p) {
+  const bool ground = k.ima == 0.0f || k.imb == 0.0f;
+  return !((ground ? p.ground.bias_rate : p.contact.bias_rate) * separation > -p.max_push_speed);
+}
+
 /// The prepare pass on one contact: its approach speed (normal relative velocity, negative when
-/// closing) into bounce_impulse, its impulses scaled by `factor` (1 / substeps).
-inline void prepare_soft(Contact& c, const ContactBodies& k, float factor) {
+/// closing) into bounce_impulse, its impulses scaled by p.impulse_factor (1 / substeps). A
+/// contact whose push is saturated when the step begins starts from no impulse: what it stored
+/// was the push of a deep overlap (spheres created inside each other, a fast impact), not a
+/// weight it carries, and warm-starting it pushed spheres that had already parted again. 500
+/// spheres created at one point were thrown at 89.5 m/s in the second step (kinetic energy 1 kJ
+/// -> 516 kJ), their first step having pushed them apart at the limit of 3 m/s
+/// (docs/benchmarks.md, soft step).
+inline void prepare_soft(Contact& c, const ContactBodies& k, const SoftPass& p) {
   c.bounce_impulse = normal_relative_velocity(c, k);
+  const float factor = soft_push_saturated(k, c.gap, p) ? 0.0f : p.impulse_factor;
   c.normal_impulse = c.normal_impulse * factor;
   c.tx = c.tx * factor, c.ty = c.ty * factor, c.tz = c.tz * factor;
 }

@@ -12,7 +12,7 @@ void soft_run(std::span<Contact> contacts, std::span<SolverBody> bodies, const S
     SolverBody& b = bodies[c.b != kStaticBody ? c.b : static_slot];
     switch (p.kind) {
       case SoftPassKind::Prepare: {
-        prepare_soft(c, gather_bodies<kNoFriction>(bodies, c), p.impulse_factor);
+        prepare_soft(c, gather_bodies<kNoFriction>(bodies, c), p);
         a.changed_in_pass = 1;
         if (c.b != kStaticBody) b.changed_in_pass = 1;
         break;

@@ -503,10 +503,29 @@ struct StepPipeline {
     cache.begin_store(st.contacts.size(), sleeping ? &w.spheres : nullptr);  // sleepers keep theirs
     const std::uint32_t* order = st.colouring.order.data();
     const std::size_t static_count = w.stats.static_contacts;
+    // The soft step passes on no impulse of a contact whose push was saturated when the step
+    // began (soft_push_saturated): a deep overlap's push, not a weight carried. The contact
+    // keeps it for World::last_contacts.
+    const bool soft = w.settings.solver == Solver::SoftStep;
+    const SoftPass saturation = soft_saturation_pass();
+    const SphereSoA& s = w.spheres;
     for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      for (std::size_t k = first; k < last; ++k)
-        cache.store_entry(order[k], st.contacts[k], order[k] < static_count, w.spheres);
+      for (std::size_t k = first; k < last; ++k) {
+        const Contact& c = st.contacts[k];
+        if (soft) {
+          ContactBodies bodies;
+          bodies.ima = s.inv_mass[c.a];
+          bodies.imb = c.b == kStaticBody ? 0.0f : s.inv_mass[c.b];
+          if (soft_push_saturated(bodies, c.gap, saturation)) {
+            Contact spent = c;
+            spent.normal_impulse = spent.tx = spent.ty = spent.tz = 0.0f;
+            cache.store_entry(order[k], spent, order[k] < static_count, s);
+            continue;
+          }
+        }
+        cache.store_entry(order[k], c, order[k] < static_count, s);
+      }
     });
   }
 
@@ -661,16 +680,27 @@ struct StepPipeline {
   /// Solver::SoftStep (kernel/solver/soft_step.h): prepare, then per substep of h gravity (from
   /// the second), warm start, one soft iteration (and the shock pass where masses differ),
   /// positions, relax iterations; then restitution.
-  void soft_step(StageCrew& crew, std::span<SolverBody> bodies, FrictionWork work, float h) {
+  /// The soft step's substep (the step over its substeps).
+  [[nodiscard]] float soft_substep() const { return params.dt / static_cast<float>(w.settings.soft_step.substeps); }
+
+  /// What soft_push_saturated reads of a soft pass: the springs and the push limit.
+  [[nodiscard]] SoftPass soft_saturation_pass() const {
     const SoftStepParams& knobs = w.settings.soft_step;
-    ContactBatches& batches = st.contact_batches;
-    const std::size_t n = bodies.size() - 1;
+    const float h = soft_substep();
     const float hertz = knobs.contact_cycles / h;
     SoftPass pass;
     pass.inv_h = 1.0f / h;
     pass.contact = make_soft(hertz, knobs.damping_ratio, h);
     pass.ground = make_soft(2.0f * hertz, knobs.damping_ratio, h);
     pass.max_push_speed = knobs.max_push_speed;
+    return pass;
+  }
+
+  void soft_step(StageCrew& crew, std::span<SolverBody> bodies, FrictionWork work, float h) {
+    const SoftStepParams& knobs = w.settings.soft_step;
+    ContactBatches& batches = st.contact_batches;
+    const std::size_t n = bodies.size() - 1;
+    SoftPass pass = soft_saturation_pass();
     pass.restitution_threshold = params.restitution_threshold;
     auto run = [&](SoftPassKind kind) {
       pass.kind = kind;
