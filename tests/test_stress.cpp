@@ -18,8 +18,9 @@ const std::set<std::string>& soft_step_failures() {
   // speed-1e4-into-pile left the list with the 16-tile rule (commit 9e7d4e8): the soft step
   // passes it now (sphere overlap under 5% of the radius). plane-box, steep-terrain-rain and
   // wide-mix-rain left it with the uniform-acceleration integrator as the default (`hail-bench
-  // stress --solver soft --quick`: 23 of 25 cases pass).
-  static const std::set<std::string> names{"radius-1e-4-and-1e4", "coincident-500-on-ground"};
+  // stress --solver soft --quick`: 23 of 25 cases pass). coincident-500-on-ground left it when
+  // overlaps too deep for the soft push (saturated) were left to depenetration (24 of 25).
+  static const std::set<std::string> names{"radius-1e-4-and-1e4"};
   return names;
 }
 

@@ -75,12 +75,11 @@ void iteration_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       const batch bias_rate = xsimd::select(ground, batch(p.ground.bias_rate), batch(p.contact.bias_rate));
       const batch push = bias_rate * separation;
       const batch limit(-p.max_push_speed);
-      const batch pushed = xsimd::select(push > limit, push, limit);
-      bias = xsimd::select(speculative, bias, pushed);
-      mass_scale = xsimd::select(speculative, one,
-                                 xsimd::select(ground, batch(p.ground.mass_scale), batch(p.contact.mass_scale)));
+      const lane_mask pushing = !speculative & (push > limit);
+      bias = xsimd::select(speculative, bias, xsimd::select(pushing, push, zero));
+      mass_scale = xsimd::select(pushing, xsimd::select(ground, batch(p.ground.mass_scale), batch(p.contact.mass_scale)), one);
       impulse_scale = xsimd::select(
-          speculative, zero, xsimd::select(ground, batch(p.ground.impulse_scale), batch(p.contact.impulse_scale)));
+          pushing, xsimd::select(ground, batch(p.ground.impulse_scale), batch(p.contact.impulse_scale)), zero);
     } else {
       bias = xsimd::select(speculative, bias, zero);
     }
