@@ -507,7 +507,7 @@ struct StepPipeline {
     // began (soft_push_saturated): a deep overlap's push, not a weight carried. The contact
     // keeps it for World::last_contacts.
     const bool soft = w.settings.solver == Solver::SoftStep;
-    const SoftPass saturation = soft_saturation_pass();
+    const SoftPass saturation = soft_pass_settings();
     const SphereSoA& s = w.spheres;
     for_each_block(st.contacts.size(), kContactChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
@@ -677,14 +677,11 @@ struct StepPipeline {
     });
   }
 
-  /// Solver::SoftStep (kernel/solver/soft_step.h): prepare, then per substep of h gravity (from
-  /// the second), warm start, one soft iteration (and the shock pass where masses differ),
-  /// positions, relax iterations; then restitution.
   /// The soft step's substep (the step over its substeps).
   [[nodiscard]] float soft_substep() const { return params.dt / static_cast<float>(w.settings.soft_step.substeps); }
 
-  /// What soft_push_saturated reads of a soft pass: the springs and the push limit.
-  [[nodiscard]] SoftPass soft_saturation_pass() const {
+  /// The soft passes' springs and push limit (what soft_push_saturated reads too).
+  [[nodiscard]] SoftPass soft_pass_settings() const {
     const SoftStepParams& knobs = w.settings.soft_step;
     const float h = soft_substep();
     const float hertz = knobs.contact_cycles / h;
@@ -696,11 +693,14 @@ struct StepPipeline {
     return pass;
   }
 
+  /// Solver::SoftStep (kernel/solver/soft_step.h): prepare, then per substep of h gravity (from
+  /// the second), warm start, one soft iteration (and the shock pass where masses differ),
+  /// positions, relax iterations; then restitution.
   void soft_step(StageCrew& crew, std::span<SolverBody> bodies, FrictionWork work, float h) {
     const SoftStepParams& knobs = w.settings.soft_step;
     ContactBatches& batches = st.contact_batches;
     const std::size_t n = bodies.size() - 1;
-    SoftPass pass = soft_saturation_pass();
+    SoftPass pass = soft_pass_settings();
     pass.restitution_threshold = params.restitution_threshold;
     auto run = [&](SoftPassKind kind) {
       pass.kind = kind;
