@@ -59,7 +59,9 @@ struct StepStats {
   /// Some sphere-sphere pairs were dropped: a run of slots found more than its share of
   /// WorldSettings::max_sphere_contacts_per_sphere (of the last substep).
   bool sphere_contacts_capped = false;
-  std::size_t pushed_out = 0;  ///< spheres the terrain guard moved out of the terrain (Terrain::push_out)
+  /// Spheres the terrain guard moved out of the terrain (Terrain::push_out), or the plane guard
+  /// set back onto a plane their centre had ended behind (after depenetration in a crowd).
+  std::size_t pushed_out = 0;
   /// Spheres found with their centre below the terrain surface at the start of the step (those
   /// added, or all after set_terrain, since the last step) and lifted out onto it (World::step).
   std::size_t lifted_out = 0;
