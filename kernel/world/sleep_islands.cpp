@@ -322,6 +322,7 @@ void SleepIslands::update(SphereSoA& s, std::span<const Contact> contacts, float
     block_counts_[block].ready = ready;
   });
   ready_to_sleep_ = total().ready;
+  if (classes.candidates == 0) return;  // only spinning spheres' timers: no island to put to sleep
 
   // 4. The islands at rest long enough go to sleep. Each sphere reads its root, written by nobody now.
   for_each_block(n, kIslandSphereBlock, [&](std::size_t block, std::size_t first, std::size_t last) {
