@@ -387,6 +387,9 @@ void add_soft_step_options(CLI::App& app, SoftStepParams& soft) {
   add_number(app, "--damping-ratio", soft.damping_ratio, 0.0, 1e6, "soft step: contact damping ratio",
              /*exclude_min=*/true);
   add_count(app, "--relax", soft.relax_iterations, 0, 1000, "soft step: relax iterations per substep");
+  add_count(app, "--depenetration-max", soft.depenetration_iterations_max, 0, 1000,
+            "soft step: most depenetration passes a step (past depenetration_iterations while an overlap is "
+            "beyond twice the slop)");
 }
 
 }  // namespace hail::bench

@@ -189,8 +189,9 @@ void print_report(const RunResult& r) {
   std::printf("  solver    %s\n", r.solver.c_str());
   std::printf(
       "  contacts  pairs by %s; per step: %.0f static + %.0f sphere contacts (%.0f warm-started), %.1f colours, %.2f "
-      "collision passes that applied an impulse\n",
-      r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes);
+      "collision passes that applied an impulse, %.2f depenetration passes\n",
+      r.pair_search.c_str(), r.static_contacts, r.sphere_contacts, r.warm_started, r.colours, r.collision_passes,
+      r.depenetration_passes);
   std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n",
               r.tile_contacts, r.shared_contacts);
   if (r.continuous_collision)

@@ -73,20 +73,22 @@ bool same_positions(const Scene& x, const Scene& y) {
 }
 
 /// The reference: StepPipeline::depenetrate's loop over one colour. Counts the contacts that
-/// pushed and those skipped.
-void scalar_pass(Scene& scene, const DepenetrationParams& params, std::uint32_t now, std::uint32_t previous,
+/// pushed and those skipped; true if one pushed from beyond twice the slop (push_apart's deep).
+bool scalar_pass(Scene& scene, const DepenetrationParams& params, std::uint32_t now, std::uint32_t previous,
                  std::size_t& pushed, std::size_t& skipped) {
+  bool deep = false;
   for (const Contact& c : scene.contacts) {
     const bool dynamic_b = c.b != kStaticBody;
     if (previous > 0 && scene.moved[c.a] < previous && !(dynamic_b && scene.moved[c.b] >= previous)) {
       ++skipped;
       continue;
     }
-    if (!push_apart(scene.spheres, c, params)) continue;
+    if (!push_apart(scene.spheres, c, params, deep)) continue;
     ++pushed;
     scene.moved[c.a] = now;
     if (dynamic_b) scene.moved[c.b] = now;
   }
+  return deep;
 }
 
 /// Sinks every sphere a little along -y and marks every third one as moved in `stamp`: the
@@ -129,13 +131,24 @@ TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_ap
       const std::size_t pushed_before = pushed;
       for (std::uint32_t pass = 0; pass < 4; ++pass) {
         const std::uint32_t now = 2 * pass + 1, previous = pass == 0 ? 0 : now - 2;
-        batches.depenetrate(0, batches.batch_end(0), arrays, now, previous);
-        scalar_pass(scalar, params, now, previous, pushed, skipped);
+        const bool simd_deep = batches.depenetrate(0, batches.batch_end(0), arrays, now, previous);
+        CHECK(simd_deep == scalar_pass(scalar, params, now, previous, pushed, skipped));
         if (pass == 0) first_pass += pushed - pushed_before;
         CHECK(same_positions(simd, scalar));
         disturb(simd, now + 1);
         disturb(scalar, now + 1);
       }
+      // Undisturbed, passes go on until none pushes from beyond twice the slop (the soft
+      // step's rule, SoftStepParams::depenetration_iterations_max): the flag the same on both
+      // sides in every pass, and it clears.
+      bool deep = true;
+      for (std::uint32_t pass = 4; pass < 64 && deep; ++pass) {
+        const std::uint32_t now = 2 * pass + 1, previous = now - 2;
+        deep = batches.depenetrate(0, batches.batch_end(0), arrays, now, previous);
+        CHECK(deep == scalar_pass(scalar, params, now, previous, pushed, skipped));
+        CHECK(same_positions(simd, scalar));
+      }
+      CHECK_FALSE(deep);
       CHECK(simd.moved[n] == 0);  // the static slot's entry is never written
       first_pass_contacts += count;
     }

@@ -137,6 +137,8 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.soft_step.damping_ratio = 0; }), "soft_step.damping_ratio");
   rejected(with([](WorldSettings& s) { s.soft_step.damping_ratio = kInf; }), "soft_step.damping_ratio");
   rejected(with([](WorldSettings& s) { s.soft_step.relax_iterations = -1; }), "soft_step.relax_iterations");
+  rejected(with([](WorldSettings& s) { s.soft_step.depenetration_iterations_max = -1; }),
+           "soft_step.depenetration_iterations_max");
   rejected(with([](WorldSettings& s) { s.soft_step.max_push_speed = -1; }), "soft_step.max_push_speed");
   rejected(with([](WorldSettings& s) { s.depenetration.fraction = 1.5f; }), "depenetration.fraction");
   rejected(with([](WorldSettings& s) { s.depenetration.slop_fraction = kNaN; }), "slop_fraction");

@@ -238,7 +238,8 @@ TEST_CASE("scene files: terrain from a heightmap file, relative to the scene fil
 
 TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][soft]") {
   const Scene scene = parse_scene_text(scene_text(R"("settings": {"solver": "soft", "soft_step": {"substeps": 6,
-      "contact_cycles": 0.2, "damping_ratio": 5, "relax_iterations": 2, "max_push_speed": 1.5}})"),
+      "contact_cycles": 0.2, "damping_ratio": 5, "relax_iterations": 2, "max_push_speed": 1.5,
+      "depenetration_iterations_max": 9}})"),
                                        "scene.json", {});
   const hail::WorldSettings& s = scene.world->settings();
   CHECK(s.solver == hail::Solver::SoftStep);
@@ -247,6 +248,7 @@ TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][sof
   CHECK(s.soft_step.damping_ratio == 5.0f);
   CHECK(s.soft_step.relax_iterations == 2);
   CHECK(s.soft_step.max_push_speed == 1.5f);
+  CHECK(s.soft_step.depenetration_iterations_max == 9);
   // --solver passes on the command line has the last word.
   const Scene overridden =
       parse_scene_text(scene_text(R"("settings": {"solver": "soft"})"), "scene.json", {.solver = hail::Solver::Passes});

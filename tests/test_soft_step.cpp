@@ -187,3 +187,65 @@ TEST_CASE("The soft step holds a resting sphere and a column of five on the grou
     CHECK(std::abs(world.position(column[k]).x()) < 0.01f);
   }
 }
+
+TEST_CASE("The soft step's depenetration goes on while an overlap is deep, up to its maximum", "[soft]") {
+  // Eight spheres of radius 0.1 mm touching in two layers on a plane (the stress case
+  // radius-1e-4-and-1e4): a substep's gravity moves them 1.7 radii, and the soft contact sags a
+  // share of the radius under the upper layer. Returns the deepest ground overlap over 60 steps
+  // as a share of the radius, and the depenetration passes of the first step and of the last.
+  struct Run {
+    float deepest = 0.0f;
+    int first_passes = 0, last_passes = 0;
+  };
+  auto pile = [](Solver solver, int most) {
+    WorldSettings settings;
+    settings.threads = 1;
+    settings.solver = solver;
+    settings.soft_step.depenetration_iterations_max = most;
+    World world(settings);
+    world.add_plane({});
+    std::vector<SphereId> ids;
+    for (int k = 0; k < 8; ++k)
+      ids.push_back(world.add_sphere(
+          {.position = {0.0002f * float(k % 2), 0.0001f + 0.0002f * float(k / 4), 0.0002f * float((k / 2) % 2)},
+           .radius = 1e-4f,
+           .mass = 1e-9f}));
+    Run r;
+    for (int step = 0; step < 60; ++step) {
+      world.step(1.0f / 60.0f);
+      if (step == 0) r.first_passes = world.last_step_stats().depenetration_passes;
+      r.last_passes = world.last_step_stats().depenetration_passes;
+      for (SphereId id : ids) r.deepest = std::max(r.deepest, (1e-4f - world.position(id).y()) / 1e-4f);
+    }
+    return r;
+  };
+  const int least = WorldSettings{}.depenetration_iterations;
+  const Run soft = pile(Solver::SoftStep, 16);
+  CHECK(soft.first_passes > least);
+  CHECK(soft.first_passes <= 16);
+  CHECK(soft.deepest < 0.05f);  // the stress battery's bound
+  // Stopped at the least passes, the same pile sinks over three times as deep.
+  const Run four = pile(Solver::SoftStep, least);
+  CHECK(four.first_passes == least);
+  CHECK(four.deepest > 0.15f);
+  // The passes solver runs exactly depenetration_iterations, whatever the soft step's maximum.
+  const Run passes = pile(Solver::Passes, 16);
+  CHECK(passes.first_passes == least);
+  CHECK(passes.last_passes == least);
+  CHECK(passes.deepest < 0.05f);
+}
+
+TEST_CASE("The soft step runs only depenetration_iterations passes where no overlap is deep", "[soft]") {
+  WorldSettings settings;
+  settings.threads = 1;
+  settings.solver = Solver::SoftStep;
+  World world(settings);
+  world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.0f, .friction = 0.5f});
+  for (int k = 0; k < 5; ++k) world.add_sphere({.position = {0, 0.5f + float(k), 0}, .radius = 0.5f, .mass = 1});
+  int most = 0;
+  for (int k = 0; k < 120; ++k) {
+    world.step(1.0f / 60.0f);
+    most = std::max(most, world.last_step_stats().depenetration_passes);
+  }
+  CHECK(most == settings.depenetration_iterations);
+}

@@ -308,7 +308,8 @@ void read_settings(const Object& o, WorldSettings& s) {
   if (auto v = o.choice<Solver>("solver", {{"passes", Solver::Passes}, {"soft", Solver::SoftStep}})) s.solver = *v;
   if (o.has("soft_step")) {
     const Object d(o["soft_step"], o.at("soft_step"),
-                   {"substeps", "contact_cycles", "damping_ratio", "relax_iterations", "max_push_speed"});
+                   {"substeps", "contact_cycles", "damping_ratio", "relax_iterations", "max_push_speed",
+                    "depenetration_iterations_max"});
     d.reject_unknown_keys();
     s.soft_step.substeps = static_cast<int>(d.integer("substeps", s.soft_step.substeps, 1, 1000));
     s.soft_step.contact_cycles = positive(d, "contact_cycles", s.soft_step.contact_cycles);
@@ -316,6 +317,8 @@ void read_settings(const Object& o, WorldSettings& s) {
     s.soft_step.relax_iterations =
         static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, 1000));
     s.soft_step.max_push_speed = positive(d, "max_push_speed", s.soft_step.max_push_speed);
+    s.soft_step.depenetration_iterations_max = static_cast<int>(
+        d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, 1000));
   }
   s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));

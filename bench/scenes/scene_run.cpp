@@ -183,9 +183,10 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.continuous_collision = world.settings().continuous_collision;
   if (const WorldSettings& ws = world.settings(); ws.solver == Solver::SoftStep) {
     char text[128];
-    std::snprintf(text, sizeof text, "soft (%d substeps, %g cycles, damping %g, %d relax)", ws.soft_step.substeps,
-                  double(ws.soft_step.contact_cycles), double(ws.soft_step.damping_ratio),
-                  ws.soft_step.relax_iterations);
+    std::snprintf(text, sizeof text, "soft (%d substeps, %g cycles, damping %g, %d relax, up to %d depenetration passes)",
+                  ws.soft_step.substeps, double(ws.soft_step.contact_cycles), double(ws.soft_step.damping_ratio),
+                  ws.soft_step.relax_iterations,
+                  std::max(ws.depenetration_iterations, ws.soft_step.depenetration_iterations_max));
     r.solver = text;
   } else {
     r.solver = "passes";
@@ -233,6 +234,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.tile_contacts += weight * double(stats.tile_contacts);
       r.shared_contacts += weight * double(stats.shared_contacts);
       r.collision_passes += weight * stats.collision_passes;
+      r.depenetration_passes += weight * stats.depenetration_passes;
       r.swept += weight * double(stats.sweep.swept);
       r.swept_meeting_spheres += weight * double(stats.sweep.meets_spheres);
       r.sweep_events += weight * double(stats.sweep.events);
@@ -349,7 +351,8 @@ nlohmann::json to_json(const RunResult& r) {
         {"colours", r.colours},
         {"tile_contacts", r.tile_contacts},
         {"shared_contacts", r.shared_contacts},
-        {"collision_passes", r.collision_passes}}},
+        {"collision_passes", r.collision_passes},
+        {"depenetration_passes", r.depenetration_passes}}},
       {"continuous_collision",
        {{"on", r.continuous_collision},
         {"swept_per_step", r.swept},

@@ -52,6 +52,9 @@ struct StepStats {
   std::size_t tile_contacts = 0;    ///< contacts solved within a solver tile (WorldSettings::solver_tile_spheres)
   std::size_t shared_contacts = 0;  ///< contacts across tile edges (every contact without tiles)
   int collision_passes = 0;         ///< collision passes that applied an impulse
+  /// Depenetration passes run (of the last substep): WorldSettings::depenetration_iterations,
+  /// or more with the soft step (SoftStepParams::depenetration_iterations_max).
+  int depenetration_passes = 0;
   PairSearch pair_search = PairSearch::BruteForce;  ///< the search that ran (never Automatic)
   std::size_t warm_started = 0;                     ///< contacts that found their last-step impulses
   SweepStats sweep;                                 ///< continuous collision: fast spheres, impacts, capped spheres

@@ -102,7 +102,7 @@ struct SimdKernels {
   void (*contact_soft)(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, const SoftPass& pass, FrictionWork work);
   /// ContactBatches::depenetrate (kernel/solver/contact_solve_simd.h).
-  void (*contact_depenetrate)(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
+  bool (*contact_depenetrate)(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
                               const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
   /// Terrain::find_contacts (include/hail/terrain.h): the packet walk and the sphere-triangle tests.
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last,

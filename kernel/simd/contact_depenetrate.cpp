@@ -26,8 +26,9 @@ constexpr std::size_t W = batch::size;
 
 }  // namespace
 
-void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::size_t last, const DepenetrationArrays& s,
+bool contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::size_t last, const DepenetrationArrays& s,
                          std::uint32_t now, std::uint32_t previous) {
+  bool deep = false;  // push_apart's deep flag, over every lane that pushes
   const std::int32_t static_slot = s.static_slot;
   const ibatch b_static_slot(static_slot), b_previous(static_cast<std::int32_t>(previous));
   const batch zero(0.0f), slop(s.params.slop_fraction), fraction(s.params.fraction);
@@ -71,6 +72,7 @@ void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
     const auto pushes = xsimd::bool_cast(kept & has_a) & !(excess <= zero) & !(w <= zero);
     std::uint32_t lanes = lane_bits(pushes);
     if (lanes == 0) continue;
+    if (!deep) deep = lane_bits(pushes & (excess > slop * rmin)) != 0;
     const batch move = fraction * excess / w;
     const batch mx = nx * move, my = ny * move, mz = nz * move;
     (pxa - mx * ima).store_aligned(out[0]);
@@ -93,6 +95,7 @@ void contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
       }
     }
   }
+  return deep;
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -30,7 +30,7 @@ void contact_resting(const ContactBatchArrays& batches, std::size_t first, std::
                      std::size_t body_count, float inv_dt, FrictionWork work);
 void contact_soft(const ContactBatchArrays& batches, std::size_t first, std::size_t last, SolverBody* bodies,
                   std::size_t body_count, const SoftPass& pass, FrictionWork work);
-void contact_depenetrate(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
+bool contact_depenetrate(const ContactBatchArrays& batches, std::size_t first, std::size_t last,
                          const DepenetrationArrays& spheres, std::uint32_t now, std::uint32_t previous);
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction,

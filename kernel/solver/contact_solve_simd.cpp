@@ -215,10 +215,10 @@ void ContactBatches::solve_soft(std::size_t first, std::size_t last, std::span<S
   kernels_->contact_soft(arrays(), first, last, bodies.data(), bodies.size(), pass, work);
 }
 
-void ContactBatches::depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres,
+bool ContactBatches::depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres,
                                  std::uint32_t now, std::uint32_t previous) {
-  if (first >= last) return;
-  kernels_->contact_depenetrate(arrays(), first, last, spheres, now, previous);
+  if (first >= last) return false;
+  return kernels_->contact_depenetrate(arrays(), first, last, spheres, now, previous);
 }
 
 void ContactBatches::warm_start(std::size_t first, std::size_t last, std::span<SolverBody> bodies, FrictionWork work) {

@@ -114,8 +114,9 @@ class ContactBatches {
   /// moved since `previous` (moved[slot] < previous; 0 in the first pass: none skipped) is
   /// skipped; a contact that pushes sets both spheres' moved to `now`. Batches of one colour may
   /// run in parallel. The positions are those of the spheres staged (the slots of the last
-  /// fill), bitwise as the scalar loop over the same contacts moves them.
-  void depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres, std::uint32_t now,
+  /// fill), bitwise as the scalar loop over the same contacts moves them. True if a contact
+  /// pushed from an overlap beyond twice the slop (push_apart's deep flag).
+  bool depenetrate(std::size_t first, std::size_t last, const DepenetrationArrays& spheres, std::uint32_t now,
                    std::uint32_t previous);
   /// Writes the batches' accumulated impulses (resting, friction and bounce) back to the
   /// contacts they were staged from.

@@ -33,7 +33,10 @@ inline float current_gap(const SphereSoA& s, const Contact& c) {
 }
 
 /// Moves the contact's spheres apart if they overlap beyond the slop; true if it moved them.
-inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
+/// `deep` is set when it moved them from an overlap beyond twice the slop (the excess over the
+/// slop larger than the slop itself): the soft step's depenetration goes on while a pass finds
+/// one (SoftStepParams::depenetration_iterations_max).
+inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p, bool& deep) {
   const std::uint32_t a = c.a;
   const bool dynamic_b = c.b != kStaticBody;
   const float rmin = dynamic_b && s.radius[c.b] < s.radius[a] ? s.radius[c.b] : s.radius[a];
@@ -42,6 +45,7 @@ inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
   const float ima = s.inv_mass[a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
   const float w = ima + imb;
   if (w <= 0.0f) return false;
+  if (excess > p.slop_fraction * rmin) deep = true;
   const float move = p.fraction * excess / w;
   s.px[a] -= c.nx * move * ima;
   s.py[a] -= c.ny * move * ima;
@@ -53,6 +57,12 @@ inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
     s.pz[b] += c.nz * move * imb;
   }
   return true;
+}
+
+/// push_apart without the deep flag.
+inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
+  bool deep = false;
+  return push_apart(s, c, p, deep);
 }
 
 }  // namespace hail

@@ -156,6 +156,7 @@ void for_each_setting(Settings& s, F&& f) {
   f(s.soft_step.contact_cycles, "soft_step.contact_cycles"), f(s.soft_step.damping_ratio, "soft_step.damping_ratio");
   f(s.soft_step.relax_iterations, "soft_step.relax_iterations");
   f(s.soft_step.max_push_speed, "soft_step.max_push_speed");
+  f(s.soft_step.depenetration_iterations_max, "soft_step.depenetration_iterations_max");
   f(s.collision_iterations, "collision_iterations"), f(s.resting_iterations, "resting_iterations");
   f(s.depenetration_iterations, "depenetration_iterations"), f(s.solver_tile_spheres, "solver_tile_spheres");
   f(s.depenetration.fraction, "depenetration.fraction");

@@ -913,7 +913,16 @@ struct StepPipeline {
                                moved,
                                static_cast<std::int32_t>(s.size()),
                                w.settings.depenetration};
-    for (int pass = 0; pass < w.settings.depenetration_iterations; ++pass) {
+    // The soft step goes on past depenetration_iterations while a pass pushed a contact out of
+    // an overlap beyond twice the slop (SoftStepParams::depenetration_iterations_max). `deep`
+    // is an OR over the pass's contacts: the order of stores cannot change it.
+    const int least = w.settings.depenetration_iterations;
+    const int most = w.settings.solver == Solver::SoftStep
+                         ? std::max(least, w.settings.soft_step.depenetration_iterations_max)
+                         : least;
+    std::atomic<bool> deep{true};
+    for (int pass = 0; pass < most && (pass < least || deep.load()); ++pass) {
+      deep.store(false);
       auto stamps = [&](std::size_t colour) {
         const auto now = static_cast<std::uint32_t>(static_cast<std::size_t>(pass) * colours + colour + 1);
         return std::pair{now, pass == 0 ? 0u : now - static_cast<std::uint32_t>(colours)};
@@ -924,14 +933,17 @@ struct StepPipeline {
         for (const Contact& c : run) {
           const bool dynamic_b = c.b != kStaticBody;
           if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
-          if (!push_apart(s, c, w.settings.depenetration)) continue;
+          bool pushed_deep = false;
+          if (!push_apart(s, c, w.settings.depenetration, pushed_deep)) continue;
+          if (pushed_deep) deep.store(true, std::memory_order_relaxed);
           moved[c.a] = now;
           if (dynamic_b) moved[c.b] = now;
         }
       };
       auto push_colour = [&](std::size_t colour, std::size_t first_batch, std::size_t last_batch) {
         const auto [now, previous] = stamps(colour);
-        batches.depenetrate(first_batch, last_batch, arrays, now, previous);
+        if (batches.depenetrate(first_batch, last_batch, arrays, now, previous))
+          deep.store(true, std::memory_order_relaxed);
         const std::size_t tail = batches.tail_begin(colour), end = col.colour_begin[colour + 1];
         push_run(colour, std::span<const Contact>(st.contacts.data() + tail, end - tail));
       };
@@ -951,9 +963,11 @@ struct StepPipeline {
         const std::pair<std::uint32_t, std::uint32_t> now_previous = stamps(colour);
         for_each_block(count, kBatchChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
           ScopedTraceRecord record(w.trace, Phase::Depenetrate);
-          batches.depenetrate(first + begin, first + end, arrays, now_previous.first, now_previous.second);
+          if (batches.depenetrate(first + begin, first + end, arrays, now_previous.first, now_previous.second))
+            deep.store(true, std::memory_order_relaxed);
         });
       }
+      ++w.stats.depenetration_passes;
     }
   }
 
@@ -1020,6 +1034,7 @@ struct StepPipeline {
     guarding = w.terrain != nullptr;
     ran.terrain_guard = guarding;
     w.stats.pushed_out = 0;
+    w.stats.depenetration_passes = 0;
     pair_margins = w.settings.pair_margin_travel > 0.0f && w.settings.sphere_collisions;
     if (pair_margins && st.travel.size() < w.spheres.size()) resize_geometric(st.travel, w.spheres.size());
     uniform_acceleration = params.integrator == Integrator::UniformAcceleration;

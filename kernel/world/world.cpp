@@ -49,6 +49,9 @@ void World::validate(const WorldSettings& s) {
           describe("WorldSettings::soft_step.max_push_speed must be finite and > 0 (m/s), got",
                    s.soft_step.max_push_speed));
   require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
+  require(s.soft_step.depenetration_iterations_max >= 0,
+          "WorldSettings::soft_step.depenetration_iterations_max must be >= 0, got " +
+              std::to_string(s.soft_step.depenetration_iterations_max));
   require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
     return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
            ", got " + std::to_string(s.solver_tile_spheres);
