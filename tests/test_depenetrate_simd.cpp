@@ -74,8 +74,8 @@ bool same_positions(const Scene& x, const Scene& y) {
 
 /// The reference: StepPipeline::depenetrate's loop over one colour. Counts the contacts that
 /// pushed and those skipped; true if one pushed from beyond twice the slop (push_apart's deep).
-bool scalar_pass(Scene& scene, const DepenetrationParams& params, std::uint32_t now, std::uint32_t previous,
-                 std::size_t& pushed, std::size_t& skipped) {
+bool scalar_pass(Scene& scene, const DepenetrationParams& params, float deep_radius, std::uint32_t now,
+                 std::uint32_t previous, std::size_t& pushed, std::size_t& skipped) {
   bool deep = false;
   for (const Contact& c : scene.contacts) {
     const bool dynamic_b = c.b != kStaticBody;
@@ -83,7 +83,7 @@ bool scalar_pass(Scene& scene, const DepenetrationParams& params, std::uint32_t 
       ++skipped;
       continue;
     }
-    if (!push_apart(scene.spheres, c, params, deep)) continue;
+    if (!push_apart(scene.spheres, c, params, deep_radius, deep)) continue;
     ++pushed;
     scene.moved[c.a] = now;
     if (dynamic_b) scene.moved[c.b] = now;
@@ -106,9 +106,11 @@ void disturb(Scene& scene, std::uint32_t stamp) {
 TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_apart does one by one",
           "[simd][dispatch][depenetrate]") {
   const DepenetrationParams params{0.8f, 0.01f};
+  // Radii are 0.2-1.2 m: contacts on both sides of it, so the deep flag's radius test shows.
+  constexpr float kDeepRadius = 0.7f;
   for (SimdPath path : supported_paths()) {
     const ScopedSimdPath scoped(path);
-    std::size_t pushed = 0, skipped = 0, first_pass = 0, first_pass_contacts = 0;
+    std::size_t pushed = 0, skipped = 0, first_pass = 0, first_pass_contacts = 0, deep_passes = 0;
     for (const std::size_t count : {std::size_t{5}, std::size_t{16}, std::size_t{37}, std::size_t{400}}) {
       INFO(count << " contacts, path " << simd_path_name(path));
       Scene simd = random_scene(count, static_cast<std::uint32_t>(count) * 7u);
@@ -127,12 +129,14 @@ TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_ap
                                  simd.spheres.inv_mass.data(),
                                  simd.moved.data(),
                                  static_cast<std::int32_t>(n),
-                                 params};
+                                 params,
+                                 kDeepRadius};
       const std::size_t pushed_before = pushed;
       for (std::uint32_t pass = 0; pass < 4; ++pass) {
         const std::uint32_t now = 2 * pass + 1, previous = pass == 0 ? 0 : now - 2;
         const bool simd_deep = batches.depenetrate(0, batches.batch_end(0), arrays, now, previous);
-        CHECK(simd_deep == scalar_pass(scalar, params, now, previous, pushed, skipped));
+        CHECK(simd_deep == scalar_pass(scalar, params, kDeepRadius, now, previous, pushed, skipped));
+        deep_passes += simd_deep ? 1 : 0;
         if (pass == 0) first_pass += pushed - pushed_before;
         CHECK(same_positions(simd, scalar));
         disturb(simd, now + 1);
@@ -145,7 +149,7 @@ TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_ap
       for (std::uint32_t pass = 4; pass < 64 && deep; ++pass) {
         const std::uint32_t now = 2 * pass + 1, previous = now - 2;
         deep = batches.depenetrate(0, batches.batch_end(0), arrays, now, previous);
-        CHECK(deep == scalar_pass(scalar, params, now, previous, pushed, skipped));
+        CHECK(deep == scalar_pass(scalar, params, kDeepRadius, now, previous, pushed, skipped));
         CHECK(same_positions(simd, scalar));
       }
       CHECK_FALSE(deep);
@@ -158,5 +162,6 @@ TEST_CASE("Every SIMD path's depenetration pass moves spheres exactly as push_ap
     CHECK(first_pass < first_pass_contacts);
     CHECK(skipped > 0);
     CHECK(pushed > first_pass);
+    CHECK(deep_passes > 0);
   }
 }

@@ -235,6 +235,32 @@ TEST_CASE("The soft step's depenetration goes on while an overlap is deep, up to
   CHECK(passes.deepest < 0.05f);
 }
 
+TEST_CASE("The soft step's extra depenetration passes are for spheres whose contact sags beyond the slop", "[soft]") {
+  // A column of four touching spheres on a plane, 30 steps: only spheres smaller than the
+  // sag of a contact between spheres over the slop (6.9 mm at the defaults and dt 1/60) ever
+  // get more than depenetration_iterations passes; the same column of larger spheres, deep as
+  // its overlaps may get, never does.
+  auto most_passes = [](float radius) {
+    WorldSettings settings;
+    settings.threads = 1;
+    settings.solver = Solver::SoftStep;
+    World world(settings);
+    world.add_plane({});
+    for (int k = 0; k < 4; ++k)
+      world.add_sphere({.position = {0, radius * float(1 + 2 * k), 0}, .radius = radius, .mass = 1});
+    int most = 0;
+    for (int step = 0; step < 30; ++step) {
+      world.step(1.0f / 60.0f);
+      most = std::max(most, world.last_step_stats().depenetration_passes);
+    }
+    return most;
+  };
+  const int least = WorldSettings{}.depenetration_iterations;
+  CHECK(most_passes(0.5f) == least);
+  CHECK(most_passes(0.01f) == least);
+  CHECK(most_passes(0.0001f) > least);
+}
+
 TEST_CASE("The soft step runs only depenetration_iterations passes where no overlap is deep", "[soft]") {
   WorldSettings settings;
   settings.threads = 1;

@@ -63,15 +63,16 @@ struct SoftStepParams {
   /// (17 cm between spheres, 9 cm on the ground, at the defaults and dt 1/60) is not pushed:
   /// depenetration moves it apart without adding velocity, and it keeps no warm-start impulse.
   float max_push_speed = 3.0f;
-  /// Most depenetration passes a step runs, >= WorldSettings::depenetration_iterations: past
-  /// those, passes go on while the previous one still pushed a contact out of an overlap beyond
-  /// twice the slop. A soft contact carries a load at an overlap of about g / omega^2, a length
-  /// (17 um on the ground, 69 um between spheres at the defaults and dt 1/60) that is a large
-  /// share of a sub-millimetre sphere's radius, and one substep's gravity moves such a sphere
-  /// further than its radius: four passes left a two-layer pile of 0.1 mm spheres 18% of their
-  /// radius in the ground after its first step, 8 passes 4.2%, 16 passes 1.1%
-  /// (docs/benchmarks.md, "Soft step"). Where every overlap is within twice the slop after
-  /// depenetration_iterations passes, nothing more runs.
+  /// Most depenetration passes a step runs: past WorldSettings::depenetration_iterations, passes
+  /// go on while the previous one pushed a contact out of an overlap beyond twice the slop whose
+  /// smaller sphere is so small that the contact's spring sags beyond the slop under gravity
+  /// alone (radius under |g| / omega^2 / slop_fraction: 6.9 mm at the defaults and dt 1/60). A
+  /// soft contact carries a load at an overlap of about |g| / omega^2, a length (17 um on the
+  /// ground, 69 um between spheres), which is a large share of a sub-millimetre sphere's
+  /// radius, and one substep's gravity moves such a sphere further than its radius: four
+  /// passes left a two-layer pile of 0.1 mm spheres 18% of their radius in the ground after its
+  /// first step, 16 passes 1.1% (docs/benchmarks.md, "Soft step"). Larger spheres never get
+  /// the extra passes; a value at or below depenetration_iterations turns them off.
   int depenetration_iterations_max = 16;
 };
 

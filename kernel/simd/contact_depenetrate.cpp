@@ -31,7 +31,7 @@ bool contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
   bool deep = false;  // push_apart's deep flag, over every lane that pushes
   const std::int32_t static_slot = s.static_slot;
   const ibatch b_static_slot(static_slot), b_previous(static_cast<std::int32_t>(previous));
-  const batch zero(0.0f), slop(s.params.slop_fraction), fraction(s.params.fraction);
+  const batch zero(0.0f), slop(s.params.slop_fraction), fraction(s.params.fraction), deep_radius(s.deep_radius);
   const auto* moved = reinterpret_cast<const std::int32_t*>(s.moved);
   alignas(64) float out[6][W];
   alignas(64) std::int32_t slot_a[W], slot_b[W];
@@ -72,7 +72,7 @@ bool contact_depenetrate(const ContactBatchArrays& c, std::size_t first, std::si
     const auto pushes = xsimd::bool_cast(kept & has_a) & !(excess <= zero) & !(w <= zero);
     std::uint32_t lanes = lane_bits(pushes);
     if (lanes == 0) continue;
-    if (!deep) deep = lane_bits(pushes & (excess > slop * rmin)) != 0;
+    if (!deep) deep = lane_bits(pushes & (excess > slop * rmin) & (rmin < deep_radius)) != 0;
     const batch move = fraction * excess / w;
     const batch mx = nx * move, my = ny * move, mz = nz * move;
     (pxa - mx * ima).store_aligned(out[0]);

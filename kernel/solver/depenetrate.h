@@ -21,6 +21,9 @@ struct DepenetrationArrays {
   std::uint32_t* moved;
   std::int32_t static_slot;
   DepenetrationParams params;
+  /// A contact whose smaller radius is below this that pushes from beyond twice the slop sets
+  /// the pass's deep flag (push_apart); 0: none does.
+  float deep_radius = 0.0f;
 };
 
 /// Current signed gap of a contact from the spheres' present positions (normal kept fixed).
@@ -34,9 +37,9 @@ inline float current_gap(const SphereSoA& s, const Contact& c) {
 
 /// Moves the contact's spheres apart if they overlap beyond the slop; true if it moved them.
 /// `deep` is set when it moved them from an overlap beyond twice the slop (the excess over the
-/// slop larger than the slop itself): the soft step's depenetration goes on while a pass finds
-/// one (SoftStepParams::depenetration_iterations_max).
-inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p, bool& deep) {
+/// slop larger than the slop itself) and the smaller radius is below `deep_radius`: the soft
+/// step's depenetration goes on while a pass finds one (SoftStepParams::depenetration_iterations_max).
+inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p, float deep_radius, bool& deep) {
   const std::uint32_t a = c.a;
   const bool dynamic_b = c.b != kStaticBody;
   const float rmin = dynamic_b && s.radius[c.b] < s.radius[a] ? s.radius[c.b] : s.radius[a];
@@ -45,7 +48,7 @@ inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
   const float ima = s.inv_mass[a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
   const float w = ima + imb;
   if (w <= 0.0f) return false;
-  if (excess > p.slop_fraction * rmin) deep = true;
+  if (excess > p.slop_fraction * rmin && rmin < deep_radius) deep = true;
   const float move = p.fraction * excess / w;
   s.px[a] -= c.nx * move * ima;
   s.py[a] -= c.ny * move * ima;
@@ -62,7 +65,7 @@ inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
 /// push_apart without the deep flag.
 inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p) {
   bool deep = false;
-  return push_apart(s, c, p, deep);
+  return push_apart(s, c, p, 0.0f, deep);
 }
 
 }  // namespace hail

@@ -46,6 +46,14 @@ struct SoftCoefficients {
   return {omega / a1, a2 * a3, a3};
 }
 
+/// The overlap at which a soft contact of `hertz` carries a steady acceleration `accel` (m/s^2):
+/// accel / omega^2, a length whatever the spheres' size (17 um for a ground contact and 69 um
+/// between spheres under gravity at the defaults and dt 1/60).
+[[nodiscard]] inline float soft_sag(float accel, float hertz) {
+  const float omega = 2.0f * 3.14159265359f * hertz;
+  return accel / (omega * omega);
+}
+
 /// Which pass of the soft step (the kernel's one entry runs them all).
 enum class SoftPassKind : std::uint8_t {
   Prepare,      ///< approach speed into bounce_impulse, impulses to per-substep, bodies marked

@@ -892,6 +892,23 @@ struct StepPipeline {
         st.impacts.insert(st.impacts.end(), st.impact_blocks[b].begin(), st.impact_blocks[b].end());
   }
 
+  /// The soft step's depenetration goes on past depenetration_iterations (up to
+  /// SoftStepParams::depenetration_iterations_max) for contacts of spheres smaller than this:
+  /// those whose contact spring sags beyond the slop under gravity alone (soft_sag between
+  /// spheres, the softer of its two springs, over the slop fraction: 6.9 mm at the defaults and
+  /// dt 1/60). A larger sphere's soft contact carries its weight within the slop, and the soft
+  /// pushes of the next steps resolve its deeper overlaps, as the passes' resting contacts do;
+  /// a smaller one rests as deep as its sag unless depenetration converges each step
+  /// (docs/benchmarks.md, "Soft step"). 0 for the passes solver: exactly depenetration_iterations.
+  [[nodiscard]] float soft_deep_radius() const {
+    if (w.settings.solver != Solver::SoftStep) return 0.0f;
+    const Vec3& g = w.settings.gravity;
+    const float sag = soft_sag(g.norm(),
+                               w.settings.soft_step.contact_cycles / soft_substep());
+    const float slop = w.settings.depenetration.slop_fraction;
+    return slop > 0.0f ? sag / slop : std::numeric_limits<float>::infinity();
+  }
+
   /// Passes of push_apart, colour after colour. A contact whose spheres did not move since
   /// its previous pass evaluated it (and then moved nothing, or moved them: stamp equal) finds
   /// the same positions and would do nothing, so it is skipped: the same result for less work
@@ -912,14 +929,15 @@ struct StepPipeline {
                                s.inv_mass.data(),
                                moved,
                                static_cast<std::int32_t>(s.size()),
-                               w.settings.depenetration};
-    // The soft step goes on past depenetration_iterations while a pass pushed a contact out of
-    // an overlap beyond twice the slop (SoftStepParams::depenetration_iterations_max). `deep`
-    // is an OR over the pass's contacts: the order of stores cannot change it.
+                               w.settings.depenetration,
+                               soft_deep_radius()};
+    // The soft step goes on past depenetration_iterations while a pass pushed a contact of
+    // spheres that small out of an overlap beyond twice the slop
+    // (SoftStepParams::depenetration_iterations_max). `deep` is an OR over the pass's
+    // contacts: the order of stores cannot change it.
     const int least = w.settings.depenetration_iterations;
-    const int most = w.settings.solver == Solver::SoftStep
-                         ? std::max(least, w.settings.soft_step.depenetration_iterations_max)
-                         : least;
+    const int most = arrays.deep_radius > 0.0f ? std::max(least, w.settings.soft_step.depenetration_iterations_max)
+                                               : least;
     std::atomic<bool> deep{true};
     for (int pass = 0; pass < most && (pass < least || deep.load()); ++pass) {
       deep.store(false);
@@ -934,7 +952,7 @@ struct StepPipeline {
           const bool dynamic_b = c.b != kStaticBody;
           if (pass > 0 && moved[c.a] < previous && !(dynamic_b && moved[c.b] >= previous)) continue;
           bool pushed_deep = false;
-          if (!push_apart(s, c, w.settings.depenetration, pushed_deep)) continue;
+          if (!push_apart(s, c, w.settings.depenetration, arrays.deep_radius, pushed_deep)) continue;
           if (pushed_deep) deep.store(true, std::memory_order_relaxed);
           moved[c.a] = now;
           if (dynamic_b) moved[c.b] = now;
