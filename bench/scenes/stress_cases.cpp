@@ -592,7 +592,7 @@ StressResult wide_mix_rain() {
   // 6% of the radius, not 5%: from commit 7f7037e the uniform-acceleration integrator moved a
   // sphere pushed sideways up to |g| dt^2 / 2 (1.4 mm at 60 Hz, 2.7% of the smallest radius
   // here) short of its solved velocity, which the contacts' gap limits do not see (worst 5.02%;
-  // 4.02% under semi-implicit Euler). Since commit ACROSS its acceleration stays within what
+  // 4.02% under semi-implicit Euler). Since commit 83b2a4a its acceleration stays within what
   // gravity gives on a frictionless support (uniform_step_acceleration) and the passes' worst is
   // 4.62%. The soft step's worst is one sphere in one step and moves with any change of
   // rounding (its spheres in contact end where its substeps put them, whatever that
