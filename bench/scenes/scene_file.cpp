@@ -317,8 +317,8 @@ void read_settings(const Object& o, WorldSettings& s) {
     s.soft_step.relax_iterations =
         static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, 1000));
     s.soft_step.max_push_speed = positive(d, "max_push_speed", s.soft_step.max_push_speed);
-    s.soft_step.depenetration_iterations_max = static_cast<int>(
-        d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, 1000));
+    s.soft_step.depenetration_iterations_max =
+        static_cast<int>(d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, 1000));
   }
   s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
   s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));

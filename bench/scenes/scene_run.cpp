@@ -183,7 +183,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.continuous_collision = world.settings().continuous_collision;
   if (const WorldSettings& ws = world.settings(); ws.solver == Solver::SoftStep) {
     char text[128];
-    std::snprintf(text, sizeof text, "soft (%d substeps, %g cycles, damping %g, %d relax, up to %d depenetration passes)",
+    std::snprintf(text, sizeof text,
+                  "soft (%d substeps, %g cycles, damping %g, %d relax, up to %d depenetration passes)",
                   ws.soft_step.substeps, double(ws.soft_step.contact_cycles), double(ws.soft_step.damping_ratio),
                   ws.soft_step.relax_iterations,
                   std::max(ws.depenetration_iterations, ws.soft_step.depenetration_iterations_max));

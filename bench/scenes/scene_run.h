@@ -19,8 +19,8 @@ struct RunResult {
   float dt = 0;
   double mean_ms = 0, median_ms = 0, total_s = 0, setup_s = 0;
   PhaseTimes phase_ms;  ///< mean per timed step
-  double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0,
-         collision_passes = 0, depenetration_passes = 0;  ///< mean per timed step
+  double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0, collision_passes = 0,
+         depenetration_passes = 0;                ///< mean per timed step
   double tile_contacts = 0, shared_contacts = 0;  ///< mean per timed step: solved within a solver tile / across tiles
   ErrorFigures errors;
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;

@@ -903,8 +903,7 @@ struct StepPipeline {
   [[nodiscard]] float soft_deep_radius() const {
     if (w.settings.solver != Solver::SoftStep) return 0.0f;
     const Vec3& g = w.settings.gravity;
-    const float sag = soft_sag(g.norm(),
-                               w.settings.soft_step.contact_cycles / soft_substep());
+    const float sag = soft_sag(g.norm(), w.settings.soft_step.contact_cycles / soft_substep());
     const float slop = w.settings.depenetration.slop_fraction;
     return slop > 0.0f ? sag / slop : std::numeric_limits<float>::infinity();
   }
@@ -936,8 +935,8 @@ struct StepPipeline {
     // (SoftStepParams::depenetration_iterations_max). `deep` is an OR over the pass's
     // contacts: the order of stores cannot change it.
     const int least = w.settings.depenetration_iterations;
-    const int most = arrays.deep_radius > 0.0f ? std::max(least, w.settings.soft_step.depenetration_iterations_max)
-                                               : least;
+    const int most =
+        arrays.deep_radius > 0.0f ? std::max(least, w.settings.soft_step.depenetration_iterations_max) : least;
     std::atomic<bool> deep{true};
     for (int pass = 0; pass < most && (pass < least || deep.load()); ++pass) {
       deep.store(false);
