@@ -17,6 +17,7 @@
 // after a step is bitwise the same for any number of threads.
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -661,6 +662,13 @@ struct StepPipeline {
     });
   }
 
+  /// This (sub)step's velocity change from gravity at scale 1, g dt: what the uniform
+  /// integrator's approach speeds take off the closing speeds (the passes' restitution and the
+  /// hit events' speeds).
+  [[nodiscard]] std::array<float, 3> gravity_dt() const {
+    return {params.gravity[0] * params.dt, params.gravity[1] * params.dt, params.gravity[2] * params.dt};
+  }
+
   /// Solver::Passes: collision passes, warm start, resting passes (kernel/solver/contact_impulse.h).
   void passes(std::size_t stages, std::span<SolverBody> bodies, FrictionWork work, float threshold, float inv_dt,
               std::size_t tile_spheres) {
@@ -669,9 +677,8 @@ struct StepPipeline {
     const std::size_t tiles = col.tile_count();
     // Under the uniform-acceleration integrator restitution takes the approach speed, the
     // closing speed less what this step's gravity added (solve_collision's gravity_closing).
-    const float gravity_dt[3] = {params.gravity[0] * params.dt, params.gravity[1] * params.dt,
-                                 params.gravity[2] * params.dt};
-    const float* approach = uniform_acceleration ? gravity_dt : nullptr;
+    const std::array<float, 3> g_dt = gravity_dt();
+    const float* approach = uniform_acceleration ? g_dt.data() : nullptr;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -1155,9 +1162,8 @@ struct StepPipeline {
       ScopedPhaseTimer timer(t.solve);
       ScopedTraceRecord record(w.trace, Phase::Solve);
       if (st.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
-        const float gravity_dt[3] = {params.gravity[0] * params.dt, params.gravity[1] * params.dt,
-                                     params.gravity[2] * params.dt};
-        st.events.remember_solve_start(w.spheres, uniform_acceleration ? gravity_dt : nullptr);
+        const std::array<float, 3> g_dt = gravity_dt();
+        st.events.remember_solve_start(w.spheres, uniform_acceleration ? g_dt.data() : nullptr);
       }
       solve();
     } else {
