@@ -260,18 +260,3 @@ TEST_CASE("The soft step's extra depenetration passes are for spheres whose cont
   CHECK(most_passes(0.01f) == least);
   CHECK(most_passes(0.0001f) > least);
 }
-
-TEST_CASE("The soft step runs only depenetration_iterations passes where no overlap is deep", "[soft]") {
-  WorldSettings settings;
-  settings.threads = 1;
-  settings.solver = Solver::SoftStep;
-  World world(settings);
-  world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.0f, .friction = 0.5f});
-  for (int k = 0; k < 5; ++k) world.add_sphere({.position = {0, 0.5f + float(k), 0}, .radius = 0.5f, .mass = 1});
-  int most = 0;
-  for (int k = 0; k < 120; ++k) {
-    world.step(1.0f / 60.0f);
-    most = std::max(most, world.last_step_stats().depenetration_passes);
-  }
-  CHECK(most == settings.depenetration_iterations);
-}
