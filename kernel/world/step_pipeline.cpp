@@ -907,10 +907,13 @@ struct StepPipeline {
   /// pushes of the next steps resolve its deeper overlaps, as the passes' resting contacts do;
   /// a smaller one rests as deep as its sag unless depenetration converges each step
   /// (docs/benchmarks.md, "Soft step"). 0 for the passes solver: exactly depenetration_iterations.
+  /// Gravity at scale 1, as the step applies it (params); a sphere of a larger gravity scale, or
+  /// pressed by a force, sags further than this assumes.
   [[nodiscard]] float soft_deep_radius() const {
     if (w.settings.solver != Solver::SoftStep) return 0.0f;
-    const Vec3& g = w.settings.gravity;
-    const float sag = soft_sag(g.norm(), w.settings.soft_step.contact_cycles / soft_substep());
+    const float* g = params.gravity;
+    const float sag = soft_sag(std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]),
+                               w.settings.soft_step.contact_cycles / soft_substep());
     const float slop = w.settings.depenetration.slop_fraction;
     return slop > 0.0f ? sag / slop : std::numeric_limits<float>::infinity();
   }
