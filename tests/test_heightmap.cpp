@@ -390,6 +390,20 @@ TEST_CASE("Bad files are refused with FileError naming the file", "[heightmap]")
     png_bytes = make_png(4, 4, 8, 0, four);
     png_bytes.insert(png_bytes.begin() + 33, empty_idat.begin(), empty_idat.end());  // after IHDR (8 + 25 bytes)
     require_refused<FileError>("empty-idat.png", png(dir.write("empty-idat.png", png_bytes)));
+    // A deflate block of the reserved type 3: stb_image fails without setting a reason, and the
+    // loader appended a null reason to its message (a segfault), or, where an earlier failure on
+    // this thread had left one (the truncated PNG above), named that stale reason instead.
+    png_bytes = make_png(4, 4, 8, 0, four);
+    png_bytes[43] = 0x07;  // the first block's header after IDAT's zlib header: BFINAL 1, BTYPE 3
+    const std::uint32_t idat_length = 2 + 5 + 4 * 5 + 4;  // zlib header, stored header, rows, adler32
+    std::vector<unsigned char> checked(png_bytes.begin() + 37, png_bytes.begin() + 41 + idat_length);
+    png_bytes.erase(png_bytes.begin() + 41 + idat_length, png_bytes.begin() + 45 + idat_length);
+    std::vector<unsigned char> crc;
+    put_be32(crc, crc32(checked.data(), checked.size()));
+    png_bytes.insert(png_bytes.begin() + 41 + idat_length, crc.begin(), crc.end());
+    const std::string type3 = dir.write("deflate-type3.png", png_bytes);
+    CHECK_THROWS_WITH(png(type3)(),
+                      Catch::Contains("deflate-type3.png") && Catch::Contains("stb_image gave no reason"));
     require_refused<FileError>("short.r32", f32(dir.write("short.r32", std::string(15, '\0')), 2, 2));
     require_refused<FileError>("long.r16", u16(dir.write("long.r16", std::string(9, '\0')), 2, 2));
   }

@@ -5,22 +5,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "hail/errors.h"
 
 namespace hail {
 
+namespace {
+std::string number(float value) {  // %g: a cell of 1e-30 read as 0.000000 in std::to_string
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", double(value));
+  return text;
+}
+}  // namespace
+
 void check_heightmap_params(const HeightmapParams& p) {
   auto finite = [](float v, const char* name) {
     if (!std::isfinite(v))
-      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be finite, got " +
-                            std::to_string(v));
+      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be finite, got " + number(v));
   };
   auto positive = [&](float v, const char* name) {
     finite(v, name);
     if (!(v > 0.0f))
-      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be > 0, got " + std::to_string(v));
+      throw InvalidArgument(std::string("hail: HeightmapParams::") + name + " must be > 0, got " + number(v));
   };
   positive(p.cell_x, "cell_x");
   positive(p.cell_z, "cell_z");
@@ -53,7 +61,7 @@ Heightmap::Heightmap(std::uint32_t cols, std::uint32_t rows, const HeightmapPara
   for (std::size_t k = 0; k < heights_.size(); ++k)
     if (!std::isfinite(heights_[k]))
       throw InvalidArgument("hail: " + where + ": height at column " + std::to_string(k % cols) + ", row " +
-                            std::to_string(k / cols) + " is not finite (" + std::to_string(heights_[k]) + ")");
+                            std::to_string(k / cols) + " is not finite (" + number(heights_[k]) + ")");
   const auto [lo, hi] = std::minmax_element(heights_.begin(), heights_.end());
   min_height_ = *lo;
   max_height_ = *hi;

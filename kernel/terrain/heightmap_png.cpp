@@ -32,6 +32,15 @@ struct StbFree {
   void operator()(void* p) const { stbi_image_free(p); }
 };
 
+/// stb_image's reason for its last failure, emptied first: stb sets none for some corrupt
+/// data (a deflate block of type 3 returns without one), so an unset reason is either null
+/// or one left over from an earlier file on this thread (stb keeps it thread-local).
+void clear_stb_reason() { stbi__g_failure_reason = nullptr; }
+std::string stb_reason() {
+  const char* reason = stbi_failure_reason();
+  return reason && *reason ? reason : "stb_image gave no reason";
+}
+
 /// What the chunk walk learns before stb decodes anything.
 struct PngChunks {
   std::uint64_t width = 0, height = 0;
@@ -121,8 +130,9 @@ Heightmap Heightmap::load_png(const std::string& path, const HeightmapParams& pa
 
   // The header alone gives the size: refuse it before stb allocates the image.
   int width = 0, height = 0, channels = 0;
+  clear_stb_reason();
   if (!stbi_info_from_file(file.get(), &width, &height, &channels))
-    throw_file_error(path, std::string("unreadable PNG header (") + stbi_failure_reason() + ")");
+    throw_file_error(path, "unreadable PNG header (" + stb_reason() + ")");
   if (channels != 1 && channels != 2)
     throw_file_error(path, "colour PNG (" + std::to_string(channels) +
                                " channels): only grey (or grey + alpha) heightmaps are accepted");
@@ -133,13 +143,14 @@ Heightmap Heightmap::load_png(const std::string& path, const HeightmapParams& pa
   const std::size_t count = std::size_t(width) * std::size_t(height);
   std::vector<float> samples(count);
   int w = 0, h = 0, c = 0;
+  clear_stb_reason();
   if (stbi_is_16_bit_from_file(file.get())) {
     std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_from_file_16(file.get(), &w, &h, &c, 1));
-    if (!pixels) throw_file_error(path, std::string("corrupt or truncated PNG (") + stbi_failure_reason() + ")");
+    if (!pixels) throw_file_error(path, "corrupt or truncated PNG (" + stb_reason() + ")");
     for (std::size_t k = 0; k < count; ++k) samples[k] = static_cast<float>(pixels.get()[k]);
   } else {
     std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_file(file.get(), &w, &h, &c, 1));
-    if (!pixels) throw_file_error(path, std::string("corrupt or truncated PNG (") + stbi_failure_reason() + ")");
+    if (!pixels) throw_file_error(path, "corrupt or truncated PNG (" + stb_reason() + ")");
     for (std::size_t k = 0; k < count; ++k) samples[k] = static_cast<float>(pixels.get()[k]);
   }
   if (w != width || h != height) throw_file_error(path, "PNG size changed between header and data");

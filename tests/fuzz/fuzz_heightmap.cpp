@@ -1,7 +1,9 @@
 // libFuzzer target: the heightmap loaders (PGM, PNG, raw float32 / uint16) on arbitrary bytes.
 // The first byte picks the loader (and for raw files the size), the rest is the file. A bad
 // file must end in hail::FileError or hail::InvalidArgument, never a crash, a hang, a huge
-// allocation or a sanitizer report. Run through scripts/fuzz.sh.
+// allocation or a sanitizer report. Run through scripts/fuzz.sh. Each input meets a clean state:
+// the loaders keep nothing between calls, and the PNG loader clears stb_image's (thread-local)
+// failure reason before each decode, which an earlier input could otherwise leave set.
 
 #include <sys/mman.h>
 #include <unistd.h>
