@@ -1,6 +1,7 @@
 #include "hail/sphere_soa.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include "hail/errors.h"
@@ -46,11 +47,37 @@ void SphereSoA::resize_arrays(std::size_t n) {
 }
 
 void SphereSoA::reserve(std::size_t n) {
+  if (n > kMaxSpheres)
+    throw InvalidArgument("hail: cannot reserve room for " + std::to_string(n) + " spheres: at most " +
+                          std::to_string(kMaxSpheres) + " (a handle index is 32 bits)");
   const std::size_t padded = padded_size_for(n);
   for_each_array([padded](const char*, auto& a) { a.reserve(padded); });
   slot_ids_.reserve(n);
   id_to_slot_.reserve(n);
   generation_.reserve(n);
+}
+
+void SphereSoA::reserve_like(const SphereSoA& other) {
+  const std::size_t padded = other.padded_size();
+  for_each_array([padded](const char*, auto& a) { a.reserve(padded); });
+  slot_ids_.reserve(other.slot_ids_.size());
+  id_to_slot_.reserve(other.id_to_slot_.size());
+  generation_.reserve(other.generation_.size());
+  free_ids_.reserve(other.free_ids_.size());
+}
+
+void SphereSoA::assign(const SphereSoA& other) noexcept {
+  auto copy = [](const char*, auto& mine, const auto& theirs) {
+    mine.resize(theirs.size());  // within capacity: no allocation
+    if (theirs.size()) std::memcpy(mine.data(), theirs.data(), theirs.size() * sizeof theirs[0]);
+  };
+  for_each_array_of(copy, *this, other);
+  // Vector copy-assignment reuses the storage when it is large enough (reserve_like made it so).
+  slot_ids_ = other.slot_ids_;
+  id_to_slot_ = other.id_to_slot_;
+  generation_ = other.generation_;
+  free_ids_ = other.free_ids_;
+  size_ = other.size_;
 }
 
 void SphereSoA::restore_handles(std::span<const SphereId> handles, std::span<const std::uint32_t> generations,
@@ -147,20 +174,30 @@ void SphereSoA::set_padding(std::size_t first) {
 }
 
 SphereId SphereSoA::add(const SphereRecord& record) {
-  std::uint32_t id;
-  if (!free_ids_.empty()) {
-    id = free_ids_.back();
-    free_ids_.pop_back();
+  const bool fresh_index = free_ids_.empty();
+  if (fresh_index && id_to_slot_.size() >= kMaxSpheres)
+    throw InvalidArgument("hail: cannot add a sphere: all " + std::to_string(kMaxSpheres) +
+                          " handle indices are in use");
+  // Everything that can throw (std::bad_alloc) comes first and is undone on the way out, so a
+  // failed add leaves no index that is neither live nor free (a snapshot would refuse that).
+  set_padding(size_ + 1);  // the new slot is a padding lane until written below
+  const std::uint32_t id = fresh_index ? static_cast<std::uint32_t>(id_to_slot_.size()) : free_ids_.back();
+  slot_ids_.push_back({id, fresh_index ? 0u : generation_[id]});
+  if (fresh_index) {
+    try {
+      id_to_slot_.push_back(kFreeSlot);
+      generation_.push_back(0);
+    } catch (...) {
+      slot_ids_.pop_back();
+      if (id_to_slot_.size() > id) id_to_slot_.pop_back();
+      throw;
+    }
   } else {
-    id = static_cast<std::uint32_t>(id_to_slot_.size());
-    id_to_slot_.push_back(kFreeSlot);
-    generation_.push_back(0);
+    free_ids_.pop_back();
   }
   const std::size_t slot = size_;
-  set_padding(size_ + 1);
   write_slot(slot, record);
   ++size_;
-  slot_ids_.push_back({id, generation_[id]});
   id_to_slot_[id] = static_cast<std::uint32_t>(slot);
   return {id, generation_[id]};
 }

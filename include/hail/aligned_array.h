@@ -3,9 +3,12 @@
 // nothing of physics. Hot loops read these as spans; nothing here knows what a contact is.
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <new>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace hail {
@@ -50,9 +53,18 @@ class AlignedArray {
     std::swap(capacity_, other.capacity_);
   }
 
-  /// Grows capacity to at least n elements (allocates only when n > capacity()).
+  /// The most elements an array can hold: their bytes must fit a ptrdiff_t.
+  static constexpr std::size_t max_size() noexcept { return std::size_t(PTRDIFF_MAX) / sizeof(T); }
+
+  /// Grows capacity to at least n elements (allocates only when n > capacity()). Throws
+  /// std::length_error for n > max_size() (n * sizeof(T) would wrap, and a small block would
+  /// be taken for a huge one) and std::bad_alloc when memory runs out; either way the array is
+  /// left as it was.
   void reserve(std::size_t n) {
     if (n <= capacity_) return;
+    if (n > max_size())
+      throw std::length_error("hail::AlignedArray: " + std::to_string(n) + " elements of " + std::to_string(sizeof(T)) +
+                              " bytes are more than memory can address");
     T* fresh = static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{kSoaAlignment}));
     if (size_) std::memcpy(fresh, data_, size_ * sizeof(T));
     release();
@@ -61,7 +73,7 @@ class AlignedArray {
   }
   /// Sets the size; new elements take `fill`. Allocates only when n > capacity().
   void resize(std::size_t n, T fill = T{}) {
-    if (n > capacity_) reserve(n > 2 * capacity_ ? n : 2 * capacity_);
+    if (n > capacity_) reserve(n > 2 * capacity_ ? n : 2 * capacity_);  // capacity_ <= max_size(): no wrap
     for (std::size_t i = size_; i < n; ++i) data_[i] = fill;
     size_ = n;
   }

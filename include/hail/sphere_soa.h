@@ -70,6 +70,7 @@ class SphereSoA {
   SphereSoA() { set_padding(0); }
 
   /// Appends a sphere and returns its handle. Allocates only when capacity is exceeded.
+  /// Throws InvalidArgument (nothing added) when kMaxSpheres handle indices are in use.
   SphereId add(const SphereRecord& record);
   /// Removes the sphere; the last dense sphere moves into its slot. Returns false if stale.
   bool remove(SphereId id);
@@ -83,7 +84,11 @@ class SphereSoA {
   /// or -1 when none has. For data that keeps only handle indices (the warm-start cache).
   [[nodiscard]] std::int64_t slot_of_index(std::uint32_t index) const noexcept;
   [[nodiscard]] bool contains(SphereId id) const noexcept { return slot_of(id) >= 0; }
-  /// Reserves storage for n spheres so that adding up to n never allocates.
+  /// The most spheres a SphereSoA holds: a handle index is 32 bits, and one value is kept free.
+  static constexpr std::size_t kMaxSpheres = 0xFFFFFFFEu;
+  /// Reserves storage for n spheres so that adding up to n never allocates. Throws
+  /// InvalidArgument for n > kMaxSpheres and std::bad_alloc when memory runs out; either way
+  /// every array keeps its spheres (some may have grown), so the SoA stays usable.
   void reserve(std::size_t n);
   /// Reorders dense slots: new slot k holds the sphere that was in slot order[k]. Handles stay valid.
   /// `angular` false leaves the angular velocity arrays as they are: for a caller that knows
@@ -134,11 +139,11 @@ class SphereSoA {
   /// the rest (sphere_soa.cpp checks sizeof(SphereSoA) against this list's length).
   template <class F>
   void for_each_array(F&& f) {
-    for_each_array_of(*this, f);
+    for_each_array_of(f, *this);
   }
   template <class F>
   void for_each_array(F&& f) const {
-    for_each_array_of(*this, f);
+    for_each_array_of(f, *this);
   }
   /// How many arrays for_each_array visits.
   static constexpr std::size_t kArrayCount = 27;
@@ -153,22 +158,31 @@ class SphereSoA {
   /// the arrays are sized, padding lanes written, slots [0, size) left for the caller to fill.
   /// Throws InvalidArgument naming the first inconsistency (a handle index out of range, used
   /// twice, also free, or with another generation; an index neither live nor free).
+  /// Grows this SphereSoA's storage to hold `other`'s spheres and handle tables, changing no
+  /// sphere (std::bad_alloc leaves it as it was, with more room perhaps).
+  void reserve_like(const SphereSoA& other);
+  /// Makes this a copy of `other` in its own buffers: after reserve_like(other) it allocates
+  /// nothing and cannot throw, and the arrays stay where they were, so spans taken before
+  /// (World::spheres(), handles()) stay valid. World::restore commits a snapshot by it.
+  void assign(const SphereSoA& other) noexcept;
+
   void restore_handles(std::span<const SphereId> handles, std::span<const std::uint32_t> generations,
                        std::span<const std::uint32_t> free_indices);
 
  private:
-  template <class Soa, class F>
-  static void for_each_array_of(Soa& s, F& f) {
-    f("px", s.px), f("py", s.py), f("pz", s.pz), f("vx", s.vx), f("vy", s.vy), f("vz", s.vz);
-    f("wx", s.wx), f("wy", s.wy), f("wz", s.wz);
-    f("radius", s.radius), f("inv_mass", s.inv_mass), f("inv_inertia", s.inv_inertia);
-    f("restitution", s.restitution), f("friction", s.friction), f("flags", s.flags);
-    f("gravity_scale", s.gravity_scale);
-    f("force_x", s.force_x), f("force_y", s.force_y), f("force_z", s.force_z);
-    f("torque_x", s.torque_x), f("torque_y", s.torque_y), f("torque_z", s.torque_z);
-    f("user_data", s.user_data);
-    f("collision_category", s.collision_category), f("collision_mask", s.collision_mask);
-    f("sleep_timer", s.sleep_timer), f("sleep_island", s.sleep_island);
+  /// f(name, s.array...) for each array, over one SphereSoA or side by side over several.
+  template <class F, class... Soa>
+  static void for_each_array_of(F& f, Soa&... s) {
+    f("px", s.px...), f("py", s.py...), f("pz", s.pz...), f("vx", s.vx...), f("vy", s.vy...), f("vz", s.vz...);
+    f("wx", s.wx...), f("wy", s.wy...), f("wz", s.wz...);
+    f("radius", s.radius...), f("inv_mass", s.inv_mass...), f("inv_inertia", s.inv_inertia...);
+    f("restitution", s.restitution...), f("friction", s.friction...), f("flags", s.flags...);
+    f("gravity_scale", s.gravity_scale...);
+    f("force_x", s.force_x...), f("force_y", s.force_y...), f("force_z", s.force_z...);
+    f("torque_x", s.torque_x...), f("torque_y", s.torque_y...), f("torque_z", s.torque_z...);
+    f("user_data", s.user_data...);
+    f("collision_category", s.collision_category...), f("collision_mask", s.collision_mask...);
+    f("sleep_timer", s.sleep_timer...), f("sleep_island", s.sleep_island...);
   }
 
   void set_padding(std::size_t first);
