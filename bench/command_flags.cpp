@@ -182,6 +182,20 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
       usage_error("--record takes one world: not with --filters compare");
     if (o.save_at > 0 && o.save_path == o.restore_path)
       usage_error("--save-at would overwrite the --restore snapshot '" + o.save_path + "'");
+    // A snapshot holds every setting of the world it saved (all but threads) and every sphere's
+    // filter bits: these flags would be overwritten by it, so a run would report one thing and
+    // step another. They belong to the run that saves it.
+    if (!o.restore_path.empty()) {
+      for (const char* flag :
+           {"--reorder", "--resting", "--tile", "--pairs", "--ccd", "--rotation", "--warm-start", "--sleep", "--solver",
+            "--substeps", "--contact-cycles", "--damping-ratio", "--relax", "--depenetration-max", "--integrator"})
+        if (app.count(flag) > 0)
+          usage_error(std::string("--restore takes the world's settings from the snapshot: ") + flag +
+                      " would be ignored (give it to the run that saves the snapshot)");
+      if (o.filters != "none")
+        usage_error("--restore takes every sphere's collision filter from the snapshot: --filters " + o.filters +
+                    " would be ignored (give it to the run that saves the snapshot)");
+    }
     if (o.scene_named && !o.scene_file.empty())
       usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
   });

@@ -14,6 +14,7 @@
 #include "bench/scenes/memory_use.h"
 #include "bench/scenes/output_file.h"
 #include "bench/scenes/scene_file.h"
+#include "bench/scenes/scene_inputs.h"
 #include "bench/scenes/scene_filters.h"
 #include "bench/scenes/scene_run.h"
 #include "hail/recording.h"
@@ -52,23 +53,6 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   return v;
 }
 
-/// The files a scene file reads: itself and, where it names one, its heightmap (relative to its
-/// folder), so that no output overwrites them. A file that does not parse is left for the scene
-/// loader to report.
-std::vector<std::string> scene_inputs(const std::string& scene_file) {
-  if (scene_file.empty()) return {};
-  std::vector<std::string> inputs{scene_file};
-  std::ifstream in(scene_file, std::ios::binary);
-  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
-  if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object()) {
-    const nlohmann::json& terrain = doc["terrain"];
-    if (terrain.contains("heightmap") && terrain["heightmap"].is_string())
-      inputs.push_back(
-          (std::filesystem::path(scene_file).parent_path() / terrain["heightmap"].get<std::string>()).string());
-  }
-  return inputs;
-}
-
 /// What --save-at and --restore took, for the report: the snapshot's bytes, and ms to save or
 /// restore it (file I/O included).
 struct SnapshotFigures {
@@ -95,16 +79,19 @@ void restore_scene(Scene& scene, const std::string& path) {
 
 /// --record: the file and its writer, frame 0 written once the scene is built, a frame after
 /// every --every K steps (untimed), the end marker once the run is over.
+/// The file is written beside its target and renamed over it once finished (AtomicOutputFile),
+/// so a run that fails or a disk that fills leaves the old recording whole.
 struct Recorder {
-  std::ofstream file;
+  std::optional<AtomicOutputFile> file;
   std::optional<RecordingWriter> writer;
   RecordingFrame frame;  // reused
 
   void begin(const CommandOptions& o, const std::string& name, const Scene& scene) {
-    file.open(o.record_path, std::ios::binary | std::ios::trunc);
-    if (!file) throw std::runtime_error("--record: cannot write '" + o.record_path + "'");
-    writer.emplace(file, recording_header(*scene.world, scene.ids, name, scene.dt,
-                                          static_cast<std::uint32_t>(o.record_every), o.record_velocities));
+    writer.reset();
+    file.reset();
+    file.emplace(o.record_path);
+    writer.emplace(file->stream(), recording_header(*scene.world, scene.ids, name, scene.dt,
+                                                    static_cast<std::uint32_t>(o.record_every), o.record_velocities));
     write(scene, 0);
   }
   void write(const Scene& scene, int step) {
@@ -156,7 +143,10 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
     result = run_scene(
         o.scene_file, [&] { return moved(load_scene_file(o.scene_file, file_overrides(file_options))); }, run_options);
   }
-  if (record) recorder.writer->finish();
+  if (record) {
+    recorder.writer->finish();
+    recorder.file->commit();
+  }
   return result;
 }
 
@@ -343,11 +333,14 @@ void check_memory(const CommandOptions& o) {
 
 int run_command(const RunCommandOptions& o) {
   // Before anything is built: an output that cannot be written, or that would overwrite the
-  // scene file (or its heightmap) or another output, stops the run now rather than at its end.
-  // --dump-every's files lie beside --dump-state's: the first of them stands for them all.
-  check_output_paths({o.json_path, o.trace_path, o.dump_state_path, o.record_path,
+  // scene file (or its heightmap), the --restore snapshot or another output, stops the run now
+  // rather than at its end (or at --save-at's step). --dump-every's files lie beside
+  // --dump-state's: the first of them stands for them all.
+  std::vector<std::string> inputs = scene_file_inputs(o.scene_file);
+  inputs.push_back(o.restore_path);
+  check_output_paths({o.json_path, o.trace_path, o.dump_state_path, o.record_path, o.save_at > 0 ? o.save_path : "",
                       o.dump_every > 0 ? step_dump_path(o.dump_state_path, 0) : std::string()},
-                     scene_inputs(o.scene_file));
+                     inputs);
   check_memory(o);
   const RunCommandResult result = run_runs(o);
   const int status = report_runs(o, result);

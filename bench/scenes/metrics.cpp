@@ -78,6 +78,10 @@ ErrorFigures measure_errors(const Scene& scene) {
       e.max_terrain_penetration =
           std::max<double>(e.max_terrain_penetration, terrain->penetration(x, s.py[i], z, s.radius[i]));
   }
+  // Derived figures count too: a broken mass or inertia makes the energy NaN with every
+  // position and velocity finite.
+  for (double figure : {e.kinetic_energy, e.max_sphere_penetration, e.max_terrain_penetration})
+    e.nan_count += std::isfinite(figure) ? 0 : 1;
   return e;
 }
 

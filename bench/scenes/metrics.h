@@ -26,7 +26,7 @@ struct ErrorFigures {
   /// two solver variants is less at the mercy of a single impact).
   double mean_step_sphere_penetration = 0;
   double mean_step_static_penetration = 0;
-  std::size_t nan_count = 0;
+  std::size_t nan_count = 0;  ///< non-finite state components and derived figures (energy, penetrations, drifts)
   double kinetic_energy = 0;  ///< J
 };
 

@@ -140,6 +140,7 @@ void AtomicOutputFile::fail(const std::string& what) {
 }
 
 void AtomicOutputFile::flush() {
+  if (!out_) fail("a write failed" + system_reason());  // errno still the failed write's
   errno = 0;
   if (!out_.flush()) fail("a write failed" + system_reason());
 }
@@ -149,6 +150,16 @@ void AtomicOutputFile::commit() {
   errno = 0;
   out_.close();
   if (out_.fail()) fail("closing it failed" + system_reason());
+  // To the disk before the rename, so that a crash after it cannot leave an empty new file in
+  // the old one's place (a descriptor opened for reading may fsync the file's data).
+  if (temporary_ != target_) {
+    errno = 0;
+    const int fd = ::open(temporary_.c_str(), O_RDONLY | O_CLOEXEC);
+    const bool synced = fd >= 0 && ::fsync(fd) == 0;
+    const std::string why = system_reason();
+    if (fd >= 0) ::close(fd);
+    if (!synced) fail("fsync failed" + why);
+  }
   errno = 0;
   if (temporary_ != target_ && std::rename(temporary_.c_str(), target_.c_str()) != 0)
     fail("cannot rename " + temporary_ + " over it" + system_reason());

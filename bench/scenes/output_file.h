@@ -6,7 +6,8 @@
 //   an input (the scene file) or as another output, so minutes of simulation are not lost and
 //   the scene is never overwritten by its own dump;
 // - the content goes to a temporary file beside the target, is flushed and checked, and only
-//   then renamed over the target, so a failed write (full disk) leaves the old file intact.
+//   written to the disk (fsync), then renamed over the target, so a failed write (full disk)
+//   or a crash leaves the old file intact.
 //   A target that exists and is not a regular file (/dev/stdout, /dev/full, a pipe) is written
 //   in place, with the same checks: renaming over a device would replace the device.
 // Failures are std::invalid_argument (a path refused before the run) or std::runtime_error (a

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
@@ -263,6 +264,12 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.errors.mean_step_static_penetration = mean_static;
   r.momentum_drift = (world.linear_momentum() - momentum_start).norm();
   r.energy_drift = r.energy_start > 0 ? (r.errors.kinetic_energy - r.energy_start) / r.energy_start : 0.0;
+  // The NaN count covers every figure printed, not only the state: finite positions and
+  // velocities with a broken mass gave a NaN energy while the run reported "NaN 0".
+  for (double figure :
+       {r.errors.worst_sphere_penetration, r.errors.worst_static_penetration, r.errors.mean_step_sphere_penetration,
+        r.errors.mean_step_static_penetration, r.momentum_drift, r.energy_drift, r.energy_start, r.energy_peak})
+    r.errors.nan_count += std::isfinite(figure) ? 0 : 1;
   r.state_hash = hex_hash(world.state_hash());
   r.sleep = world.settings().sleep;
   r.sleeping_at_end = world.last_step_stats().sleeping;
