@@ -25,6 +25,7 @@
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/world/fnv1a.h"
 
 namespace hail::bench {
 namespace {
@@ -96,12 +97,14 @@ Timing time_search(int repeats, Build&& build, Find&& find) {
   return t;
 }
 
-// FNV-1a over the pair list, in order.
+// FNV-1a over the pair list, in order (each index low byte first).
 std::uint64_t hash_pairs(const std::vector<SpherePair>& pairs) {
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = kFnvOffsetBasis;
   for (const SpherePair p : pairs)
-    for (const std::uint32_t v : {p.a, p.b})
-      for (int byte = 0; byte < 4; ++byte) h = (h ^ ((v >> (8 * byte)) & 0xFFu)) * 1099511628211ull;
+    for (const std::uint32_t v : {p.a, p.b}) {
+      const std::byte bytes[4] = {std::byte(v), std::byte(v >> 8), std::byte(v >> 16), std::byte(v >> 24)};
+      h = fnv1a(bytes, h);
+    }
   return h;
 }
 

@@ -4,6 +4,7 @@
 #
 #   public     include/hail/ (the installed API: includes only include/hail/), soa/
 #   jobs       jobs/: parallel blocks, the stage crew, phase timing (no physics)
+#   files      kernel/files/: what hail may open and how much of it it reads (no physics)
 #   dispatch   kernel/dispatch/: SIMD path detection and the kernel table
 #   geometry   kernel/geometry/: boxes, Morton codes, sphere-triangle and ray-triangle tests
 #   bvh        kernel/bvh/: the flat BVH, its build and its walks
@@ -19,13 +20,13 @@
 # script mode, checks the tree at -DHAIL_LAYER_ROOT=<dir> (tests/CMakeLists.txt also runs it on
 # tests/layering/, a tree with an upward include, which it must refuse).
 
-set(hail_layer_names public jobs dispatch geometry bvh broadphase terrain solver ccd simd world)
+set(hail_layer_names public jobs files dispatch geometry bvh broadphase terrain solver ccd simd world)
 
 # Layer index of a repository-relative path, or -1 when it is not in a layer.
 function(hail_layer_of path out)
   set(layer -1)
   if(path STREQUAL "include/hail/world.h" OR path STREQUAL "include/hail/hail.h" OR path MATCHES "^kernel/world/")
-    set(layer 10)
+    set(layer 11)
   elseif(path MATCHES "^(include/hail|soa)/")
     set(layer 0)
   elseif(path MATCHES "^jobs/")

@@ -262,11 +262,20 @@ TEST_CASE("Every control call refuses a bad value or a stale handle and leaves t
         world.apply_force(id, {0, kNaN, 0});
       },
       "force must be finite");
-  world.apply_force(id, {3e38f, 0, 0});
+  // A force that would take the sphere past the speed limit within the longest step is refused
+  // (3e38 N was accepted and turned it NaN); so is a sum of forces that would (2 kg: 1e5 N
+  // gives 5e4 m/s^2, 6.4e5 m/s over 12.8 s; twice that is over 1e6).
   expect_rejected(
       world,
       [&] {
         world.apply_force(id, {3e38f, 0, 0});
+      },
+      "accumulated force");
+  world.apply_force(id, {1e5f, 0, 0});
+  expect_rejected(
+      world,
+      [&] {
+        world.apply_force(id, {1e5f, 0, 0});
       },
       "accumulated force");
   expect_rejected(
@@ -462,8 +471,8 @@ TEST_CASE("User data, filters, gravity scales and forces follow their spheres th
   CHECK(world.velocity(floater) == Vec3(0, 0, pushed));
   // Semi-implicit Euler moves with the end velocity; the uniform-acceleration integrator with
   // the mean of the step's start and end (the force's uniform acceleration).
-  const float moved_by = world.settings().integrator == Integrator::SemiImplicitEuler ? pushed * kStep
-                                                                                     : 0.5f * pushed * kStep;
+  const float moved_by =
+      world.settings().integrator == Integrator::SemiImplicitEuler ? pushed * kStep : 0.5f * pushed * kStep;
   CHECK(world.position(floater).x() == 100.0f);
   CHECK(world.position(floater).y() == 50.0f);
   CHECK(world.position(floater).z() == Approx(100 + moved_by).epsilon(1e-7));

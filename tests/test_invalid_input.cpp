@@ -29,6 +29,17 @@ void populate(World& w) {
   w.step(1.0f / 60);
 }
 
+/// The World constructor must refuse `s` with an InvalidArgument naming `needle`.
+void settings_rejected(const WorldSettings& s, const std::string& needle) {
+  try {
+    World w(s);
+    FAIL("expected rejection of " << needle);
+  } catch (const InvalidArgument& e) {
+    INFO("message: " << e.what());
+    CHECK(std::string(e.what()).find(needle) != std::string::npos);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("add_sphere rejects every invalid value and leaves the world unchanged", "[invalid]") {
@@ -191,4 +202,83 @@ TEST_CASE("time_scale 0 freezes the world; time_scale slows it", "[settings]") {
   const auto b = slow.add_sphere({.position = {0, 5, 0}, .velocity = {1, 0, 0}});
   for (int k = 0; k < 60; ++k) slow.step(1.0f / 60);
   CHECK(slow.position(b).x() == Approx(0.5).epsilon(1e-4));
+}
+
+TEST_CASE("A step too short to move anything is refused, the world unchanged", "[invalid][limits]") {
+  // dt 1e-39 (or time_scale 1e-37 at 1/60) passed as "finite and > 0" and turned every sphere NaN.
+  World w(WorldSettings{.threads = 1});
+  populate(w);
+  expect_rejected(w, [&] { w.step(1e-39f); }, {"kMinStep", "1e-39"});
+  expect_rejected(
+      w, [&] { w.step(1e-10f); }, "kMinStep");
+  World slow(WorldSettings{.time_scale = 1e-37f, .threads = 1});  // 1/60 s is too short after the time scale
+  slow.add_sphere({.position = {0, 1, 0}, .velocity = {1, 0, 0}});
+  expect_rejected(slow, [&] { slow.step(1.0f / 60); }, {"kMinStep", "time_scale"});
+  CHECK_THROWS_AS(hail::check_step(WorldSettings{}, 1e-40f), InvalidArgument);
+  settings_rejected(WorldSettings{.max_substep = 1e-12f}, "max_substep");
+  // Paused (time scale 0) steps stay accepted, and the shortest step moves and stays finite,
+  // with either solver and the most soft-step substeps.
+  World paused(WorldSettings{.time_scale = 0.0f, .threads = 1});
+  populate(paused);
+  for (hail::Solver solver : {hail::Solver::Passes, hail::Solver::SoftStep}) {
+    WorldSettings s{.threads = 1, .solver = solver};
+    s.soft_step.substeps = hail::kMaxIterations;
+    World w2(s);
+    w2.add_plane({});
+    w2.add_sphere({.position = {0, 0.5f, 0}, .mass = 1e12f});
+    w2.add_sphere({.position = {0, 1.5f, 0}, .mass = 1e-12f});
+    for (int k = 0; k < 5; ++k) w2.step(hail::kMinStep);
+    CHECK(w2.nan_count() == 0);
+    CHECK(std::isfinite(w2.kinetic_energy()));
+  }
+}
+
+TEST_CASE("Forces, torques and gravity are bounded so one step stays within the speed limits", "[invalid][limits]") {
+  // apply_force(3e38) left 2.5e35 m/s after one step, then NaN.
+  World w(WorldSettings{.threads = 1});
+  populate(w);
+  const hail::SphereId id = w.id_at(0);
+  expect_rejected(w, [&] { w.apply_force(id, {3e38f, 0, 0}); }, {"accumulated force", "kMaxSphereSpeed"});
+  expect_rejected(w, [&] { w.apply_torque(id, {0, 3e38f, 0}); }, {"accumulated torque", "spin"});
+  // At the defaults the longest step is 256 * 0.05 = 12.8 s: a 1 kg sphere takes up to
+  // 1e6 / 12.8 = 78,125 N.
+  w.apply_force(id, {78000.0f, 0, 0});
+  expect_rejected(
+      w,
+      [&] {
+        w.apply_force(id, {1000.0f, 0, 0});
+      },
+      "accumulated force");  // the sum is checked
+  w.step(1.0f / 60);
+  CHECK(w.nan_count() == 0);
+  expect_rejected(w, [&] { w.set_gravity_scale(id, 1e5f); }, {"gravity scale", "kMaxSphereSpeed"});
+  w.set_gravity_scale(id, 7000.0f);  // 9.81 * 7000 * 12.8 = 8.8e5 m/s
+  settings_rejected(WorldSettings{.gravity = {0, -1e6f, 0}}, "gravity");
+  settings_rejected(WorldSettings{.gravity = {0, -3e38f, 0}}, "gravity");
+  // A world of shorter longest steps may take stronger gravity.
+  World strong(WorldSettings{.gravity = {0, -1e6f, 0}, .max_substep = 0.01f, .max_substeps = 10, .threads = 1});
+  populate(strong);
+  CHECK(strong.nan_count() == 0);
+}
+
+TEST_CASE("Iteration counts have one range wherever they come from", "[invalid][limits]") {
+  // 2147483647 resting passes were accepted (8 spheres, 2 steps took over 20 s).
+  for (int bad : {-1, hail::kMaxIterations + 1, 2147483647}) {
+    INFO(bad);
+    settings_rejected(WorldSettings{.resting_iterations = bad}, "resting_iterations");
+    settings_rejected(WorldSettings{.collision_iterations = bad}, "collision_iterations");
+    settings_rejected(WorldSettings{.depenetration_iterations = bad}, "depenetration_iterations");
+    WorldSettings soft;
+    soft.soft_step.substeps = bad;
+    settings_rejected(soft, "soft_step.substeps");
+    soft = {};
+    soft.soft_step.relax_iterations = bad;
+    settings_rejected(soft, "soft_step.relax_iterations");
+    soft = {};
+    soft.soft_step.depenetration_iterations_max = bad;
+    settings_rejected(soft, "depenetration_iterations_max");
+  }
+  settings_rejected(WorldSettings{.max_substeps = hail::kMaxSubstepsCap + 1}, "max_substeps");
+  World at_most(WorldSettings{.threads = 1, .resting_iterations = hail::kMaxIterations});
+  CHECK(at_most.settings().resting_iterations == hail::kMaxIterations);
 }

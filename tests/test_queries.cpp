@@ -479,3 +479,21 @@ TEST_CASE("queries from two threads at once build the stale BVH once and agree",
     REQUIRE(identical(second[k], expected[k]));
   }
 }
+
+TEST_CASE("A ray direction of any non-zero finite length works, however long or short", "[queries]") {
+  // Directions of 1e-40 or 3e38 were refused as "not zero": their squared length leaves float range.
+  World w;
+  w.add_sphere({.position = {0, 5, 0}});
+  const std::optional<QueryHit> unit = w.raycast({{0, 0, 0}, {0, 1, 0}});
+  REQUIRE(unit);
+  for (float length : {1e-40f, 1e-30f, 1e30f, 3e38f}) {
+    INFO(length);
+    const std::optional<QueryHit> hit = w.raycast({{0, 0, 0}, {0, length, 0}});
+    REQUIRE(hit);
+    CHECK(hit->distance == unit->distance);
+    CHECK(hit->sphere == unit->sphere);
+    const std::optional<QueryHit> cast = w.sphere_cast({{0, 0, 0}, {0, length, 0}}, 0.25f);
+    REQUIRE(cast);
+    CHECK(cast->distance == Approx(4.25f));
+  }
+}

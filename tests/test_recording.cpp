@@ -3,14 +3,19 @@
 // world's re-sorting did to its slots; a truncated, corrupt, future-version or foreign file is
 // refused naming the problem; the writer refuses a header or frame out of its domain.
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "catch.h"
+#include "file_faults.h"
 #include "fuzz/recording_harness.h"
 #include "hail/recording.h"
 #include "hail/world.h"
@@ -152,7 +157,7 @@ TEST_CASE("A corrupt, foreign or future-version recording is refused, naming the
   Bytes future = r.bytes;
   const std::uint32_t next = kRecordingVersion + 1;
   std::memcpy(future.data() + 8, &next, sizeof next);
-  expect_refused(future, "version 2 is newer than this hail reads (it reads version 1)");
+  expect_refused(future, "version 3 is newer than this hail reads (it reads version 2)");
   expect_refused(changed(12, std::byte{0x80}), "unknown flags");
   expect_refused(changed(recording::kHeaderBytes + 9, std::byte{'!'}), "the header's checksum does not match");
   const std::size_t frame1 = r.bytes.size() - recording::kEndBytes - recording::frame_bytes(150, true) + 100;
@@ -245,4 +250,41 @@ TEST_CASE("The recording fuzzer's seeds are what this hail writes, and each read
     broken[broken.size() - 20] ^= std::byte{1};  // the last frame's checksum, or the header's (no frames)
     CHECK(fuzz::read_and_compare(broken) == fuzz::RecordingOutcome::Refused);
   }
+}
+
+TEST_CASE("A version 1 recording (the old checksum basis) still reads", "[recording]") {
+  // tests/data/recording-v1-three-frames.hailrec is the fuzzer's three-frames seed as version 1
+  // wrote it: the same layout, its checksums made from FNV-1a's offset basis a digit short.
+  const std::string legacy = std::string(HAIL_SOURCE_DIR) + "/tests/data/recording-v1-three-frames.hailrec";
+  const RecordingReader old = RecordingReader::open_file(legacy);
+  const Bytes now = [] {
+    for (const auto& [name, bytes] : corpus_seeds())
+      if (name == "three-frames.hailrec") return bytes;
+    return Bytes{};
+  }();
+  const RecordingReader current{Bytes(now)};
+  REQUIRE(old.frame_count() == current.frame_count());
+  CHECK(old.header().handles == current.header().handles);
+  for (std::size_t k = 0; k < old.frame_count(); ++k) {
+    CHECK(old.frame(k).positions == current.frame(k).positions);
+    CHECK(old.frame(k).step == current.frame(k).step);
+  }
+}
+
+TEST_CASE("A recording that is a FIFO, a device or a folder is refused before it is read", "[recording][files]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hail-test-recording-files";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  using hail::testing::message_of;
+  // /dev/zero read gigabytes; a FIFO (hail-view --replay FIFO) hung.
+  CHECK_THAT(message_of<FileError>([] { (void)RecordingReader::open_file("/dev/zero"); }), Catch::Contains("device"));
+  CHECK_THAT(message_of<FileError>([&] { (void)RecordingReader::open_file(dir.string()); }),
+             Catch::Contains("directory"));
+  const std::string fifo = (dir / "fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::optional<std::string> thrown = hail::testing::thrown_within<FileError>(
+      std::chrono::seconds(10), [fifo] { (void)RecordingReader::open_file(fifo); });
+  REQUIRE(thrown.has_value());
+  CHECK_THAT(*thrown, Catch::Contains("FIFO"));
+  std::filesystem::remove_all(dir);
 }

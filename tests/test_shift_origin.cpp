@@ -137,17 +137,39 @@ TEST_CASE("shift_origin refuses bad offsets and leaves the world unchanged", "[s
   unchanged();
   // 1e7 m out, floats are 1 m apart: more than the 1 m cells / kTerrainCellResolution that
   // set_terrain allows.
-  expect_rejected(w, [&] { w.shift_origin({-1e7f, 0.0f, 0.0f}); }, {"terrain reaches", "kTerrainCellResolution"});
+  // Its spheres would land where add_sphere refuses them first.
+  expect_rejected(w, [&] { w.shift_origin({-1e7f, 0.0f, 0.0f}); }, {"shift_origin", "add_sphere"});
   unchanged();
-  // A position that would leave float range (add_sphere keeps spheres far nearer; a shift may
-  // carry one out, as a step may, but not past float range).
+  World bare(two_threads());  // the terrain alone
+  bare.set_terrain(waves_at(0.0f));
+  expect_rejected(bare, [&] { bare.shift_origin({-1e7f, 0.0f, 0.0f}); }, {"terrain reaches", "kTerrainCellResolution"});
+  // A sphere carried where add_sphere would refuse to place it (kSphereRadiusResolution): a
+  // shift of 1e30 collapsed every sphere onto one float, and one of 1e6 put 0.5 m spheres where
+  // floats are 0.0625 m apart. A shift past float range is refused the same way.
   World big(two_threads());
   big.add_sphere({.position = {0.0f, 0.0f, 0.0f}});
-  big.shift_origin({-3e38f, 0.0f, 0.0f});
-  expect_rejected(big, [&] { big.shift_origin({-3e38f, 0.0f, 0.0f}); }, {"shift_origin", "sphere 0", "float range"});
+  big.add_sphere({.position = {3.0f, 0.0f, 0.0f}});
+  for (float out : {1e30f, 1e6f, -3e38f})
+    expect_rejected(big, [&] { big.shift_origin({out, 0.0f, 0.0f}); }, {"shift_origin", "sphere 0", "add_sphere"});
+  big.shift_origin({-1e5f, 0.0f, 0.0f});  // 1e5 m out: floats 7.8 mm apart, under 0.5 m / 64
+  CHECK(big.position(big.id_at(0)).x() == 1e5f);
+  CHECK(big.position(big.id_at(1)).x() == 100003.0f);
   // A plane offset that would.
   World walls(two_threads());
   walls.add_plane({.normal = {1.0f, 0.0f, 0.0f}, .offset = 3e38f});
   expect_rejected(walls, [&] { walls.shift_origin({-3e38f, 0.0f, 0.0f}); }, {"shift_origin", "plane 0"});
   CHECK(walls.planes()[0].offset == 3e38f);
+}
+
+TEST_CASE("shift_origin may bring a sphere that flew past the placement rule nearer, never farther",
+          "[shift_origin][invalid][far_origin]") {
+  // A step does not stop a sphere flying out; such a sphere must not block shifting home.
+  World w(two_threads());
+  const SphereId flyer = w.add_sphere({.position = {1e5f, 0.0f, 0.0f}, .velocity = {1e6f, 0.0f, 0.0f}});
+  w.step(0.5f);  // ~5e5 m out with 0.5 m radius: floats there are 0.03 m apart, past r / 64
+  const float x = w.position(flyer).x();
+  REQUIRE(x > 4e5f);
+  expect_rejected(w, [&] { w.shift_origin({-1e5f, 0.0f, 0.0f}); }, {"shift_origin", "add_sphere"});
+  w.shift_origin({1e5f, 0.0f, 0.0f});  // nearer: allowed though still past the rule
+  CHECK(w.position(flyer).x() == x - 1e5f);
 }

@@ -5,13 +5,19 @@
 // future-version, wrong-terrain or inconsistent snapshot is refused naming the problem, with
 // the world unchanged.
 
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,8 +25,10 @@
 #include "bench/scenes/scene_run.h"
 #include "bench/scenes/scenes.h"
 #include "catch.h"
+#include "file_faults.h"
 #include "fuzz/snapshot_harness.h"
 #include "hail/world.h"
+#include "kernel/world/fnv1a.h"
 #include "kernel/world/snapshot_format.h"
 #include "sample_count.h"
 #include "simd_paths.h"
@@ -368,4 +376,131 @@ TEST_CASE("The snapshot fuzzer's seeds are what this hail saves, and each restor
     }
   }
   CHECK(restored == 3);
+}
+
+TEST_CASE("A version 4 snapshot (the old checksum basis) still restores, and saves as this version", "[snapshot]") {
+  // tests/data/snapshot-v4-terrain-6.snap is the fuzzer's terrain-6 seed as version 4 wrote it:
+  // the same layout, its checksum and terrain hash made from FNV-1a's offset basis a digit short.
+  const Bytes legacy = read_bytes(std::filesystem::path(HAIL_SOURCE_DIR) / "tests/data/snapshot-v4-terrain-6.snap");
+  std::uint32_t version = 0;
+  REQUIRE(legacy.size() > 12);
+  std::memcpy(&version, legacy.data() + 8, sizeof version);
+  REQUIRE(version == 4);
+  std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
+  world->restore(legacy);
+  const auto seeds = corpus_seeds();
+  CHECK(saved(*world) == seeds.back().second);  // terrain-6, saved by this hail
+}
+
+TEST_CASE("FNV-1a 64 gives the published test vectors", "[snapshot][hash]") {
+  // The FNV reference's vectors (Fowler, Noll, Vo: "FNV-1a 64", test_fnv.c): "" is the offset basis.
+  auto hash = [](const std::string& text) { return fnv1a(std::as_bytes(std::span<const char>(text))); };
+  CHECK(hash("") == 0xcbf29ce484222325ull);
+  CHECK(hash("a") == 0xaf63dc4c8601ec8cull);
+  CHECK(hash("foobar") == 0x85944171f73967e8ull);
+}
+
+TEST_CASE("Spans from spheres() and handles() stay valid across restore, showing the restored state", "[snapshot]") {
+  std::unique_ptr<World> world = busy_world(1);
+  const Bytes at_start = saved(*world);
+  std::vector<float> saved_x(world->spheres().px.begin(), world->spheres().px.end());
+  std::vector<SphereId> saved_ids(world->handles().begin(), world->handles().end());
+  step(*world, 20);
+  const SphereState view = world->spheres();
+  const std::span<const SphereId> handles = world->handles();
+  REQUIRE(view.px.size() == saved_x.size());
+  CHECK(std::vector<float>(view.px.begin(), view.px.end()) != saved_x);  // the step moved them
+  world->restore(at_start);
+  // The same buffers: a rollback reads through the spans it holds (they dangled before).
+  CHECK(world->spheres().px.data() == view.px.data());
+  CHECK(world->spheres().inv_mass.data() == view.inv_mass.data());
+  CHECK(world->handles().data() == handles.data());
+  CHECK(std::vector<float>(view.px.begin(), view.px.end()) == saved_x);
+  CHECK(std::vector<SphereId>(handles.begin(), handles.end()) == saved_ids);
+  CHECK(saved(*world) == at_start);
+}
+
+namespace {
+
+/// Where the values of the sphere array `name` start in a snapshot (its name length, name and
+/// element size come before them).
+std::size_t sphere_array_at(const Bytes& bytes, const std::string& name) {
+  std::vector<std::byte> key{std::byte(name.size())};
+  for (char c : name) key.push_back(std::byte(c));
+  const auto found = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
+  REQUIRE(found != bytes.end());
+  return static_cast<std::size_t>(found - bytes.begin()) + key.size() + 1;
+}
+
+}  // namespace
+
+TEST_CASE("A snapshot's sphere fields are checked as add_sphere checks them", "[snapshot]") {
+  // Before, a movable sphere with inverse inertia 0, or inverse mass 1e38, restored, and the
+  // kinetic energy became NaN while a run reported no NaN.
+  World one(WorldSettings{.threads = 1});
+  one.add_sphere({.position = {0, 1, 0}, .velocity = {1, 0, 0}, .radius = 0.5f, .mass = 2.0f});
+  const Bytes good = saved(one);
+  std::unique_ptr<World> target = busy_world(1);
+  auto edited = [&](const std::string& array, float value) {
+    Bytes bad = good;
+    std::memcpy(bad.data() + sphere_array_at(bad, array), &value, sizeof value);
+    rechecksum(bad);
+    return bad;
+  };
+  expect_refused(*target, edited("inv_inertia", 0.0f), "inverse inertia");
+  expect_refused(*target, edited("inv_inertia", 1e30f), "inverse inertia");
+  expect_refused(*target, edited("inv_mass", 1e38f), "out of [kMinSphereMass, kMaxSphereMass]");
+  expect_refused(*target, edited("vx", 3e6f), "kMaxSphereSpeed");
+  expect_refused(*target, edited("py", std::numeric_limits<float>::infinity()), "position");
+  expect_refused(*target, edited("wy", 3e6f), "kMaxSphereSpin");
+  expect_refused(*target, edited("force_x", 3e38f), "force of 3e+38");
+  expect_refused(*target, edited("gravity_scale", 1e5f), "gravity scale");
+  expect_refused(*target, edited("sleep_timer", -1.0f), "sleep_timer");
+  expect_refused(*target, edited("radius", 1e-7f), "1e-07");  // %g: no longer "0.000000"
+  World copy(WorldSettings{.threads = 1});
+  copy.restore(good);  // the unedited bytes restore
+  CHECK(copy.kinetic_energy() == one.kinetic_energy());
+}
+
+TEST_CASE("restore_file refuses a folder, a FIFO and a device before reading them", "[snapshot][files]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hail-test-snapshot-files";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  World world(WorldSettings{.threads = 1});
+  // A folder threw std::ios_base::failure, not FileError; /dev/zero read gigabytes; a FIFO hung.
+  using hail::testing::message_of;
+  CHECK_THAT(message_of<FileError>([&] { world.restore_file(dir.string()); }), Catch::Contains("is a directory"));
+  CHECK_THAT(message_of<FileError>([&] { world.restore_file("/dev/zero"); }), Catch::Contains("is a device"));
+  const std::string fifo = (dir / "fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::optional<std::string> thrown =
+      hail::testing::thrown_within<FileError>(std::chrono::seconds(10), [&] { world.restore_file(fifo); });
+  REQUIRE(thrown.has_value());  // returned: did not block on the FIFO
+  CHECK_THAT(*thrown, Catch::Contains("FIFO"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("save_file replaces the old snapshot only once the new one is whole", "[snapshot][files]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hail-test-snapshot-save";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "world.snap").string();
+  std::unique_ptr<World> world = busy_world(1);
+  world->save_file(path);
+  const Bytes before = read_bytes(path);
+  step(*world, 5);
+  // A write that fails part-way (a full disk, here the file size limit): the old file stays.
+  // save_file truncated the file in place and left it cut short.
+  {
+    const hail::testing::FileSizeLimit limit(before.size() / 2);
+    CHECK_THROWS_AS(world->save_file(path), FileError);
+  }
+  CHECK(read_bytes(path) == before);
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    CHECK(entry.path().filename() == "world.snap");  // no temporary left behind
+  CHECK_THAT(hail::testing::message_of<FileError>([&] { world->save_file("/dev/full"); }),
+             Catch::Contains("/dev/full") && Catch::Contains("a write failed"));
+  world->save_file(path);
+  CHECK(read_bytes(path) == saved(*world));
+  std::filesystem::remove_all(dir);
 }

@@ -28,7 +28,10 @@ inline constexpr char kRecordingMagic[8] = {'H', 'A', 'I', 'L', 'R', 'E', 'C', '
 /// The last 16 bytes start with this: the end marker, then the frame count (u64).
 inline constexpr char kRecordingEndMagic[8] = {'H', 'A', 'I', 'L', 'E', 'N', 'D', '.'};
 /// The format this hail writes; RecordingReader refuses a newer one, naming both.
-inline constexpr std::uint32_t kRecordingVersion = 1;
+/// Version 2 checksums with FNV-1a's published offset basis; version 1, the same layout with a
+/// basis a digit short, is still read (its terrain hash, made with that basis, matches no
+/// terrain_content_hash now: a viewer draws such a replay without its terrain).
+inline constexpr std::uint32_t kRecordingVersion = 2;
 /// Longest scene name a header holds (a path, usually).
 inline constexpr std::size_t kRecordingMaxSceneName = 4096;
 
@@ -120,6 +123,7 @@ class RecordingReader {
   std::size_t frame_bytes_ = 0;
   std::size_t frame_count_ = 0;
   mutable std::vector<std::byte> scratch_;
+  std::uint64_t checksum_basis_ = 0;  // FNV-1a's offset basis for the file's version
 };
 
 }  // namespace hail

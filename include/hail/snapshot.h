@@ -19,7 +19,9 @@ inline constexpr char kSnapshotMagic[8] = {'H', 'A', 'I', 'L', 'S', 'N', 'A', 'P
 /// The format this hail writes. restore reads this version and refuses a newer one (the
 /// message names both). Raised whenever the layout changes, e.g. a sphere array is added
 /// (SphereSoA::for_each_array).
-inline constexpr std::uint32_t kSnapshotVersion = 4;
+/// Version 5 checksums with FNV-1a's published offset basis; version 4, the same layout with a
+/// basis a digit short, is still read.
+inline constexpr std::uint32_t kSnapshotVersion = 5;
 
 /// FNV-1a 64 over everything that decides how spheres meet the terrain: the heightmap's size,
 /// cell sizes, origin and heights, and the BVH (its nodes and triangle order, which number the

@@ -55,12 +55,20 @@ struct StepState;  // kernel/world/step_state.h
 /// How many substeps World::step(dt) splits a step into under `settings`:
 /// ceil(time_scale * dt / max_substep), at least 1; 0 when time_scale is 0 (nothing moves).
 /// Computed in double, so it never overflows: a count beyond INT64_MAX is returned as
-/// INT64_MAX. Throws InvalidArgument unless dt is finite and > 0. Needs no World: a scene
+/// INT64_MAX. Throws InvalidArgument unless dt is finite and > 0 and dt * time_scale is 0 or at
+/// least kMinStep. Needs no World: a scene
 /// reader or a command line can call it to refuse a dt (with check_step) before it builds one.
 [[nodiscard]] std::int64_t substeps_needed(const WorldSettings& settings, float dt);
 
+/// The shortest step World::step takes, in simulated seconds (dt * time_scale; time_scale 0,
+/// a pause, is always accepted): a step divides by its length (and the soft step by its
+/// substeps' squares, up to kMaxIterations of them), which left float range below about 2e-39 s
+/// and turned every sphere NaN. 1e-9 s keeps those quotients 100 times inside float range for
+/// the heaviest sphere; no sphere moves measurably in it. WorldSettings::max_substep is at least it.
+inline constexpr float kMinStep = 1e-9f;
+
 /// Throws InvalidArgument exactly when World::step(dt) under `settings` would: dt not finite
-/// or not > 0, or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
+/// or not > 0, dt * time_scale below kMinStep (but time_scale 0), or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
 /// time_scale, max_substep, the count needed and the ways out). Returns that count otherwise
 /// (0 at time_scale 0). `settings` itself is assumed valid (the World constructor checks it).
 std::int64_t check_step(const WorldSettings& settings, float dt);
@@ -129,7 +137,9 @@ struct PlaneDesc {
 /// Read-only views of the dense sphere state, in slot order (World::slot_of maps a handle to
 /// its slot, World::id_at a slot to its handle). No copy: the spans point into the World's SoA
 /// arrays, so reading them costs nothing and they see every later step. They stay valid until
-/// a call adds or removes spheres (or reserve() grows the arrays); a step keeps them valid but
+/// a call adds or removes spheres (or reserve() grows the arrays); restore() keeps them valid
+/// when the snapshot holds as many spheres as the World had (or fewer and the spans are cut to
+/// them; more than the arrays have room for reallocates); a step keeps them valid but
 /// may move spheres to other slots (the Morton re-sort, every reorder_interval steps), so look
 /// a handle's slot up again after each step. Units: m, m/s, rad/s, m, 1/kg (0: static).
 struct SphereState {
@@ -183,9 +193,10 @@ class World {
   /// (any whole number of metres for |p| < 2^24 m) and |p - o| is below the power of two above
   /// |p|. So bringing the action back towards the origin by whole metres is exact; moving it
   /// out rounds each coordinate once, to half the spacing where it lands.
-  /// Throws InvalidArgument (world unchanged) for a non-finite offset, a position or plane
-  /// offset that would leave float range, or a terrain that set_terrain would refuse where it
-  /// lands (kTerrainCellResolution).
+  /// Throws InvalidArgument (world unchanged) for a non-finite offset, a plane offset that would
+  /// leave float range, a sphere that would land where add_sphere would refuse to place it
+  /// (kSphereRadiusResolution; a sphere already past that rule may only be brought nearer), or a
+  /// terrain that set_terrain would refuse where it lands (kTerrainCellResolution).
   void shift_origin(const Vec3& offset);
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
@@ -196,7 +207,9 @@ class World {
   /// lift-out. The default collides with everything. Takes effect from the next step.
   void set_ground_filter(CollisionFilter filter);
   [[nodiscard]] CollisionFilter ground_filter() const { return ground_filter_; }
-  /// Reserves room for n spheres so that adding them does not reallocate.
+  /// Reserves room for n spheres so that adding them does not reallocate. Throws
+  /// InvalidArgument for more than SphereSoA::kMaxSpheres, std::bad_alloc when memory runs
+  /// out; the world keeps every sphere and stays usable either way.
   void reserve(std::size_t spheres);
 
   /// Advances the world by dt * time_scale seconds (split into substeps no longer than
@@ -220,8 +233,9 @@ class World {
   [[nodiscard]] Vec3 velocity(SphereId id) const;
   [[nodiscard]] Vec3 angular_velocity(SphereId id) const;
   /// Handle of every dense slot, in slot order (slot k's is id_at(k)): one array for a game
-  /// that walks spheres() and wants to know whose each entry is. No copy; valid until the next
-  /// step (the Morton re-sort moves slots), add or remove.
+  /// that walks spheres() and wants to know whose each entry is. No copy; valid (pointing at
+  /// the current handles) across steps and restores as spheres() is (SphereState), but a step
+  /// may re-sort the slots and so the handles in them.
   [[nodiscard]] std::span<const SphereId> handles() const { return spheres_.handles(); }
   /// The game's 64-bit value for a sphere (set_user_data; 0 until set). Throws for a stale handle.
   [[nodiscard]] std::uint64_t user_data(SphereId id) const;
@@ -402,16 +416,22 @@ class World {
   /// state and the terrain's content hash (docs/embedding.md, "Snapshots"). O(spheres +
   /// remembered contacts); allocates `out`'s room only when it grows.
   void save(std::vector<std::byte>& out) const;
-  /// save() into a file; throws FileError (naming the file) when it cannot be written.
+  /// save() into a file: written beside it, flushed to the disk (fsync), then renamed over it,
+  /// so that a failure (a full disk, a crash) leaves the old file whole. Throws FileError
+  /// (naming the file and what failed) when it cannot be written.
   void save_file(const std::string& path) const;
   /// Makes this World the one saved: after it, N steps give bitwise the state the saved world
   /// had after N steps, on any thread count (this World keeps its own threads or arena) and any
   /// SIMD path. The same terrain must be attached (set_terrain; or none, if it had none).
   /// Throws InvalidArgument naming the problem, with the world unchanged, for a snapshot that
   /// is truncated, corrupt (checksum), of a newer format version, of another terrain, or
-  /// inconsistent. The last step's contacts, impacts, events and stats are emptied.
+  /// inconsistent. The last step's contacts, impacts, events and stats are emptied. The
+  /// sphere arrays are overwritten in place (grown first if the snapshot holds more spheres
+  /// than they have room for), so spans from spheres() and handles() stay valid: a rollback
+  /// reads the restored state through them.
   void restore(std::span<const std::byte> snapshot);
-  /// restore() from a file; throws FileError (naming the file) when it cannot be read.
+  /// restore() from a file; throws FileError (naming the file) when it cannot be read or is
+  /// not a regular file (a FIFO, a device, a folder: refused before it is opened).
   void restore_file(const std::string& path);
 
   /// Impacts of the last step (of its last substep) resolved at their exact time outside the

@@ -144,6 +144,16 @@ inline constexpr std::size_t kMinParallelTileSpheres = 256;
   return n < (mixed ? kMixedPairSearchMinSpheres : kPairSearchMinSpheres) ? PairSearch::BruteForce : PairSearch::Grid;
 }
 
+/// Most passes or substeps any iteration count of WorldSettings (and SoftStepParams) may ask
+/// for: collision, resting and depenetration passes, soft-step substeps, relax iterations and
+/// the soft step's depenetration maximum. Each costs a pass over every contact; the shipped
+/// scenes use at most 16, and 2^31 passes over 8 spheres took minutes a step. The one range,
+/// whether a setting comes from code, a scene file, a snapshot or the command line.
+inline constexpr int kMaxIterations = 1000;
+/// Most substeps WorldSettings::max_substeps may allow one step(dt): each costs a whole step's
+/// work, so a larger cap only lets a step run for hours.
+inline constexpr int kMaxSubstepsCap = 100'000;
+
 /// How a World steps. Every field is checked by the World constructor (InvalidArgument).
 struct WorldSettings {
   Vec3 gravity{0.0f, -9.81f, 0.0f};  ///< m/s^2

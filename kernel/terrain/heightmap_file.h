@@ -12,6 +12,7 @@
 
 #include "hail/errors.h"
 #include "hail/heightmap.h"
+#include "kernel/files/regular_file.h"
 
 namespace hail::detail {
 
@@ -20,31 +21,8 @@ namespace hail::detail {
   throw FileError("hail: " + path + ": " + problem);
 }
 
-/// Throws FileError unless `path` (after symbolic links) is a regular file. Checked before
-/// opening: opening a FIFO blocks until a writer comes, which may be never, and a directory or
-/// a device has no length to check a header against (/dev/zero is endless).
-inline void require_regular_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (status.type() == fs::file_type::not_found) throw_file_error(path, "cannot open file (no such file)");
-  if (error) throw_file_error(path, "cannot open file (" + error.message() + ")");
-  switch (status.type()) {
-    case fs::file_type::regular:
-      return;
-    case fs::file_type::directory:
-      throw_file_error(path, "is a directory, not a heightmap file");
-    case fs::file_type::fifo:
-      throw_file_error(path, "is a FIFO (named pipe), not a regular file: it would block");
-    case fs::file_type::character:
-    case fs::file_type::block:
-      throw_file_error(path, "is a device, not a regular file");
-    case fs::file_type::socket:
-      throw_file_error(path, "is a socket, not a regular file");
-    default:
-      throw_file_error(path, "is not a regular file");
-  }
-}
+/// Throws FileError unless `path` (after symbolic links) is a regular file (kernel/files/).
+inline void require_regular_file(const std::string& path) { files::require_regular_file(path, {}, "a heightmap file"); }
 
 /// The file opened for binary reading, once require_regular_file has passed.
 inline std::ifstream open_heightmap_file(const std::string& path) {

@@ -8,7 +8,11 @@
 
 namespace hail {
 
-inline constexpr std::uint64_t kFnvOffsetBasis = 1469598103934665603ull;
+/// FNV-1a 64's offset basis, as published (tests/test_snapshot.cpp checks the test vectors).
+inline constexpr std::uint64_t kFnvOffsetBasis = 14695981039346656037ull;
+/// The basis with its last digit lost, which snapshots up to version 4 and recordings of
+/// version 1 were checksummed with: used only to read those files.
+inline constexpr std::uint64_t kLegacyFnvOffsetBasis = 1469598103934665603ull;
 
 /// FNV-1a 64, continued from `h` (kFnvOffsetBasis to start).
 inline std::uint64_t fnv1a(std::span<const std::byte> bytes, std::uint64_t h = kFnvOffsetBasis) {

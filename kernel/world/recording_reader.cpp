@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "kernel/files/regular_file.h"
 #include "kernel/world/recording_format.h"
+#include "kernel/world/world_checks.h"
 
 namespace hail {
 namespace {
@@ -29,7 +31,7 @@ RecordingHeader parse_payload(std::span<const std::byte> bytes, bool velocities)
   h.terrain_hash = r.value<std::uint64_t>("the terrain hash");
   if (!h.has_terrain && h.terrain_hash != 0) r.refuse("a terrain hash without a terrain");
   h.dt = r.value<float>("dt");
-  if (!(std::isfinite(h.dt) && h.dt > 0.0f)) r.refuse("dt " + std::to_string(h.dt) + " is not finite and > 0");
+  if (!(std::isfinite(h.dt) && h.dt > 0.0f)) r.refuse("dt " + checks::number(h.dt) + " is not finite and > 0");
   h.every = r.value<std::uint32_t>("every");
   if (h.every < 1) r.refuse("every is 0 (steps between frames must be >= 1)");
   const std::size_t n = r.count("the sphere count", recording::kHeaderBytesPerSphere);
@@ -37,7 +39,7 @@ RecordingHeader parse_payload(std::span<const std::byte> bytes, bool velocities)
   for (float& radius : h.radii) {
     radius = r.value<float>("a radius");
     if (!(std::isfinite(radius) && radius > 0.0f))
-      r.refuse("radius " + std::to_string(radius) + " is not finite and > 0");
+      r.refuse("radius " + checks::number(radius) + " is not finite and > 0");
   }
   h.handles.resize(n);
   for (SphereId& id : h.handles)
@@ -53,9 +55,11 @@ RecordingReader::RecordingReader(std::vector<std::byte> bytes) : bytes_(std::mov
 RecordingReader RecordingReader::open_file(const std::string& path) {
   RecordingReader reader;
   reader.path_ = path;
-  reader.file_.open(path, std::ios::binary | std::ios::ate);
+  // A FIFO, a device or a folder is refused before it is opened (kernel/files/); the size the
+  // file had then bounds every frame read (parse checks the frames against it).
+  const std::uint64_t size = files::regular_file_size(path, "recording: ", "a recording file");
+  reader.file_.open(path, std::ios::binary);
   if (!reader.file_) throw FileError("hail: recording: cannot open '" + path + "'");
-  const auto size = static_cast<std::uint64_t>(reader.file_.tellg());
   try {
     reader.parse(size);
   } catch (const InvalidArgument& e) {
@@ -101,7 +105,8 @@ void RecordingReader::parse(std::uint64_t total) {
            std::to_string(total - recording::kHeaderBytes));
   std::vector<std::byte> payload(static_cast<std::size_t>(payload_bytes));
   read_at(recording::kHeaderBytes, payload);
-  if (fnv1a(payload) != checksum) refuse("corrupt: the header's checksum does not match its bytes");
+  checksum_basis_ = version == 1 ? kLegacyFnvOffsetBasis : kFnvOffsetBasis;
+  if (fnv1a(payload, checksum_basis_) != checksum) refuse("corrupt: the header's checksum does not match its bytes");
   header_ = parse_payload(payload, (flags & recording::kFlagVelocities) != 0);
 
   frames_at_ = recording::kHeaderBytes + payload_bytes;
@@ -133,7 +138,7 @@ void RecordingReader::read_frame(std::size_t k, RecordingFrame& frame) const {
   const std::span<const std::byte> bytes(scratch_);
   std::uint64_t checksum = 0;
   std::memcpy(&checksum, bytes.data() + frame_bytes_ - sizeof checksum, sizeof checksum);
-  if (fnv1a(bytes.first(frame_bytes_ - sizeof checksum)) != checksum)
+  if (fnv1a(bytes.first(frame_bytes_ - sizeof checksum), checksum_basis_) != checksum)
     refuse("corrupt: frame " + std::to_string(k) + "'s checksum does not match its bytes");
   const std::size_t values = 3 * header_.handles.size();
   std::memcpy(&frame.step, bytes.data(), sizeof frame.step);

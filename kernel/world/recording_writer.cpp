@@ -7,6 +7,7 @@
 
 #include "hail/world.h"
 #include "kernel/world/recording_format.h"
+#include "kernel/world/world_checks.h"
 
 namespace hail {
 namespace {
@@ -16,12 +17,12 @@ void check_header(const RecordingHeader& h) {
   auto refuse = [](const std::string& what) { throw InvalidArgument("hail: RecordingWriter: " + what); };
   if (h.scene.size() > kRecordingMaxSceneName)
     refuse("scene name of " + std::to_string(h.scene.size()) + " bytes is longer than kRecordingMaxSceneName");
-  if (!(std::isfinite(h.dt) && h.dt > 0.0f)) refuse("dt " + std::to_string(h.dt) + " is not finite and > 0");
+  if (!(std::isfinite(h.dt) && h.dt > 0.0f)) refuse("dt " + checks::number(h.dt) + " is not finite and > 0");
   if (h.every < 1) refuse("every is 0 (steps between frames must be >= 1)");
   if (h.radii.size() != h.handles.size())
     refuse(std::to_string(h.radii.size()) + " radii for " + std::to_string(h.handles.size()) + " handles");
   for (float r : h.radii)
-    if (!(std::isfinite(r) && r > 0.0f)) refuse("radius " + std::to_string(r) + " is not finite and > 0");
+    if (!(std::isfinite(r) && r > 0.0f)) refuse("radius " + checks::number(r) + " is not finite and > 0");
   if (!h.has_terrain && h.terrain_hash != 0) refuse("a terrain hash without a terrain");
 }
 

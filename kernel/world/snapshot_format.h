@@ -143,6 +143,10 @@ class Reader {
   const char* format_;
 };
 
+/// terrain_content_hash with FNV-1a started from `basis` (kLegacyFnvOffsetBasis: the hash a
+/// version 4 snapshot holds).
+[[nodiscard]] std::uint64_t terrain_hash(const Terrain& terrain, std::uint64_t basis);
+
 /// Calls f(field, name) for every WorldSettings field that a snapshot keeps: all but threads
 /// (a restored world keeps its own threads or arena; the result does not depend on them).
 template <class Settings, class F>

@@ -5,16 +5,19 @@
 // world as it was.
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 #include "hail/world.h"
+#include "kernel/files/regular_file.h"
 #include "kernel/world/snapshot_format.h"
 #include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
 
 namespace hail {
 namespace {
+
+/// The snapshot version whose checksums and terrain hash start from kLegacyFnvOffsetBasis
+/// (kernel/world/fnv1a.h); its layout is this version's.
+constexpr std::uint32_t kLegacyChecksumVersion = 4;
 
 /// An InvalidArgument's message without its "hail: ", to be quoted inside another.
 std::string reason(const InvalidArgument& e) {
@@ -51,22 +54,59 @@ void read_setting(snapshot::Reader& r, T& field, const char* name) {
   }
 }
 
-/// A sphere's values that the step divides by or takes roots of, by add_sphere's rules
-/// (positions and velocities are kept as they are: a world that blew up restores as it was).
-void check_sphere(const snapshot::Reader& r, const SphereSoA& s, std::size_t k) {
+/// A sphere's every field, by the rules add_sphere and the control calls apply (a snapshot
+/// with a movable sphere of inverse inertia 0, or of inverse mass 1e38, restored and turned the
+/// kinetic energy NaN). Positions need only be finite: a step does not stop a sphere flying
+/// past where add_sphere would place it, and its snapshot must restore.
+void check_sphere(const snapshot::Reader& r, const SphereSoA& s, std::size_t k, const WorldSettings& settings) {
   const SphereId id = s.id_at(k);
   auto refuse = [&](const std::string& what) {
     r.refuse("sphere " + std::to_string(id.index) + "/" + std::to_string(id.generation) + " (slot " +
              std::to_string(k) + "): " + what);
   };
-  const float radius = s.radius[k];
-  if (!(radius >= kMinSphereRadius && radius <= kMaxSphereRadius))
-    refuse("radius " + checks::number(radius) + " is out of [kMinSphereRadius, kMaxSphereRadius]");
-  for (float v : {s.inv_mass[k], s.inv_inertia[k]})
-    if (!(std::isfinite(v) && v >= 0.0f)) refuse("inverse mass or inertia " + checks::number(v) + " is not >= 0");
-  if (!(s.restitution[k] >= 0.0f && s.restitution[k] <= 1.0f)) refuse("restitution is out of [0, 1]");
-  if (!(std::isfinite(s.friction[k]) && s.friction[k] >= 0.0f)) refuse("friction is not finite and >= 0");
+  auto checked = [&](auto&& check) {
+    try {
+      check();
+    } catch (const InvalidArgument& e) {
+      refuse(reason(e));
+    }
+  };
+  const Vec3 position(s.px[k], s.py[k], s.pz[k]), velocity(s.vx[k], s.vy[k], s.vz[k]);
+  const Vec3 spin(s.wx[k], s.wy[k], s.wz[k]);
+  const Vec3 force(s.force_x[k], s.force_y[k], s.force_z[k]), torque(s.torque_x[k], s.torque_y[k], s.torque_z[k]);
+  const float radius = s.radius[k], inv_mass = s.inv_mass[k], inv_inertia = s.inv_inertia[k];
+  checked([&] {
+    checks::require_finite(position, "position");
+    checks::require_sphere_radius(radius);
+    checks::require_sphere_speed(velocity);
+    checks::require_sphere_spin(spin);
+    checks::require_spin_allowed(settings.rotation, spin);
+    checks::require_material(s.restitution[k], s.friction[k], "sphere");
+    checks::require_finite(force, "force");
+    checks::require_finite(torque, "torque");
+  });
+  if (inv_mass > 0.0f) {
+    // add_sphere stores 1 / mass and 1 / (0.4 mass r^2) in float: allow their rounding.
+    const double mass = 1.0 / double(inv_mass);
+    if (!(mass >= kMinSphereMass * (1.0 - 1e-6) && mass <= kMaxSphereMass * (1.0 + 1e-6)))
+      refuse("inverse mass " + checks::number(inv_mass) + " is a mass of " + checks::number(mass) +
+             " kg, out of [kMinSphereMass, kMaxSphereMass]");
+    const double expected = 1.0 / (0.4 * mass * double(radius) * radius);
+    if (!(std::fabs(double(inv_inertia) - expected) <= 1e-5 * expected))
+      refuse("inverse inertia " + checks::number(inv_inertia) +
+             " is not a solid sphere's 1 / (0.4 m r^2) = " + checks::number(expected));
+    checked([&] {
+      const double longest = checks::longest_step(settings);
+      checks::require_step_change(force, inv_mass, longest, checks::kSpeedLimit, "force");
+      checks::require_step_change(torque, inv_inertia, longest, checks::kSpinLimit, "torque");
+    });
+  } else if (!(inv_mass == 0.0f && inv_inertia == 0.0f)) {
+    refuse("inverse mass " + checks::number(inv_mass) + " and inverse inertia " + checks::number(inv_inertia) +
+           ": an immovable sphere has 0 for both");
+  }
   if (!(std::fabs(s.gravity_scale[k]) <= kMaxGravityScale)) refuse("gravity_scale is out of range");
+  checked([&] { checks::require_gravity_scale_step(settings, s.gravity_scale[k]); });
+  if (!(std::isfinite(s.sleep_timer[k]) && s.sleep_timer[k] >= 0.0f)) refuse("sleep_timer is not finite and >= 0");
   if ((s.flags[k] & ~kKnownSphereFlags) != 0) refuse("flags " + std::to_string(s.flags[k]) + " has unknown bits");
   if ((s.flags[k] & kSphereFlagKinematic) && s.inv_mass[k] != 0.0f) refuse("is kinematic with an inverse mass > 0");
 }
@@ -84,7 +124,7 @@ struct Parsed {
   ContactEventTracker events;
 };
 
-void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain) {
+void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, std::uint64_t basis) {
   snapshot::for_each_setting(p.settings, [&](auto& field, const char* name) { read_setting(r, field, name); });
   p.steps_taken = r.value<std::uint64_t>("steps taken");
   p.unchecked_from = r.value<std::uint64_t>("unchecked_from");
@@ -102,7 +142,7 @@ void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain) {
                          : "it was saved without a terrain and this World has one: restore into a World without one");
   if (!had_terrain && saved_hash != 0) r.refuse("a terrain hash without a terrain");
   if (terrain) {
-    const std::uint64_t hash = terrain_content_hash(*terrain);
+    const std::uint64_t hash = snapshot::terrain_hash(*terrain, basis);
     if (hash != saved_hash)
       r.refuse("wrong terrain: it was saved with terrain content hash " + hex(saved_hash) +
                ", this World's terrain has " + hex(hash) + " (attach the terrain it was saved with)");
@@ -156,7 +196,7 @@ void read_spheres(snapshot::Reader r, Parsed& p) {
     if (n) std::memcpy(array.data(), values.data(), values.size());
   });
   r.finish();
-  for (std::size_t k = 0; k < n; ++k) check_sphere(r, p.spheres, k);
+  for (std::size_t k = 0; k < n; ++k) check_sphere(r, p.spheres, k, p.settings);
   if (p.unchecked_from > n) r.refuse("unchecked_from " + std::to_string(p.unchecked_from) + " is past the spheres");
 }
 
@@ -211,7 +251,10 @@ void World::restore(std::span<const std::byte> bytes) {
   if (version > kSnapshotVersion)
     header.refuse("format version " + std::to_string(version) + " is newer than this hail reads (" +
                   std::to_string(kSnapshotVersion) + "): restore it with the hail that saved it, or a newer one");
-  if (version != kSnapshotVersion) header.refuse("format version " + std::to_string(version) + " is unknown");
+  if (version != kSnapshotVersion && version != kLegacyChecksumVersion)
+    header.refuse("format version " + std::to_string(version) + " is unknown (this hail reads " +
+                  std::to_string(kLegacyChecksumVersion) + " and " + std::to_string(kSnapshotVersion) + ")");
+  const std::uint64_t basis = version == kLegacyChecksumVersion ? kLegacyFnvOffsetBasis : kFnvOffsetBasis;
   if (header.value<std::uint32_t>("the reserved word") != 0) header.refuse("the reserved word is not 0");
   const auto length = header.value<std::uint64_t>("the payload length");
   const auto checksum = header.value<std::uint64_t>("the checksum");
@@ -220,13 +263,13 @@ void World::restore(std::span<const std::byte> bytes) {
                                                std::to_string(header.left()) + " present"
                                          : std::to_string(header.left() - length) + " bytes after the payload");
   const std::span<const std::byte> payload = bytes.subspan(snapshot::kHeaderBytes);
-  if (snapshot::fnv1a(payload) != checksum)
+  if (snapshot::fnv1a(payload, basis) != checksum)
     header.refuse("checksum mismatch (the bytes are corrupt): the header says " + hex(checksum) + ", the payload has " +
-                  hex(snapshot::fnv1a(payload)));
+                  hex(snapshot::fnv1a(payload, basis)));
 
   snapshot::Reader r(payload, "payload");
   Parsed p;
-  read_world(r.section(snapshot::kWorldTag), p, terrain_.get());
+  read_world(r.section(snapshot::kWorldTag), p, terrain_.get(), basis);
   try {
     validate(p.settings);
   } catch (const InvalidArgument& e) {
@@ -238,11 +281,14 @@ void World::restore(std::span<const std::byte> bytes) {
   read_events(r.section(snapshot::kEventsTag), p);
   r.finish();
 
+  // The only step of the commit that may allocate, taken first: it changes no sphere.
+  spheres_.reserve_like(p.spheres);
+
   // Commit: nothing below throws.
   const int threads = settings_.threads;
   settings_ = p.settings;
   settings_.threads = threads;  // this World keeps its own threads (or arena)
-  spheres_ = std::move(p.spheres);
+  spheres_.assign(p.spheres);   // in the buffers it had: spans from spheres() and handles() stay valid
   planes_.swap(p.planes);
   terrain_restitution_ = p.terrain_restitution, terrain_friction_ = p.terrain_friction;
   steps_taken_ = p.steps_taken;
@@ -262,12 +308,11 @@ void World::restore(std::span<const std::byte> bytes) {
 }
 
 void World::restore_file(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw FileError("hail: World::restore_file: cannot open '" + path + "'");
-  std::vector<char> chars((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) throw FileError("hail: World::restore_file: cannot read '" + path + "'");
+  // A FIFO, a device or a folder is refused before it is opened (kernel/files/), and the file
+  // is read to the size it had when opened.
+  const std::vector<std::byte> bytes = files::read_regular_file(path, "World::restore_file: ", "a snapshot file");
   try {
-    restore(std::as_bytes(std::span<const char>(chars)));
+    restore(bytes);
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(std::string(e.what()) + " (file '" + path + "')");
   }

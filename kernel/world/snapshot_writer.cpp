@@ -12,16 +12,17 @@
 // Not saved: the last step's outputs (contacts, impacts, events, stats, phase times) and the
 // trace; restore empties them.
 
-#include <fstream>
-
 #include "hail/world.h"
 #include "kernel/bvh/flat_bvh.h"
+#include "kernel/files/atomic_write.h"
 #include "kernel/world/snapshot_format.h"
 #include "kernel/world/step_state.h"
 
 namespace hail {
 
-std::uint64_t terrain_content_hash(const Terrain& terrain) {
+std::uint64_t terrain_content_hash(const Terrain& terrain) { return snapshot::terrain_hash(terrain, kFnvOffsetBasis); }
+
+std::uint64_t snapshot::terrain_hash(const Terrain& terrain, std::uint64_t basis) {
   const Heightmap& h = terrain.heightmap();
   const HeightmapParams& p = h.params();
   std::vector<std::byte> head;
@@ -30,7 +31,7 @@ std::uint64_t terrain_content_hash(const Terrain& terrain) {
   w.value(p.cell_x), w.value(p.cell_z), w.value(p.origin_x), w.value(p.origin_z);
   const FlatBvh& bvh = terrain.bvh();
   w.value(std::uint64_t{bvh.nodes.size()}), w.value(std::uint64_t{bvh.primitive_order.size()});
-  std::uint64_t hash = snapshot::fnv1a(head);
+  std::uint64_t hash = snapshot::fnv1a(head, basis);
   hash = snapshot::fnv1a(std::as_bytes(h.heights()), hash);
   hash = snapshot::fnv1a(std::as_bytes(std::span<const FlatNode>(bvh.nodes)), hash);
   return snapshot::fnv1a(std::as_bytes(std::span<const std::uint32_t>(bvh.primitive_order)), hash);
@@ -118,10 +119,8 @@ void World::save(std::vector<std::byte>& out) const {
 void World::save_file(const std::string& path) const {
   std::vector<std::byte> bytes;
   save(bytes);
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (file) file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (file) file.close();
-  if (!file) throw FileError("hail: World::save_file: cannot write the snapshot to '" + path + "'");
+  // Beside the target, fsync'd, then renamed over it: a full disk leaves the old snapshot whole.
+  files::write_file_atomically(path, bytes, "World::save_file: ");
 }
 
 }  // namespace hail

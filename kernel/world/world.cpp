@@ -17,41 +17,59 @@
 namespace hail {
 using namespace checks;  // kernel/world/world_checks.h
 
+namespace {
+/// The iteration counts' one range, [0, kMaxIterations] (or [1, ...] for `least` 1).
+void require_iterations(int value, const char* name, int least = 0) {
+  require(value >= least && value <= kMaxIterations, [&] {
+    return std::string("WorldSettings::") + name + " must be in [" + std::to_string(least) +
+           ", kMaxIterations = " + std::to_string(kMaxIterations) + "] (include/hail/world_settings.h), got " +
+           std::to_string(value);
+  });
+}
+}  // namespace
+
 void World::validate(const WorldSettings& s) {
   require_finite(s.gravity, "WorldSettings::gravity");
   require(std::isfinite(s.time_scale) && s.time_scale >= 0.0f,
-          "WorldSettings::time_scale must be finite and >= 0, got " + std::to_string(s.time_scale));
-  require(std::isfinite(s.max_substep) && s.max_substep > 0.0f,
-          describe("WorldSettings::max_substep must be finite and > 0, got", s.max_substep));
+          [&] { return "WorldSettings::time_scale must be finite and >= 0, got " + number(s.time_scale); });
+  require(std::isfinite(s.max_substep) && s.max_substep >= kMinStep,
+          describe("WorldSettings::max_substep must be finite and >= kMinStep = 1e-09 s, got", s.max_substep));
   require(s.max_sphere_contacts_per_sphere >= 1, [&] {
     return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " +
            std::to_string(s.max_sphere_contacts_per_sphere);
   });
-  require(s.max_substeps >= 1, "WorldSettings::max_substeps must be >= 1, got " + std::to_string(s.max_substeps));
+  require(s.max_substeps >= 1 && s.max_substeps <= kMaxSubstepsCap, [&] {
+    return "WorldSettings::max_substeps must be in [1, kMaxSubstepsCap = " + std::to_string(kMaxSubstepsCap) +
+           "], got " + std::to_string(s.max_substeps);
+  });
+  // One step from rest under gravity alone stays within the speed limit (the longest step is
+  // what check_step lets through); a stronger gravity turned spheres NaN a few steps later.
+  require(double(s.gravity.cast<double>().norm()) * longest_step(s) <= kMaxSphereSpeed, [&] {
+    return "WorldSettings::gravity of |g| = " + number(s.gravity.cast<double>().norm()) +
+           " m/s^2 over the longest step (max_substeps * max_substep = " + number(longest_step(s)) +
+           " s) would exceed kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s: |g| may be at most " +
+           number(kMaxSphereSpeed / longest_step(s)) + " m/s^2 (lower max_substeps or max_substep for more)";
+  });
   require(s.threads >= 0,
           "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
-  require(s.collision_iterations >= 0, "WorldSettings::collision_iterations must be >= 0");
-  require(s.resting_iterations >= 0, "WorldSettings::resting_iterations must be >= 0");
+  require_iterations(s.collision_iterations, "collision_iterations");
+  require_iterations(s.resting_iterations, "resting_iterations");
   require(s.solver == Solver::Passes || s.solver == Solver::SoftStep,
           "WorldSettings::solver must be Solver::Passes or Solver::SoftStep, got " +
               std::to_string(static_cast<int>(s.solver)));
-  require(s.soft_step.substeps >= 1,
-          "WorldSettings::soft_step.substeps must be >= 1, got " + std::to_string(s.soft_step.substeps));
+  require_iterations(s.soft_step.substeps, "soft_step.substeps", 1);
   require(std::isfinite(s.soft_step.contact_cycles) && s.soft_step.contact_cycles > 0.0f &&
               s.soft_step.contact_cycles <= 0.25f,
           describe("WorldSettings::soft_step.contact_cycles must be in (0, 0.25] cycles per substep, got",
                    s.soft_step.contact_cycles));
   require(std::isfinite(s.soft_step.damping_ratio) && s.soft_step.damping_ratio > 0.0f,
           describe("WorldSettings::soft_step.damping_ratio must be finite and > 0, got", s.soft_step.damping_ratio));
-  require(s.soft_step.relax_iterations >= 0, "WorldSettings::soft_step.relax_iterations must be >= 0, got " +
-                                                 std::to_string(s.soft_step.relax_iterations));
+  require_iterations(s.soft_step.relax_iterations, "soft_step.relax_iterations");
   require(std::isfinite(s.soft_step.max_push_speed) && s.soft_step.max_push_speed > 0.0f,
           describe("WorldSettings::soft_step.max_push_speed must be finite and > 0 (m/s), got",
                    s.soft_step.max_push_speed));
-  require(s.depenetration_iterations >= 0, "WorldSettings::depenetration_iterations must be >= 0");
-  require(s.soft_step.depenetration_iterations_max >= 0,
-          "WorldSettings::soft_step.depenetration_iterations_max must be >= 0, got " +
-              std::to_string(s.soft_step.depenetration_iterations_max));
+  require_iterations(s.depenetration_iterations, "depenetration_iterations");
+  require_iterations(s.soft_step.depenetration_iterations_max, "soft_step.depenetration_iterations_max");
   require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
     return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
            ", got " + std::to_string(s.solver_tile_spheres);
@@ -95,8 +113,15 @@ void World::validate(const WorldSettings& s) {
 }
 
 std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
-  require(std::isfinite(dt) && dt > 0.0f,
-          [&] { return "World::step dt must be finite and > 0, got " + std::to_string(dt); });
+  require(std::isfinite(dt) && dt > 0.0f, [&] { return "World::step dt must be finite and > 0, got " + number(dt); });
+  // 0 is a pause (nothing moves); a positive step shorter than kMinStep divides by its length
+  // (1/h, and the soft step by its substeps' squares) past float range: every sphere turned NaN.
+  const double scaled = double(dt) * double(settings.time_scale);
+  require(settings.time_scale == 0.0f || scaled >= double(kMinStep), [&] {
+    return "World::step dt = " + number(dt) + " s at time_scale " + number(settings.time_scale) + " advances " +
+           number(scaled) + " s, less than kMinStep = " + number(kMinStep) +
+           " s (include/hail/world.h): too short to move anything; take longer steps or raise time_scale";
+  });
   // float * float is exact in double, and the quotient cannot overflow a double.
   const double count = std::ceil(double(dt) * double(settings.time_scale) / double(settings.max_substep));
   if (count <= 0.0) return settings.time_scale > 0.0f ? 1 : 0;
@@ -107,9 +132,9 @@ std::int64_t substeps_needed(const WorldSettings& settings, float dt) {
 std::int64_t check_step(const WorldSettings& settings, float dt) {
   const std::int64_t needed = substeps_needed(settings, dt);
   require(needed <= settings.max_substeps, [&] {
-    return "World::step dt = " + std::to_string(dt) + " s at time_scale " + std::to_string(settings.time_scale) +
-           " needs " + std::to_string(needed) +
-           " substeps of at most WorldSettings::max_substep = " + std::to_string(settings.max_substep) +
+    return "World::step dt = " + number(dt) + " s at time_scale " + number(settings.time_scale) + " needs " +
+           std::to_string(needed) +
+           " substeps of at most WorldSettings::max_substep = " + number(settings.max_substep) +
            " s, more than WorldSettings::max_substeps = " + std::to_string(settings.max_substeps) +
            ": take shorter steps (several calls), lower time_scale, or raise max_substep or max_substeps";
   });
@@ -183,7 +208,7 @@ bool World::remove_sphere(SphereId id) {
 
 std::size_t World::add_plane(const PlaneDesc& d) {
   require_finite(d.normal, "plane normal");
-  require(std::isfinite(d.offset), "plane offset must be finite, got " + std::to_string(d.offset));
+  require(std::isfinite(d.offset), "plane offset must be finite, got " + number(d.offset));
   // An ordinary normal is divided by its norm, as always. The norm of (1e20, 0, 0) squares past
   // float range (it stored a zero normal) and that of (1e-20, 0, 0) underflows: those are
   // scaled by their largest component first, so the norm is of a vector in [1, sqrt 3].
@@ -196,13 +221,11 @@ std::size_t World::add_plane(const PlaneDesc& d) {
     length = largest * scaled_length;  // infinite past float range: the offset below is then ~0
     n = scaled / scaled_length;
   }
-  require(length > 1e-6f,
-          [&] { return "plane normal must not be (nearly) zero, got length " + std::to_string(length); });
+  require(length > 1e-6f, [&] { return "plane normal must not be (nearly) zero, got length " + number(length); });
   require_material(d.restitution, d.friction, "plane");
   const float offset = d.offset / length;
-  require(std::isfinite(offset), [&] {
-    return "plane offset / |normal| must be finite, got " + std::to_string(d.offset) + " / " + std::to_string(length);
-  });
+  require(std::isfinite(offset),
+          [&] { return "plane offset / |normal| must be finite, got " + number(d.offset) + " / " + number(length); });
   planes_.push_back({n.x(), n.y(), n.z(), offset, d.restitution, d.friction});
   wake_all();
   return planes_.size() - 1;
@@ -251,13 +274,23 @@ void World::shift_origin(const Vec3& offset) {
              " (not finite)";
     });
   }
+  // add_sphere's placement rule (kSphereRadiusResolution) where each sphere lands: a shift of
+  // 1e30 collapsed every sphere onto one float. A sphere already past the rule (it flew out)
+  // does not block a shift that brings it no farther out.
   const SphereSoA& s = spheres_;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    const bool finite = std::isfinite(s.px[i] - offset.x()) && std::isfinite(s.py[i] - offset.y()) &&
-                        std::isfinite(s.pz[i] - offset.z());
-    require(finite, [&] {
-      return "World::shift_origin: sphere " + std::to_string(s.id_at(i).index) + " at (" + number(s.px[i]) + ", " +
-             number(s.py[i]) + ", " + number(s.pz[i]) + ") would leave float range";
+    const Vec3 from(s.px[i], s.py[i], s.pz[i]);
+    const Vec3 to(s.px[i] - offset.x(), s.py[i] - offset.y(), s.pz[i] - offset.z());
+    const float farthest = to.cwiseAbs().maxCoeff();
+    const bool placeable =
+        std::isfinite(farthest) &&
+        (float_spacing(farthest) <= s.radius[i] / kSphereRadiusResolution || farthest <= from.cwiseAbs().maxCoeff());
+    require(placeable, [&] {
+      return "World::shift_origin: sphere " + std::to_string(s.id_at(i).index) + " (radius " + number(s.radius[i]) +
+             ") would move from (" + number(from.x()) + ", " + number(from.y()) + ", " + number(from.z()) + ") to (" +
+             number(to.x()) + ", " + number(to.y()) + ", " + number(to.z()) + "), " + number(farthest) +
+             " m out, where floats are " + number(float_spacing(farthest)) + " m apart, more than its radius / " +
+             "kSphereRadiusResolution (include/hail/world.h): add_sphere would refuse it there";
     });
   }
   std::shared_ptr<const Terrain> moved_terrain;

@@ -12,6 +12,8 @@
 
 #include "hail/errors.h"
 #include "hail/vec3.h"
+#include "hail/world.h"
+#include "hail/world_settings.h"
 
 namespace hail::checks {
 
@@ -22,7 +24,14 @@ inline std::string number(double value) {
   return text;
 }
 
-inline std::string describe(const char* what, float value) { return std::string(what) + " = " + std::to_string(value); }
+inline std::string describe(const char* what, float value) { return std::string(what) + " " + number(value); }
+
+/// The longest step, in time-scaled seconds, a World under `settings` takes: check_step
+/// refuses any longer. A force, torque or gravity is bounded over it, so that one step cannot
+/// take a sphere past the speed limits (include/hail/world.h).
+inline double longest_step(const WorldSettings& settings) {
+  return double(settings.max_substeps) * double(settings.max_substep);
+}
 
 /// Throws InvalidArgument("hail: " + message) unless ok. `message` is a string, or a function
 /// that makes one: then it is made only on failure, so that a check that passes allocates
@@ -53,5 +62,23 @@ void require_spin_allowed(bool rotation, const Vec3& angular_velocity);
 float inverse_inertia(float mass, float radius);
 /// kSphereRadiusResolution: floats at the position resolve the radius.
 void require_resolvable(const Vec3& position, float radius);
+
+/// A limit a step must not take a sphere past, as its messages name it.
+struct StepLimit {
+  float value;
+  const char* name;      ///< "kMaxSphereSpeed"
+  const char* quantity;  ///< "speed"
+  const char* unit;      ///< "m/s"
+};
+inline constexpr StepLimit kSpeedLimit{kMaxSphereSpeed, "kMaxSphereSpeed", "speed", "m/s"};
+inline constexpr StepLimit kSpinLimit{kMaxSphereSpin, "kMaxSphereSpin", "spin", "rad/s"};
+
+/// A force (torque) `load` on a sphere of inverse mass (inertia) `inverse` changes its speed
+/// (spin) by |load| * inverse * seconds over a step of `seconds`: refused when that exceeds
+/// the limit over the longest step, so one step cannot take a sphere at rest past the speed
+/// limits (apply_force(3e38) gave 2.5e35 m/s after a step, then NaN). `what` names the load.
+void require_step_change(const Vec3& load, float inverse, double seconds, const StepLimit& limit, const char* what);
+/// The same for a sphere's gravity, |WorldSettings::gravity * scale|, over the longest step.
+void require_gravity_scale_step(const WorldSettings& settings, float scale);
 
 }  // namespace hail::checks

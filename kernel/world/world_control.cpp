@@ -95,7 +95,7 @@ void World::move_kinematic(SphereId id, const Vec3& target, float dt) {
     return "World::move_kinematic: sphere " + std::to_string(id.index) + " is not kinematic (set_kinematic first)";
   });
   require(std::isfinite(dt) && dt > 0.0f,
-          [&] { return "World::move_kinematic: dt must be finite and > 0, got " + std::to_string(dt); });
+          [&] { return "World::move_kinematic: dt must be finite and > 0, got " + number(dt); });
   require_finite(target, "kinematic target");
   require_resolvable(target, spheres_.radius[i]);
   const Vec3 here(spheres_.px[i], spheres_.py[i], spheres_.pz[i]);
@@ -258,6 +258,7 @@ void World::apply_force(SphereId id, const Vec3& force) {
   SphereSoA& s = spheres_;
   const Vec3 sum = Vec3(s.force_x[i], s.force_y[i], s.force_z[i]) + force;
   require_finite(sum, "accumulated force");
+  require_step_change(sum, s.inv_mass[i], longest_step(settings_), kSpeedLimit, "accumulated force");
   if (!(s.inv_mass[i] > 0.0f)) return;  // static: a push on the immovable
   wake(i);
   s.force_x[i] = sum.x(), s.force_y[i] = sum.y(), s.force_z[i] = sum.z();
@@ -269,11 +270,12 @@ void World::apply_torque(SphereId id, const Vec3& torque) {
   require_finite(torque, "torque");
   require(settings_.rotation || torque == Vec3::Zero(), [&] {
     return "torque must be zero when WorldSettings::rotation is false (spheres never spin), got (" +
-           std::to_string(torque.x()) + ", " + std::to_string(torque.y()) + ", " + std::to_string(torque.z()) + ")";
+           number(torque.x()) + ", " + number(torque.y()) + ", " + number(torque.z()) + ")";
   });
   SphereSoA& s = spheres_;
   const Vec3 sum = Vec3(s.torque_x[i], s.torque_y[i], s.torque_z[i]) + torque;
   require_finite(sum, "accumulated torque");
+  require_step_change(sum, s.inv_inertia[i], longest_step(settings_), kSpinLimit, "accumulated torque");
   if (!(s.inv_mass[i] > 0.0f)) return;  // static: ignored
   wake(i);
   s.torque_x[i] = sum.x(), s.torque_y[i] = sum.y(), s.torque_z[i] = sum.z();
@@ -327,8 +329,9 @@ void World::set_gravity_scale(SphereId id, float scale) {
   const std::size_t i = require_slot(id);
   require(std::isfinite(scale) && std::fabs(scale) <= kMaxGravityScale, [&] {
     return "sphere gravity scale must be finite with |scale| <= kMaxGravityScale = " + number(kMaxGravityScale) +
-           " (include/hail/world.h), got " + std::to_string(scale);
+           " (include/hail/world.h), got " + number(scale);
   });
+  require_gravity_scale_step(settings_, scale);
   spheres_.gravity_scale[i] = scale;
   wake(i);
   if (scale != 1.0f)

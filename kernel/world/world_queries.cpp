@@ -34,10 +34,16 @@ bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y())
 UnitRay check_ray(const Ray& ray, const char* call) {
   require(finite(ray.origin),
           [&] { return std::string(call) + ": ray origin " + vec_text(ray.origin) + " is not finite"; });
-  const Vec3& v = ray.direction;
-  const float length = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
-  require(finite(v) && length > 0.0f && std::isfinite(length),
+  Vec3 v = ray.direction;
+  require(finite(v) && !(v.x() == 0.0f && v.y() == 0.0f && v.z() == 0.0f),
           [&] { return std::string(call) + ": ray direction " + vec_text(v) + " must be finite and not zero"; });
+  float length = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
+  // Any non-zero length works (include/hail/queries.h): one whose square leaves float range
+  // (3e38) or underflows (1e-40) is scaled by its largest component first, as add_plane does.
+  if (!(std::isfinite(length) && length > 1e-18f)) {
+    v /= v.cwiseAbs().maxCoeff();
+    length = v.norm();
+  }
   require(ray.max_distance >= 0.0f, [&] {
     return std::string(call) + ": max_distance = " + number(ray.max_distance) + " must be >= 0 (infinity allowed)";
   });

@@ -32,6 +32,13 @@ inline std::unique_ptr<World> snapshot_fuzz_world(bool terrain) {
   return world;
 }
 
+/// world.save() as a new vector.
+inline std::vector<std::byte> saved(const World& world) {
+  std::vector<std::byte> bytes;
+  world.save(bytes);
+  return bytes;
+}
+
 enum class SnapshotOutcome { Refused, Restored, Misread };
 
 /// restore(bytes); Misread when it was accepted and save() does not give the same bytes back.
