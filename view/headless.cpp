@@ -37,7 +37,7 @@ struct Subject {
     if (!o.replay_path.empty()) {
       replay.emplace(o.replay_path);
       if (replay->frame_count() == 0) throw std::runtime_error("the recording has no frames");
-      scene = scene_of_recording(replay->header(), note);
+      scene = scene_of_recording(replay->header(), o.scene_file, note);
       replay->load(std::min(first, replay->frame_count() - 1), frame);
       title = o.replay_path;
     } else {

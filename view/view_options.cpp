@@ -11,7 +11,9 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   std::vector<std::string> names;
   for (const bench::SceneEntry& e : bench::scene_registry()) names.emplace_back(e.name);
   app.add_option("scene", o.scene, "a built-in scene (default terrain-rain)")->check(CLI::IsMember(names));
-  app.add_option("--scene", o.scene_file, "a scene file (docs/scene_format.md)")->check(CLI::ExistingFile);
+  app.add_option("--scene", o.scene_file,
+                 "a scene file (docs/scene_format.md); with --replay, the scene whose terrain is drawn under it")
+      ->check(CLI::ExistingFile);
   app.add_option("--replay", o.replay_path, "play a recording (hail-bench run ... --record FILE)")
       ->check(CLI::ExistingFile);
   app.add_option("--spheres", o.params.spheres, "sphere count of a built-in scene")->check(CLI::Range(1, 100'000'000));
@@ -61,8 +63,6 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
     throw std::invalid_argument("--screenshot and --frames need --headless");
   if (!o.screenshot_path.empty() && !o.frames_dir.empty())
     throw std::invalid_argument("give --screenshot FILE.png or --frames DIR, not both");
-  if (!o.scene_file.empty() && !o.replay_path.empty())
-    throw std::invalid_argument("give --scene FILE.json or --replay FILE, not both");
   return o;
 }
 

@@ -12,7 +12,7 @@ namespace hail::view {
 
 struct ViewOptions {
   std::string scene = "terrain-rain";        ///< a built-in scene (bench/scenes)
-  std::string scene_file;                    ///< --scene FILE.json instead
+  std::string scene_file;                    ///< --scene FILE.json instead; with --replay, the terrain drawn under it
   std::string replay_path;                   ///< --replay FILE: play a recording (hail-bench run --record)
   bench::SceneParams params;                 ///< --spheres, --threads
   std::optional<bool> continuous_collision;  ///< --ccd on|off (nullopt: the scene's own)
