@@ -2,8 +2,8 @@
 // thread hands over whole steps and its controls (pause, single step, reset, threads, spawn,
 // fire) do what they say, a thread change carrying the run on bitwise; the frames carry the
 // contacts, grid cells and islands of their own step when asked; the debug lines and island
-// labels; the camera's cursor ray; a replay's frames and speeds; the command line, and the scene
-// drawn under a replay.
+// labels; the camera's cursor ray; a replay's frames and speeds; the command line, the checks of
+// its picture paths, and the scene drawn under a replay.
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -95,6 +95,23 @@ struct TempDir {
     return p;
   }
 };
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// check_view_paths's refusal of the command line `words`, or "" where it accepts them.
+std::string path_refusal(const std::vector<std::string>& words) {
+  const std::optional<ViewOptions> o = parse(words);
+  REQUIRE(o);
+  try {
+    check_view_paths(*o);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// What scene_of_recording gave, shared with the thread that ran it.
 struct SceneForReplay {
@@ -411,6 +428,38 @@ TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[vi
   CHECK(parse({"--colour", "sleep"})->colour == ColourMode::Sleep);
   CHECK_THROWS_AS(parse({"--colour", "mass"}), std::invalid_argument);
   CHECK_THROWS_AS(parse({"--draw-bvh", "-1"}), std::invalid_argument);
+}
+
+TEST_CASE("A picture is refused before the run where it would overwrite an input or cannot be written", "[view]") {
+  const TempDir dir("hail-view-paths");
+  const std::string recording = dir.file("run.hailrec", "recorded");
+  const std::string scene = dir.file("scene.json", "{}");
+  const std::string picture = (dir.path / "out.png").string();
+
+  CHECK(path_refusal({"--replay", recording, "--headless", "--screenshot", recording}).find(recording) !=
+        std::string::npos);
+  CHECK(path_refusal({"--scene", scene, "--headless", "--screenshot", scene}).find(scene) != std::string::npos);
+  CHECK_FALSE(
+      path_refusal({"--replay", recording, "--headless", "--screenshot", (dir.path / "." / "run.hailrec").string()})
+          .empty());  // the same file by another name
+  CHECK_FALSE(path_refusal({"--replay", recording, "--scene", scene, "--headless", "--screenshot", scene}).empty());
+  CHECK(contents(recording) == "recorded");  // nothing was written
+  CHECK(contents(scene) == "{}");
+  CHECK_FALSE(path_refusal({"--headless", "--screenshot", (dir.path / "no-such-folder" / "out.png").string()}).empty());
+  CHECK(path_refusal({"--replay", recording, "--scene", scene, "--headless", "--screenshot", picture}).empty());
+  CHECK_FALSE(std::filesystem::exists(picture));  // checked, not written
+
+  // --frames DIR: the folder is made; an input lying there under a picture's name is refused,
+  // as is a folder that is an input.
+  const std::string frames = (dir.path / "frames").string();
+  CHECK(path_refusal({"--replay", recording, "--headless", "--frames", frames}).empty());
+  CHECK(std::filesystem::is_directory(frames));
+  const std::string in_frames = (dir.path / "frames" / "frame-000002.png").string();
+  std::filesystem::copy_file(recording, in_frames);
+  CHECK(path_refusal({"--replay", in_frames, "--headless", "--frames", frames}).find(in_frames) != std::string::npos);
+  CHECK(contents(in_frames) == "recorded");
+  CHECK_FALSE(path_refusal({"--replay", recording, "--headless", "--frames", recording}).empty());
+  CHECK(frame_picture_path(frames, 12) == (dir.path / "frames" / "frame-000012.png").string());
 }
 
 TEST_CASE("A recording's scene name is looked up among the built-in scenes only, never opened as a path", "[view]") {

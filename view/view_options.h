@@ -32,4 +32,14 @@ struct ViewOptions {
 /// message) on a bad flag.
 std::optional<ViewOptions> parse_view_options(int argc, char** argv);
 
+/// The path of --frames DIR's picture number `k`: DIR/frame-000000.png, ...
+[[nodiscard]] std::string frame_picture_path(const std::string& dir, int k);
+
+/// Refuses, with std::invalid_argument (bench::check_output_paths's message), a picture path
+/// that cannot be written or that is the same file as an input (--scene, --replay): run first,
+/// before anything is built, so a long run never ends unable to save its picture and never
+/// writes it over the recording or scene it shows. Creates --frames DIR. A scene file's
+/// heightmap is not checked: the scene reader's API does not say which file it names.
+void check_view_paths(const ViewOptions& options);
+
 }  // namespace hail::view
