@@ -3,7 +3,7 @@
 // fire) do what they say, a thread change carrying the run on bitwise; the frames carry the
 // contacts, grid cells and islands of their own step when asked; the debug lines and island
 // labels; the camera's cursor ray; a replay's frames and speeds; the command line, the checks of
-// its picture paths, and the scene drawn under a replay.
+// its picture paths, pictures written whole or not at all, and the scene drawn under a replay.
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -26,6 +26,7 @@
 #include "view/debug_lines.h"
 #include "view/islands.h"
 #include "view/live_simulation.h"
+#include "view/png_file.h"
 #include "view/replay.h"
 #include "view/scene_source.h"
 #include "view/stacked_plot.h"
@@ -460,6 +461,33 @@ TEST_CASE("A picture is refused before the run where it would overwrite an input
   CHECK(contents(in_frames) == "recorded");
   CHECK_FALSE(path_refusal({"--replay", recording, "--headless", "--frames", recording}).empty());
   CHECK(frame_picture_path(frames, 12) == (dir.path / "frames" / "frame-000012.png").string());
+}
+
+TEST_CASE("A picture is written whole or not at all: a failed write is an error naming the path", "[view]") {
+  const TempDir dir("hail-view-png");
+  const std::vector<unsigned char> rgb(64 * 64 * 3, 200);
+  const std::string picture = (dir.path / "picture.png").string();
+  write_png(picture, 64, 64, rgb);
+  CHECK(contents(picture).substr(0, 4) == "\x89PNG");
+  const std::string first = contents(picture);
+
+  const std::string missing = (dir.path / "no-such-folder" / "picture.png").string();
+  CHECK_THROWS_AS(write_png(missing, 64, 64, rgb), std::runtime_error);
+  if (std::filesystem::exists("/dev/full")) {  // a full disk: the write fails, and says so
+    std::string message;
+    try {
+      write_png("/dev/full", 64, 64, rgb);
+    } catch (const std::runtime_error& e) {
+      message = e.what();
+    }
+    CHECK(message.find("/dev/full") != std::string::npos);
+  }
+  write_png(picture, 64, 64, std::vector<unsigned char>(64 * 64 * 3, 10));  // replaced whole
+  CHECK(contents(picture).substr(0, 4) == "\x89PNG");
+  CHECK(contents(picture) != first);
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path)) ++files;
+  CHECK(files == 1);  // no temporary left behind
 }
 
 TEST_CASE("A recording's scene name is looked up among the built-in scenes only, never opened as a path", "[view]") {
