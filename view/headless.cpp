@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 
 #include "view/camera.h"
@@ -37,7 +36,7 @@ struct Subject {
     if (!o.replay_path.empty()) {
       replay.emplace(o.replay_path);
       if (replay->frame_count() == 0) throw std::runtime_error("the recording has no frames");
-      scene = scene_of_recording(replay->header(), note);
+      scene = scene_of_recording(replay->header(), o.scene_file, note);
       replay->load(std::min(first, replay->frame_count() - 1), frame);
       title = o.replay_path;
     } else {
@@ -85,7 +84,6 @@ struct Picture {
 /// --frames DIR --every K: pictures of the run at step 0, K, 2K, ... up to --steps (or of every
 /// K-th recorded frame), the camera fixed where it framed the first.
 int write_sequence(const ViewOptions& o) {
-  std::filesystem::create_directories(o.frames_dir);
   Subject s(o, 0);
   GLFWwindow* window = open_window(o.width, o.height, /*visible=*/false, "hail-view");
   int pictures = 0;
@@ -93,9 +91,7 @@ int write_sequence(const ViewOptions& o) {
     Picture picture(*s.scene.world, s.frame, o);
     auto shoot = [&] {
       picture.draw(s.frame);
-      char name[32];
-      std::snprintf(name, sizeof name, "frame-%06d.png", pictures++);
-      picture.write((std::filesystem::path(o.frames_dir) / name).string());
+      picture.write(frame_picture_path(o.frames_dir, pictures++));
     };
     shoot();
     if (s.replay) {

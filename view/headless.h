@@ -7,7 +7,8 @@
 
 namespace hail::view {
 
-/// The process exit status.
+/// The process exit status. The options' paths are checked first (check_view_paths, which
+/// also makes --frames DIR).
 int run_headless(const ViewOptions& options);
 
 }  // namespace hail::view

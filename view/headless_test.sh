@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ctest view_headless_picture (view/CMakeLists.txt): hail-view --headless (a picture, then an
 # image sequence, then one with the debug lines) under Xvfb with Mesa's software OpenGL, each picture judged by
-# hail-view-check-png. Skipped (exit 77) where xvfb-run is not installed (apt-get install xvfb).
+# hail-view-check-png; then the pictures refused or failed (an input overwritten, a full disk).
+# Skipped (exit 77) where xvfb-run is not installed (apt-get install xvfb).
 #   headless_test.sh HAIL_VIEW CHECK_PNG OUT_DIR
 set -euo pipefail
 view=$1 check=$2 out=$3
@@ -31,3 +32,29 @@ LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
   "$view" terrain-rain --spheres 1600 --threads 2 --headless --steps 120 --draw-bvh 4 --draw-normals --draw-grid \
   --screenshot "$lines" --width 480 --height 270
 "$check" "$lines" 480 270 00ffff:0.2 ffff00:0.05 ffffff:0.05
+# A picture over the scene it shows is refused before the run (exit 2, the scene kept); a
+# picture that cannot be written (/dev/full: the disk is full) is an error naming it (exit 1),
+# never "picture written".
+original="$(dirname "$0")/../docs/images/fast-sphere.json"
+scene="$out/scene-kept.json"
+cp "$original" "$scene"
+status=0
+LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
+  "$view" --scene "$scene" --headless --screenshot "$scene" --width 128 --height 128 > "$out/refused.txt" 2>&1 ||
+  status=$?
+if [ "$status" != 2 ] || ! grep -q "refusing to write $scene" "$out/refused.txt" || ! cmp -s "$original" "$scene"; then
+  echo "view_headless_picture: a picture over the scene file was not refused (exit $status):" >&2
+  cat "$out/refused.txt" >&2
+  exit 1
+fi
+if [ -e /dev/full ]; then
+  status=0
+  LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1024x768x24" \
+    "$view" terrain-rain --spheres 100 --threads 2 --headless --screenshot /dev/full --width 128 --height 128 \
+    > "$out/full.txt" 2>&1 || status=$?
+  if [ "$status" != 1 ] || ! grep -q "cannot write /dev/full" "$out/full.txt" || grep -q "picture written" "$out/full.txt"; then
+    echo "view_headless_picture: --screenshot /dev/full did not fail naming it (exit $status):" >&2
+    cat "$out/full.txt" >&2
+    exit 1
+  fi
+fi

@@ -129,7 +129,7 @@ int run_window(const ViewOptions& o) {
   std::string note;
   if (!o.replay_path.empty()) {
     auto replay = std::make_unique<ReplaySource>(o);
-    geometry = StaticGeometry::of(*scene_of_recording(replay->replay().header(), note).world);
+    geometry = StaticGeometry::of(*scene_of_recording(replay->replay().header(), o.scene_file, note).world);
     replay->set_note(note);
     source = std::move(replay);
   } else {

@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
   try {
     const auto options = hail::view::parse_view_options(argc, argv);
     if (!options) return 0;
+    // Before anything is built or run: a picture that cannot be written, or that would be
+    // written over the recording or scene shown, is a bad command line.
+    hail::view::check_view_paths(*options);
     return options->headless ? hail::view::run_headless(*options) : hail::view::run_window(*options);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "hail-view: %s\n", e.what());

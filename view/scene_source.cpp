@@ -34,33 +34,66 @@ SceneFactory scene_factory(const ViewOptions& options) {
   };
 }
 
-bench::Scene scene_of_recording(const RecordingHeader& header, std::string& note) {
+namespace {
+
+bool is_built_in_scene(const std::string& name) {
+  const auto& scenes = bench::scene_registry();
+  return std::any_of(scenes.begin(), scenes.end(), [&](const bench::SceneEntry& e) { return name == e.name; });
+}
+
+/// A scene with nothing in it: the spheres of a recording are drawn on their own.
+bench::Scene empty_scene() {
   bench::Scene scene;
+  scene.world = std::make_unique<World>(WorldSettings{.threads = 1});
+  return scene;
+}
+
+bench::Scene built_in_with_one_sphere(const std::string& name) {
+  bench::SceneParams params;
+  params.spheres = 1;
+  params.threads = 1;
+  return bench::find_scene(name).build(params);
+}
+
+/// The scene file's scene with one sphere, or whole where its spheres cannot be resized (the
+/// reader resizes only a file's one lattice or random generator; lists stay as they are).
+bench::Scene scene_file_with_few_spheres(const std::string& path) {
   try {
-    const auto& scenes = bench::scene_registry();
-    const bool built_in =
-        std::any_of(scenes.begin(), scenes.end(), [&](const auto& e) { return header.scene == e.name; });
-    if (built_in) {
-      bench::SceneParams params;
-      params.spheres = 1;
-      params.threads = 1;
-      scene = bench::find_scene(header.scene).build(params);
-    } else {
-      bench::SceneOverrides overrides;
-      overrides.spheres = 1;
-      overrides.threads = 1;
-      scene = bench::load_scene_file(header.scene, overrides);
-    }
-  } catch (const std::exception& e) {
-    note = "the recorded scene '" + header.scene + "' cannot be built here (" + e.what() + "): spheres only";
-    scene = bench::Scene{};
-    scene.world = std::make_unique<World>(WorldSettings{.threads = 1});
-    return scene;
+    return bench::load_scene_file(path, {.spheres = 1, .threads = 1});
+  } catch (const std::invalid_argument&) {
+    return bench::load_scene_file(path, {.threads = 1});  // a file that is wrong fails again, and says why
   }
+}
+
+/// Whether the scene's terrain is the one recorded (or, as recorded, there is none).
+bool terrain_as_recorded(const bench::Scene& scene, const RecordingHeader& header) {
   const Terrain* terrain = scene.world->terrain();
-  const bool same = header.has_terrain ? terrain && terrain_content_hash(*terrain) == header.terrain_hash : !terrain;
-  if (!same) {
-    note = "the terrain of '" + header.scene + "' built here differs from the recorded one (content hash): not drawn";
+  return header.has_terrain ? terrain && terrain_content_hash(*terrain) == header.terrain_hash : !terrain;
+}
+
+}  // namespace
+
+bench::Scene scene_of_recording(const RecordingHeader& header, const std::string& scene_file, std::string& note) {
+  bench::Scene scene;
+  std::string shown;  // the scene named in the notes
+  if (!scene_file.empty()) {
+    scene = scene_file_with_few_spheres(scene_file);
+    shown = scene_file;
+  } else if (!is_built_in_scene(header.scene)) {
+    note = "the recorded scene '" + header.scene +
+           "' is not a built-in scene: spheres only (--scene FILE.json draws that scene file's terrain under them)";
+    return empty_scene();
+  } else {
+    try {
+      scene = built_in_with_one_sphere(header.scene);
+    } catch (const std::exception& e) {
+      note = "the recorded scene '" + header.scene + "' cannot be built here (" + e.what() + "): spheres only";
+      return empty_scene();
+    }
+    shown = header.scene;
+  }
+  if (!terrain_as_recorded(scene, header)) {
+    note = "the terrain of '" + shown + "' built here differs from the recorded one (content hash): not drawn";
     scene.world->set_terrain(nullptr);
   }
   return scene;

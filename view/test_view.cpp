@@ -2,23 +2,33 @@
 // thread hands over whole steps and its controls (pause, single step, reset, threads, spawn,
 // fire) do what they say, a thread change carrying the run on bitwise; the frames carry the
 // contacts, grid cells and islands of their own step when asked; the debug lines and island
-// labels; the camera's cursor ray; a replay's frames and speeds.
+// labels; the camera's cursor ray; a replay's frames and speeds; the command line, the checks of
+// its picture paths, pictures written whole or not at all, and the scene drawn under a replay.
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <memory>
 #include <thread>
 
 #include "bench/scenes/metrics.h"
+#include "bench/scenes/scene_file.h"
 #include "bench/scenes/scene_run.h"
 #include "hail/recording.h"
+#include "hail/snapshot.h"
 #include "tests/catch.h"
 #include "view/camera.h"
 #include "view/debug_lines.h"
 #include "view/islands.h"
 #include "view/live_simulation.h"
+#include "view/png_file.h"
 #include "view/replay.h"
+#include "view/scene_source.h"
 #include "view/stacked_plot.h"
 #include "view/view_options.h"
 
@@ -59,6 +69,86 @@ Frame reference(std::size_t spheres, int threads, std::uint64_t steps) {
   frame.tunnelled = errors.tunnelled;
   return frame;
 }
+
+/// parse_view_options on hail-view and `words`.
+std::optional<ViewOptions> parse(std::vector<std::string> words) {
+  words.insert(words.begin(), "hail-view");
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  return parse_view_options(int(argv.size()), argv.data());
+}
+
+/// A folder of its own under the temporary directory, removed with what it holds.
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  [[nodiscard]] std::string file(const std::string& name, const std::string& content = "") const {
+    const std::string p = (path / name).string();
+    std::ofstream(p, std::ios::binary) << content;
+    return p;
+  }
+};
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// check_view_paths's refusal of the command line `words`, or "" where it accepts them.
+std::string path_refusal(const std::vector<std::string>& words) {
+  const std::optional<ViewOptions> o = parse(words);
+  REQUIRE(o);
+  try {
+    check_view_paths(*o);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// What scene_of_recording gave, shared with the thread that ran it.
+struct SceneForReplay {
+  bench::Scene scene;
+  std::string note;
+};
+
+/// scene_of_recording(header, scene_file) on a thread of its own, waited for `limit`: null if it
+/// has not returned by then. The thread is detached rather than joined (as std::async's future
+/// would on destruction), so that a viewer that opens a FIFO fails the test instead of hanging it.
+std::shared_ptr<SceneForReplay> scene_of_recording_within(std::chrono::seconds limit, const RecordingHeader& header,
+                                                          const std::string& scene_file = "") {
+  auto result = std::make_shared<SceneForReplay>();
+  auto finished = std::make_shared<std::promise<void>>();
+  std::future<void> done = finished->get_future();
+  std::thread([result, finished, header, scene_file] {
+    try {
+      result->scene = scene_of_recording(header, scene_file, result->note);
+      finished->set_value();
+    } catch (...) {
+      finished->set_exception(std::current_exception());
+    }
+  }).detach();
+  if (done.wait_for(limit) != std::future_status::ready) return nullptr;
+  done.get();  // rethrows what it threw
+  return result;
+}
+
+/// A scene file on terrain-rain's terrain with one listed sphere: a list cannot be resized to
+/// one sphere, so the viewer builds it whole.
+constexpr const char* kSceneWithTerrain = R"({
+  "format": "hail-scene", "version": 1, "dt": 0.0166666675,
+  "terrain": {"function": "terrain-rain", "size": [64, 64], "cell_size": 1.0},
+  "material": {"radius": 1.0, "mass": 1.0},
+  "spheres": [{"list": [{"position": [30, 20, 30]}]}]
+})";
 
 /// The state before the first step of a simulation made paused.
 Frame first_frame(LiveSimulation& sim) {
@@ -320,12 +410,6 @@ TEST_CASE("The phase plot stacks each step's phases: a column's bands end where 
 }
 
 TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[view]") {
-  const auto parse = [](std::vector<std::string> words) {
-    words.insert(words.begin(), "hail-view");
-    std::vector<char*> argv;
-    for (std::string& w : words) argv.push_back(w.data());
-    return parse_view_options(int(argv.size()), argv.data());
-  };
   const std::optional<ViewOptions> plain = parse({});
   REQUIRE(plain);
   CHECK(plain->colour == ColourMode::Speed);
@@ -345,4 +429,119 @@ TEST_CASE("The command line's colour mode, debug lines, sleeping and zoom", "[vi
   CHECK(parse({"--colour", "sleep"})->colour == ColourMode::Sleep);
   CHECK_THROWS_AS(parse({"--colour", "mass"}), std::invalid_argument);
   CHECK_THROWS_AS(parse({"--draw-bvh", "-1"}), std::invalid_argument);
+}
+
+TEST_CASE("A picture is refused before the run where it would overwrite an input or cannot be written", "[view]") {
+  const TempDir dir("hail-view-paths");
+  const std::string recording = dir.file("run.hailrec", "recorded");
+  const std::string scene = dir.file("scene.json", "{}");
+  const std::string picture = (dir.path / "out.png").string();
+
+  CHECK(path_refusal({"--replay", recording, "--headless", "--screenshot", recording}).find(recording) !=
+        std::string::npos);
+  CHECK(path_refusal({"--scene", scene, "--headless", "--screenshot", scene}).find(scene) != std::string::npos);
+  CHECK_FALSE(
+      path_refusal({"--replay", recording, "--headless", "--screenshot", (dir.path / "." / "run.hailrec").string()})
+          .empty());  // the same file by another name
+  CHECK_FALSE(path_refusal({"--replay", recording, "--scene", scene, "--headless", "--screenshot", scene}).empty());
+  CHECK(contents(recording) == "recorded");  // nothing was written
+  CHECK(contents(scene) == "{}");
+  CHECK_FALSE(path_refusal({"--headless", "--screenshot", (dir.path / "no-such-folder" / "out.png").string()}).empty());
+  CHECK(path_refusal({"--replay", recording, "--scene", scene, "--headless", "--screenshot", picture}).empty());
+  CHECK_FALSE(std::filesystem::exists(picture));  // checked, not written
+
+  // --frames DIR: the folder is made; an input lying there under a picture's name is refused,
+  // as is a folder that is an input.
+  const std::string frames = (dir.path / "frames").string();
+  CHECK(path_refusal({"--replay", recording, "--headless", "--frames", frames}).empty());
+  CHECK(std::filesystem::is_directory(frames));
+  const std::string in_frames = (dir.path / "frames" / "frame-000002.png").string();
+  std::filesystem::copy_file(recording, in_frames);
+  CHECK(path_refusal({"--replay", in_frames, "--headless", "--frames", frames}).find(in_frames) != std::string::npos);
+  CHECK(contents(in_frames) == "recorded");
+  CHECK_FALSE(path_refusal({"--replay", recording, "--headless", "--frames", recording}).empty());
+  CHECK(frame_picture_path(frames, 12) == (dir.path / "frames" / "frame-000012.png").string());
+}
+
+TEST_CASE("A picture is written whole or not at all: a failed write is an error naming the path", "[view]") {
+  const TempDir dir("hail-view-png");
+  const std::vector<unsigned char> rgb(64 * 64 * 3, 200);
+  const std::string picture = (dir.path / "picture.png").string();
+  write_png(picture, 64, 64, rgb);
+  CHECK(contents(picture).substr(0, 4) == "\x89PNG");
+  const std::string first = contents(picture);
+
+  const std::string missing = (dir.path / "no-such-folder" / "picture.png").string();
+  CHECK_THROWS_AS(write_png(missing, 64, 64, rgb), std::runtime_error);
+  if (std::filesystem::exists("/dev/full")) {  // a full disk: the write fails, and says so
+    std::string message;
+    try {
+      write_png("/dev/full", 64, 64, rgb);
+    } catch (const std::runtime_error& e) {
+      message = e.what();
+    }
+    CHECK(message.find("/dev/full") != std::string::npos);
+  }
+  write_png(picture, 64, 64, std::vector<unsigned char>(64 * 64 * 3, 10));  // replaced whole
+  CHECK(contents(picture).substr(0, 4) == "\x89PNG");
+  CHECK(contents(picture) != first);
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path)) ++files;
+  CHECK(files == 1);  // no temporary left behind
+}
+
+TEST_CASE("A recording's scene name is looked up among the built-in scenes only, never opened as a path", "[view]") {
+  const TempDir dir("hail-view-recorded-scene");
+  const std::string fifo = (dir.path / "scene.fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string scene_file = dir.file("scene.json", kSceneWithTerrain);
+  for (const std::string& name : {fifo, std::string("/dev/zero"), scene_file}) {
+    RecordingHeader header;
+    header.scene = name;
+    header.has_terrain = true;
+    header.dt = 1.0f / 60.0f;
+    const auto drawn = scene_of_recording_within(std::chrono::seconds(5), header);
+    INFO("the recorded scene " << name);
+    REQUIRE(drawn);                                           // returned at once: the name was not opened
+    CHECK(drawn->scene.world->terrain() == nullptr);          // spheres only ...
+    CHECK(drawn->note.find("--scene") != std::string::npos);  // ... and the way to the terrain
+  }
+}
+
+TEST_CASE("--replay with --scene draws that scene file's terrain, checked by its content hash", "[view]") {
+  const TempDir dir("hail-view-replay-scene");
+  const std::string scene_file = dir.file("scene.json", kSceneWithTerrain);
+  const std::string recording = dir.file("run.hailrec", "recorded");
+  const std::optional<ViewOptions> o = parse({"--replay", recording, "--scene", scene_file});
+  REQUIRE(o);  // accepted together
+  CHECK(o->replay_path == recording);
+  CHECK(o->scene_file == scene_file);
+
+  const bench::Scene whole = bench::load_scene_file(scene_file);
+  REQUIRE(whole.world->terrain());
+  RecordingHeader header;
+  header.scene = scene_file;
+  header.has_terrain = true;
+  header.terrain_hash = terrain_content_hash(*whole.world->terrain());
+  header.dt = 1.0f / 60.0f;
+  std::string note;
+  bench::Scene drawn = scene_of_recording(header, scene_file, note);
+  CHECK(drawn.world->terrain() != nullptr);
+  CHECK(note.empty());
+
+  header.terrain_hash += 1;  // another terrain was recorded: not drawn, and the note says why
+  drawn = scene_of_recording(header, scene_file, note);
+  CHECK(drawn.world->terrain() == nullptr);
+  CHECK(note.find("content hash") != std::string::npos);
+
+  // A built-in scene needs no --scene.
+  header.scene = "terrain-rain";
+  bench::SceneParams one;
+  one.spheres = 1;
+  one.threads = 1;
+  header.terrain_hash = terrain_content_hash(*bench::find_scene("terrain-rain").build(one).world->terrain());
+  note.clear();
+  drawn = scene_of_recording(header, "", note);
+  CHECK(drawn.world->terrain() != nullptr);
+  CHECK(note.empty());
 }

@@ -1,9 +1,48 @@
 #include "view/view_options.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
 #include <stdexcept>
+#include <string_view>
+
+#include "bench/scenes/output_file.h"
 
 namespace hail::view {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::string_view kFramePrefix = "frame-", kFrameSuffix = ".png";
+
+/// Whether `name` is one a --frames picture may take: "frame-", six digits or more, ".png".
+bool is_frame_picture_name(std::string_view name) {
+  if (name.size() < kFramePrefix.size() + 6 + kFrameSuffix.size()) return false;
+  if (!name.starts_with(kFramePrefix) || !name.ends_with(kFrameSuffix)) return false;
+  const std::string_view number =
+      name.substr(kFramePrefix.size(), name.size() - kFramePrefix.size() - kFrameSuffix.size());
+  return std::all_of(number.begin(), number.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+}
+
+/// The --frames pictures to check: the first, which stands for the folder (writable, not an
+/// input), and every input that lies in DIR under a picture's name. How many pictures a run
+/// writes is known only as it goes (a recording's frame count), so any such input is one the
+/// sequence may reach.
+std::vector<std::string> frame_pictures_to_check(const std::string& dir, const std::vector<std::string>& inputs) {
+  std::vector<std::string> pictures{frame_picture_path(dir, 0)};
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const fs::path path(input);
+    const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    if (is_frame_picture_name(path.filename().string()) && bench::same_file(folder.string(), dir))
+      pictures.push_back(input);
+  }
+  return pictures;
+}
+
+}  // namespace
 
 std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   ViewOptions o;
@@ -11,7 +50,9 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
   std::vector<std::string> names;
   for (const bench::SceneEntry& e : bench::scene_registry()) names.emplace_back(e.name);
   app.add_option("scene", o.scene, "a built-in scene (default terrain-rain)")->check(CLI::IsMember(names));
-  app.add_option("--scene", o.scene_file, "a scene file (docs/scene_format.md)")->check(CLI::ExistingFile);
+  app.add_option("--scene", o.scene_file,
+                 "a scene file (docs/scene_format.md); with --replay, the scene whose terrain is drawn under it")
+      ->check(CLI::ExistingFile);
   app.add_option("--replay", o.replay_path, "play a recording (hail-bench run ... --record FILE)")
       ->check(CLI::ExistingFile);
   app.add_option("--spheres", o.params.spheres, "sphere count of a built-in scene")->check(CLI::Range(1, 100'000'000));
@@ -61,9 +102,24 @@ std::optional<ViewOptions> parse_view_options(int argc, char** argv) {
     throw std::invalid_argument("--screenshot and --frames need --headless");
   if (!o.screenshot_path.empty() && !o.frames_dir.empty())
     throw std::invalid_argument("give --screenshot FILE.png or --frames DIR, not both");
-  if (!o.scene_file.empty() && !o.replay_path.empty())
-    throw std::invalid_argument("give --scene FILE.json or --replay FILE, not both");
   return o;
+}
+
+std::string frame_picture_path(const std::string& dir, int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame-%06d.png", k);
+  return (fs::path(dir) / name).string();
+}
+
+void check_view_paths(const ViewOptions& o) {
+  const std::vector<std::string> inputs{o.scene_file, o.replay_path};
+  std::vector<std::string> outputs{o.screenshot_path};
+  if (!o.frames_dir.empty()) {
+    bench::prepare_output_dir(o.frames_dir);
+    const std::vector<std::string> pictures = frame_pictures_to_check(o.frames_dir, inputs);
+    outputs.insert(outputs.end(), pictures.begin(), pictures.end());
+  }
+  bench::check_output_paths(outputs, inputs);
 }
 
 }  // namespace hail::view
