@@ -444,6 +444,11 @@ TEST_CASE("A picture is refused before the run where it would overwrite an input
       path_refusal({"--replay", recording, "--headless", "--screenshot", (dir.path / "." / "run.hailrec").string()})
           .empty());  // the same file by another name
   CHECK_FALSE(path_refusal({"--replay", recording, "--scene", scene, "--headless", "--screenshot", scene}).empty());
+  // The heightmap a scene file names is an input too (a PNG heightmap is a picture's name).
+  const std::string map = dir.file("map.png", "heights");
+  const std::string mapped = dir.file("mapped.json", R"({"terrain": {"heightmap": "map.png"}})");
+  CHECK(path_refusal({"--scene", mapped, "--headless", "--screenshot", map}).find("map.png") != std::string::npos);
+  CHECK(contents(map) == "heights");
   CHECK(contents(recording) == "recorded");  // nothing was written
   CHECK(contents(scene) == "{}");
   CHECK_FALSE(path_refusal({"--headless", "--screenshot", (dir.path / "no-such-folder" / "out.png").string()}).empty());

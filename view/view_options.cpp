@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "bench/scenes/output_file.h"
+#include "bench/scenes/scene_inputs.h"
 
 namespace hail::view {
 namespace {
@@ -112,7 +113,8 @@ std::string frame_picture_path(const std::string& dir, int k) {
 }
 
 void check_view_paths(const ViewOptions& o) {
-  const std::vector<std::string> inputs{o.scene_file, o.replay_path};
+  std::vector<std::string> inputs = bench::scene_file_inputs(o.scene_file);  // the file and its heightmap
+  inputs.push_back(o.replay_path);
   std::vector<std::string> outputs{o.screenshot_path};
   if (!o.frames_dir.empty()) {
     bench::prepare_output_dir(o.frames_dir);
