@@ -57,7 +57,7 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_count(app, "--threads", p.threads, 0, 4096, "worker threads (0: all)");
   add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
   add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
-  add_count(app, "--resting", p.resting_iterations, 0, 1000, "resting-contact passes per step");
+  add_count(app, "--resting", p.resting_iterations, 0, kMaxIterations, "resting-contact passes per step");
   add_solver_options(app, p.solver, p.soft_step);
   app.add_option_function<std::string>(
          "--integrator",
@@ -395,13 +395,13 @@ void add_solver_options(CLI::App& app, Solver& solver, SoftStepParams& soft) {
 }
 
 void add_soft_step_options(CLI::App& app, SoftStepParams& soft) {
-  add_count(app, "--substeps", soft.substeps, 1, 1000, "soft step: substeps per step");
+  add_count(app, "--substeps", soft.substeps, 1, kMaxIterations, "soft step: substeps per step");
   add_number(app, "--contact-cycles", soft.contact_cycles, 0.0, 0.25,
              "soft step: contact stiffness, cycles per substep (ground contacts twice this)", /*exclude_min=*/true);
   add_number(app, "--damping-ratio", soft.damping_ratio, 0.0, 1e6, "soft step: contact damping ratio",
              /*exclude_min=*/true);
-  add_count(app, "--relax", soft.relax_iterations, 0, 1000, "soft step: relax iterations per substep");
-  add_count(app, "--depenetration-max", soft.depenetration_iterations_max, 0, 1000,
+  add_count(app, "--relax", soft.relax_iterations, 0, kMaxIterations, "soft step: relax iterations per substep");
+  add_count(app, "--depenetration-max", soft.depenetration_iterations_max, 0, kMaxIterations,
             "soft step: most depenetration passes a step (past depenetration_iterations while an overlap is "
             "beyond twice the slop)");
 }
