@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "hail/errors.h"
@@ -753,43 +753,48 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
 
 // ---- parsing -----------------------------------------------------------------------------------
 
-/// Follows the parser's events (json::parse's callback) to know where in the document it is,
-/// so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps the last
-/// silently) and nesting beyond kMaxSceneNesting are named by their path. Refusing deep nesting
-/// here, as the parser meets it, keeps every later recursion over the document shallow.
-class ParseTracker {
+/// Builds the document from nlohmann's SAX events (json::sax_parse) and follows where in it the
+/// parser is, so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps
+/// the last silently) and nesting beyond kMaxSceneNesting are refused naming their path.
+/// Refusing deep nesting here, as the parser meets it, keeps every
+/// later recursion over the document shallow. json::parse with a callback did the same, but
+/// nlohmann's callback builder looks through the parent container for a discarded value after
+/// every element: quadratic, over 25 s for a list of 400,000 spheres. The document is built
+/// through json's public API, as nlohmann's own (internal) SAX builder builds it.
+class DocumentBuilder {
  public:
-  explicit ParseTracker(const std::string& source) : source_(source) {}
+  DocumentBuilder(json& doc, const std::string& source) : doc_(doc), source_(source) {}
 
-  bool operator()(int /*depth*/, json::parse_event_t event, const json& parsed) {
-    using Event = json::parse_event_t;
-    switch (event) {
-      case Event::object_start:
-      case Event::array_start:
-        if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
-          where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
-        frames_.push_back({.is_array = event == Event::array_start, .next_index = 0, .key = {}, .keys = {}});
-        break;
-      case Event::key: {
-        Frame& object = frames_.back();
-        object.key = parsed.get<std::string>();
-        if (!object.keys.insert(object.key).second) {
-          const Where at = container();
-          at.fail("duplicate key \"" + object.key + "\"" + (at.path.empty() ? " at top level" : "") +
-                  " (a key may be given once)");
-        }
-        break;
-      }
-      case Event::value:
-        finish_element();
-        break;
-      case Event::object_end:
-      case Event::array_end:
-        frames_.pop_back();
-        finish_element();
-        break;
+  bool null() { return add_scalar(json(nullptr)); }
+  bool boolean(bool value) { return add_scalar(json(value)); }
+  bool number_integer(json::number_integer_t value) { return add_scalar(json(value)); }
+  bool number_unsigned(json::number_unsigned_t value) { return add_scalar(json(value)); }
+  bool number_float(json::number_float_t value, const json::string_t& /*text*/) { return add_scalar(json(value)); }
+  bool string(json::string_t& value) { return add_scalar(json(std::move(value))); }
+  bool binary(json::binary_t& value) { return add_scalar(json::binary(std::move(value))); }
+  bool start_object(std::size_t /*elements*/) { return open(json::object(), /*is_array=*/false); }
+  bool start_array(std::size_t /*elements*/) { return open(json::array(), /*is_array=*/true); }
+  bool key(json::string_t& name) {
+    Frame& object = frames_.back();
+    if (!object.keys.insert(name).second) {
+      const Where at = container();
+      at.fail("duplicate key \"" + name + "\"" + (at.path.empty() ? " at top level" : "") +
+              " (a key may be given once)");
     }
+    member_ = &(*object.value)[name];
+    object.key = std::move(name);
     return true;
+  }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+
+  /// A syntax error (its message has the line and column) or a number beyond a double (406),
+  /// named by the path of the value being parsed.
+  template <class Exception>
+  [[noreturn]] bool parse_error(std::size_t /*position*/, const std::string& /*token*/, const Exception& error) {
+    const bool beyond_double = std::is_same_v<Exception, json::out_of_range>;
+    where().fail((beyond_double ? "must be a finite number (a double holds up to about 1.8e308): " : "") +
+                 std::string(error.what()));
   }
 
   /// The value being parsed now ("spheres[2].random.count").
@@ -797,11 +802,49 @@ class ParseTracker {
 
  private:
   struct Frame {
+    json* value;  ///< the array or object, in the document
     bool is_array;
     std::size_t next_index;      ///< arrays: elements finished so far
     std::string key;             ///< objects: the latest key
     std::set<std::string> keys;  ///< objects: every key so far
   };
+
+  /// Puts `value` where the parser is (the root, the next element of the open array or the
+  /// open object's latest key) and returns it there.
+  json* place(json&& value) {
+    if (frames_.empty()) {
+      doc_ = std::move(value);
+      return &doc_;
+    }
+    json& container = *frames_.back().value;
+    if (!container.is_array()) {
+      *member_ = std::move(value);
+      return member_;
+    }
+    container.push_back(std::move(value));
+    return &container.back();
+  }
+
+  bool open(json&& empty, bool is_array) {
+    if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
+      where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
+    json* value = place(std::move(empty));
+    frames_.push_back({.value = value, .is_array = is_array, .next_index = 0, .key = {}, .keys = {}});
+    return true;
+  }
+
+  bool close() {
+    frames_.pop_back();
+    finish_element();
+    return true;
+  }
+
+  /// A number, string, true, false or null: one whole element of its container.
+  bool add_scalar(json&& value) {
+    place(std::move(value));
+    finish_element();
+    return true;
+  }
 
   /// The innermost object or array itself.
   [[nodiscard]] Where container() const { return path_through(frames_.size() - 1); }
@@ -823,8 +866,10 @@ class ParseTracker {
     if (!frames_.empty() && frames_.back().is_array) ++frames_.back().next_index;
   }
 
+  json& doc_;
   const std::string& source_;
   std::vector<Frame> frames_;
+  json* member_ = nullptr;  ///< the open object's member for the latest key
 };
 
 }  // namespace
@@ -1002,16 +1047,12 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
 
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides,
                        const std::string& base_dir) {
-  ParseTracker tracker(source_name);
   json doc;
+  DocumentBuilder builder(doc, source_name);
   try {
-    doc = json::parse(text, std::ref(tracker), /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {  // its message has the line and column
-    tracker.where().fail(e.what());
-  } catch (const json::out_of_range& e) {  // 406: a number beyond a double (1e400)
-    tracker.where().fail(std::string("must be a finite number (a double holds up to about 1.8e308): ") + e.what());
-  } catch (const json::exception& e) {
-    tracker.where().fail(e.what());
+    json::sax_parse(text, &builder, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true);
+  } catch (const json::exception& e) {  // parse errors end in the builder; anything else is named here
+    builder.where().fail(e.what());
   }
   return parse_scene_json(doc, source_name, overrides, base_dir);
 }
