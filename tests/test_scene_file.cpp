@@ -1,6 +1,10 @@
 // Scene files (bench/scenes/scene_file.h): the shipped files are the built-in scenes exactly; bad files
 // are refused with the file and the field named; the random generator is deterministic.
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,9 +13,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "bench/scenes/scene_file.h"
@@ -885,6 +892,24 @@ std::string scene_of_many_spheres(std::size_t count) {
   return text + R"(]}], "refused_after_the_parse": 1})";
 }
 
+/// load_scene_file(path)'s error message, from another thread: "(timed out)" when it has not
+/// ended within `limit`. A regression that blocks (opening a FIFO) or reads without end
+/// (/dev/zero) then fails the test instead of hanging it; the thread is left behind.
+std::string load_error_within(const std::string& path, std::chrono::seconds limit) {
+  auto message = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> result = message->get_future();
+  std::thread([path, message] {
+    try {
+      (void)hail::bench::load_scene_file(path);
+      message->set_value("(no error)");
+    } catch (const std::exception& e) {
+      message->set_value(e.what());
+    }
+  }).detach();
+  if (result.wait_for(limit) != std::future_status::ready) return "(timed out)";
+  return result.get();
+}
+
 }  // namespace
 
 TEST_CASE("scene files: a long list of objects parses in linear time", "[scene_file]") {
@@ -907,4 +932,32 @@ TEST_CASE("scene files: a long list of objects parses in linear time", "[scene_f
         "description, gravity, dt, steps, threads, settings, terrain, planes, material, spheres)");
   INFO("json::parse " << plain << " s, the reader " << reader << " s");
   CHECK(reader < 5.0 * plain + 1.0);
+}
+
+TEST_CASE("scene files: only a regular file is read, and no more than its size", "[scene_file]") {
+  using std::chrono::seconds;
+  // /dev/zero was read until memory ran out.
+  CHECK(load_error_within("/dev/zero", seconds(10)) ==
+        "/dev/zero: is a character device, not a scene file (write the scene to a file)");
+  const auto dir = fresh_temp_dir("not-regular");
+#if defined(__linux__)
+  // Opening a FIFO waits for a writer, which may never come: `--scene <(generate)` is refused.
+  const std::string fifo = (dir / "scene.json").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string fifo_error = load_error_within(fifo, seconds(10));
+  CHECK(fifo_error == fifo + ": is a pipe (FIFO), not a scene file (write the scene to a file)");
+  if (fifo_error == "(timed out)") {  // let the blocked open go on, so that the thread can end
+    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+    if (writer >= 0) ::close(writer);
+  }
+#endif
+  const std::string folder = (dir / "folder.json").string();
+  std::filesystem::create_directory(folder);
+  CHECK(load_error_within(folder, seconds(10)) == folder + ": is a directory, not a scene file");
+  // A symbolic link to a regular file is that file.
+  const auto target = dir / "real.json";
+  std::ofstream(target) << scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}]}])");
+  std::filesystem::create_symlink(target, dir / "link.json");
+  CHECK(hail::bench::load_scene_file((dir / "link.json").string()).world->sphere_count() == 1);
+  std::filesystem::remove_all(dir);
 }

@@ -8,8 +8,8 @@
 #include <initializer_list>
 #include <limits>
 #include <set>
-#include <sstream>
 #include <stdexcept>
+#include <system_error>
 #include <type_traits>
 #include <vector>
 
@@ -872,6 +872,62 @@ class DocumentBuilder {
   json* member_ = nullptr;  ///< the open object's member for the latest key
 };
 
+// ---- reading the file ----------------------------------------------------------------------------
+
+/// What a path that is not a regular file is, for the message refusing it.
+const char* describe_file_type(std::filesystem::file_type type) {
+  using std::filesystem::file_type;
+  switch (type) {
+    case file_type::directory:
+      return "a directory";
+    case file_type::fifo:
+      return "a pipe (FIFO)";
+    case file_type::character:
+      return "a character device";
+    case file_type::block:
+      return "a block device";
+    case file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
+  }
+}
+
+/// The size of the regular file at `path` (after symbolic links). Anything else is refused by
+/// its kind without being opened: opening a FIFO (`--scene <(generate)`) waits for a writer that
+/// may never come, and a device has no size to bound the read (/dev/zero never ends).
+std::uintmax_t regular_file_size(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (status.type() == fs::file_type::not_found)
+    throw std::invalid_argument(path + ": cannot open the scene file (no such file)");
+  if (error) throw std::invalid_argument(path + ": cannot open the scene file (" + error.message() + ")");
+  if (status.type() == fs::file_type::directory)
+    throw std::invalid_argument(path + ": is a directory, not a scene file");
+  if (status.type() != fs::file_type::regular)
+    throw std::invalid_argument(path + ": is " + describe_file_type(status.type()) +
+                                ", not a scene file (write the scene to a file)");
+  const std::uintmax_t size = fs::file_size(path, error);
+  if (error) throw std::invalid_argument(path + ": cannot read the scene file's size (" + error.message() + ")");
+  return size;
+}
+
+/// The file's `size` bytes, and no more: a file that is shorter or longer by then changed while
+/// it was read (one byte past `size` is read to notice it).
+std::string read_file_of_size(const std::string& path, std::uintmax_t size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  const auto got = static_cast<std::uintmax_t>(in.gcount());
+  if (in.bad()) throw std::invalid_argument(path + ": cannot read the scene file");
+  if (got != size || in.peek() != std::ifstream::traits_type::eof())
+    throw std::invalid_argument(path + ": changed while being read (its size was " + std::to_string(size) + " bytes; " +
+                                (got < size ? "only " + std::to_string(got) + " could be read" : "it held more") + ")");
+  return text;
+}
+
 }  // namespace
 
 Scene parse_scene_json(const json& doc, const std::string& source_name, const SceneOverrides& overrides,
@@ -1058,17 +1114,10 @@ Scene parse_scene_text(std::string_view text, const std::string& source_name, co
 }
 
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
-  // A directory opens and reads as empty; a pipe is allowed (`--scene <(generate)`).
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored))
-    throw std::invalid_argument(path + ": is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::invalid_argument(path + ": cannot read the scene file");
+  const std::uintmax_t size = regular_file_size(path);
+  const std::string text = read_file_of_size(path, size);
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  return parse_scene_text(text.str(), path, overrides, folder.empty() ? std::string(".") : folder.string());
+  return parse_scene_text(text, path, overrides, folder.empty() ? std::string(".") : folder.string());
 }
 
 }  // namespace hail::bench

@@ -46,6 +46,9 @@ struct SceneOverrides {
 
 /// Reads and builds the scene in `path`; a heightmap path inside is relative to the file's
 /// folder. The description is the file's; dt and default_steps are set; ids holds every sphere.
+/// Only a regular file (after symbolic links) is read: a directory, FIFO, device or socket is
+/// refused by its kind without being opened. Reads the size the file had when it was looked at,
+/// and refuses a file that changed.
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides = {});
 
 /// The same from JSON text (`//` and `/* */` comments allowed); `source_name` starts every
