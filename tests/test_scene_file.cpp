@@ -961,3 +961,38 @@ TEST_CASE("scene files: only a regular file is read, and no more than its size",
   CHECK(hail::bench::load_scene_file((dir / "link.json").string()).world->sphere_count() == 1);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scene files: the text and its parsed document are checked against the memory limit", "[scene_file]") {
+  SceneOverrides limited;
+  limited.memory_limit = {1e6, "1.00 MB (test)"};
+  // 20,000 spheres are 0.5 MB of text but about 7 MB once parsed: refused where the parse
+  // crosses the limit, before the rest of the document is built.
+  const std::string document = error_of(scene_of_many_spheres(20'000), limited);
+  INFO(document);
+  CHECK(document.find("scene.json: spheres[0].list[") == 0);
+  CHECK(document.find(": the parsed document needs about 1.00 MB (") != std::string::npos);
+  CHECK(document.find("JSON values so far") != std::string::npos);
+  CHECK(document.find("over the memory limit of 1.00 MB (test); --memory-limit GB sets it, 0 turns the check off") !=
+        std::string::npos);
+  // The text alone over the limit: refused before the parse.
+  SceneOverrides tiny;
+  tiny.memory_limit = {1000, "1.00 kB (test)"};
+  const std::string text = error_of(scene_of_many_spheres(100), tiny);
+  INFO(text);
+  CHECK(text.find("scene.json: the text needs about 2.") == 0);
+  CHECK(text.find("over the memory limit of 1.00 kB (test); --memory-limit GB sets it") != std::string::npos);
+  // A file is refused by its size, before it is read.
+  const auto dir = fresh_temp_dir("memory-text");
+  const std::string path = (dir / "big.json").string();
+  std::ofstream(path) << scene_of_many_spheres(100);
+  try {
+    (void)hail::bench::load_scene_file(path, tiny);
+    FAIL("no error");
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()).find(path + ": the text needs about 2.") == 0);
+  }
+  // Within the limit, or with the check off: built.
+  CHECK(error_of(scene_text(R"("spheres": [{"list": [{"position": [0, 0, 0]}]}])"), limited) == "(no error)");
+  CHECK(error_of(scene_of_many_spheres(20'000)).find("refused_after_the_parse") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}

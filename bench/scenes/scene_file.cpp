@@ -753,24 +753,56 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
 
 // ---- parsing -----------------------------------------------------------------------------------
 
+/// What a value takes in nlohmann::json's document once parsed (libstdc++, 64 bits), to refuse
+/// a document over the memory limit while it is parsed. From the layout: sizeof(json) is 16; an
+/// array holds its elements in a std::vector (16 bytes each, up to twice that for the vector's
+/// growth); an object's member is a std::map node (32 bytes of links, the std::string key and
+/// the json: 96 with malloc's header); an object or array points to its std::map or std::vector
+/// (48 or 24 bytes, 64 with the header); a string points to a std::string (48 with the header),
+/// and a key or string over 15 characters (libstdc++'s in-place buffer) has its characters in
+/// another block. Checked against glibc's mallinfo2 for json::parse of 200,000 spheres
+/// ({"position": [1.5, 2.5, 3.5], "radius": 0.5}: 75 bytes a value here, 65 measured), of
+/// 1,000,000 numbers in one array (32 here, 17 measured) and of nested one-key objects
+/// (139 here, 135 measured): never below the measured heap.
+constexpr double kJsonArrayElementBytes = 32.0;
+constexpr double kJsonObjectMemberBytes = 96.0;
+constexpr double kJsonContainerBytes = 64.0;
+constexpr double kJsonStringBytes = 48.0;
+constexpr std::size_t kJsonInPlaceChars = 15;
+
+/// The heap a key or string's characters take beyond its std::string (none up to 15).
+double string_chars_bytes(std::size_t length) { return length > kJsonInPlaceChars ? double(length) + 1.0 + 16.0 : 0.0; }
+
+/// Refuses text over the memory limit before it is read or parsed: the parsed document takes
+/// several times the text (about 9 for a list of spheres), so text alone over the limit cannot fit.
+void check_text_size(const std::string& source, double text_bytes, const MemoryLimit& limit) {
+  if (limit.bytes > 0.0 && text_bytes > limit.bytes)
+    throw std::invalid_argument(source + ": the text " +
+                                over_memory_limit(text_bytes, "the file's JSON text, before it is parsed", limit));
+}
+
 /// Builds the document from nlohmann's SAX events (json::sax_parse) and follows where in it the
 /// parser is, so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps
-/// the last silently) and nesting beyond kMaxSceneNesting are refused naming their path.
-/// Refusing deep nesting here, as the parser meets it, keeps every
+/// the last silently), nesting beyond kMaxSceneNesting and a document over the memory limit are
+/// refused naming their path. Refusing deep nesting here, as the parser meets it, keeps every
 /// later recursion over the document shallow. json::parse with a callback did the same, but
 /// nlohmann's callback builder looks through the parent container for a discarded value after
 /// every element: quadratic, over 25 s for a list of 400,000 spheres. The document is built
 /// through json's public API, as nlohmann's own (internal) SAX builder builds it.
 class DocumentBuilder {
  public:
-  DocumentBuilder(json& doc, const std::string& source) : doc_(doc), source_(source) {}
+  DocumentBuilder(json& doc, const std::string& source, std::size_t text_bytes, const MemoryLimit& limit)
+      : doc_(doc), source_(source), text_bytes_(double(text_bytes)), limit_(limit) {}
 
   bool null() { return add_scalar(json(nullptr)); }
   bool boolean(bool value) { return add_scalar(json(value)); }
   bool number_integer(json::number_integer_t value) { return add_scalar(json(value)); }
   bool number_unsigned(json::number_unsigned_t value) { return add_scalar(json(value)); }
   bool number_float(json::number_float_t value, const json::string_t& /*text*/) { return add_scalar(json(value)); }
-  bool string(json::string_t& value) { return add_scalar(json(std::move(value))); }
+  bool string(json::string_t& value) {
+    document_bytes_ += kJsonStringBytes + string_chars_bytes(value.size());
+    return add_scalar(json(std::move(value)));
+  }
   bool binary(json::binary_t& value) { return add_scalar(json::binary(std::move(value))); }
   bool start_object(std::size_t /*elements*/) { return open(json::object(), /*is_array=*/false); }
   bool start_array(std::size_t /*elements*/) { return open(json::array(), /*is_array=*/true); }
@@ -781,6 +813,7 @@ class DocumentBuilder {
       at.fail("duplicate key \"" + name + "\"" + (at.path.empty() ? " at top level" : "") +
               " (a key may be given once)");
     }
+    document_bytes_ += string_chars_bytes(name.size());
     member_ = &(*object.value)[name];
     object.key = std::move(name);
     return true;
@@ -812,6 +845,7 @@ class DocumentBuilder {
   /// Puts `value` where the parser is (the root, the next element of the open array or the
   /// open object's latest key) and returns it there.
   json* place(json&& value) {
+    count_value();
     if (frames_.empty()) {
       doc_ = std::move(value);
       return &doc_;
@@ -828,6 +862,7 @@ class DocumentBuilder {
   bool open(json&& empty, bool is_array) {
     if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
       where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
+    document_bytes_ += kJsonContainerBytes;
     json* value = place(std::move(empty));
     frames_.push_back({.value = value, .is_array = is_array, .next_index = 0, .key = {}, .keys = {}});
     return true;
@@ -844,6 +879,21 @@ class DocumentBuilder {
     place(std::move(value));
     finish_element();
     return true;
+  }
+
+  /// Counts a value's place in its container and refuses the document once it and the text
+  /// are over the memory limit.
+  void count_value() {
+    ++values_;
+    document_bytes_ += frames_.empty() || frames_.back().is_array ? kJsonArrayElementBytes : kJsonObjectMemberBytes;
+    if (limit_.bytes > 0.0 && text_bytes_ + document_bytes_ > limit_.bytes) refuse_over_memory_limit();
+  }
+
+  [[noreturn]] void refuse_over_memory_limit() const {
+    const std::string why = "the text " + format_bytes(text_bytes_) + " and " + std::to_string(values_) +
+                            " JSON values so far at " + std::to_string(std::lround(document_bytes_ / values_)) +
+                            " bytes each in nlohmann::json; the parse stopped here";
+    where().fail("the parsed document " + over_memory_limit(text_bytes_ + document_bytes_, why, limit_));
   }
 
   /// The innermost object or array itself.
@@ -868,8 +918,12 @@ class DocumentBuilder {
 
   json& doc_;
   const std::string& source_;
+  double text_bytes_;
+  const MemoryLimit& limit_;
   std::vector<Frame> frames_;
   json* member_ = nullptr;  ///< the open object's member for the latest key
+  std::size_t values_ = 0;
+  double document_bytes_ = 0.0;  ///< the estimate of the document so far, without the text
 };
 
 // ---- reading the file ----------------------------------------------------------------------------
@@ -914,7 +968,8 @@ std::uintmax_t regular_file_size(const std::string& path) {
 }
 
 /// The file's `size` bytes, and no more: a file that is shorter or longer by then changed while
-/// it was read (one byte past `size` is read to notice it).
+/// it was read (one byte past `size` is read to notice it), and the memory limit was checked
+/// against `size`.
 std::string read_file_of_size(const std::string& path, std::uintmax_t size) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
@@ -1103,8 +1158,9 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
 
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides,
                        const std::string& base_dir) {
+  check_text_size(source_name, double(text.size()), overrides.memory_limit);
   json doc;
-  DocumentBuilder builder(doc, source_name);
+  DocumentBuilder builder(doc, source_name, text.size(), overrides.memory_limit);
   try {
     json::sax_parse(text, &builder, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true);
   } catch (const json::exception& e) {  // parse errors end in the builder; anything else is named here
@@ -1115,6 +1171,7 @@ Scene parse_scene_text(std::string_view text, const std::string& source_name, co
 
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
   const std::uintmax_t size = regular_file_size(path);
+  check_text_size(path, double(size), overrides.memory_limit);
   const std::string text = read_file_of_size(path, size);
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   return parse_scene_text(text, path, overrides, folder.empty() ? std::string(".") : folder.string());
