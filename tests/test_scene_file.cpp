@@ -996,3 +996,38 @@ TEST_CASE("scene files: the text and its parsed document are checked against the
   CHECK(error_of(scene_of_many_spheres(20'000)).find("refused_after_the_parse") != std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scene files: values the World refuses are named by file and field", "[scene_file]") {
+  // These came from World::set_terrain, World::add_plane and World::add_sphere without the file
+  // or the field (planes with std::to_string's 39 digits and "0.000010").
+  const std::string cell = error_of(scene_text(R"("terrain": {"function": "flat", "cell_size": [1, 1e-30]})"));
+  INFO(cell);
+  CHECK(cell.find("scene.json: terrain.cell_size: hail: terrain reaches 255 m from the origin") == 0);
+  CHECK(cell.find("more than its cell size 1e-30 m") != std::string::npos);
+  const std::string raised =
+      error_of(scene_text(R"("terrain": {"function": "terrain-rain", "cell_size": 1e-30, "origin": [0, 1, 0]})"));
+  INFO(raised);
+  CHECK(raised.find("scene.json: terrain.cell_size: hail: terrain reaches 1 m from the origin") == 0);
+  // Without a cell_size, the origin (too far out for the default 1 m cells).
+  CHECK(error_of(scene_text(R"("terrain": {"function": "flat", "origin": [1e7, 0, 0]})"))
+            .find("scene.json: terrain.origin: hail: terrain reaches 1.00003e+07 m from the origin") == 0);
+
+  const std::string plane = error_of(scene_text(R"("planes": [{"normal": [0, 1e-5, 0], "offset": 1e38}])"));
+  INFO(plane);
+  CHECK(plane.find("scene.json: planes[0].offset: hail: plane offset / |normal| must be finite") == 0);
+  CHECK(plane.find("(offset 1e+38 m, |normal| 1e-05)") != std::string::npos);
+  const std::string second =
+      error_of(scene_text(R"("planes": [{"normal": [0, 1, 0]}, {"normal": [1e-5, 0, 0], "offset": -1e38}])"));
+  CHECK(second.find("scene.json: planes[1].offset: ") == 0);
+
+  // A sphere by the generator that made it: a list's element by its path.
+  const std::string heavy = error_of(scene_text(
+      R"("spheres": [{"lattice": {"count": 2}}, {"list": [{"position": [5, 0, 0]}, {"position": [9, 0, 0], "mass": 1e13}]}])"));
+  INFO(heavy);
+  CHECK(heavy.find("scene.json: spheres[1].list[1]: hail: ") == 0);
+  CHECK(heavy.find("mass") != std::string::npos);
+  const std::string fast = error_of(scene_text(
+      R"("spheres": [{"list": [{"position": [5, 0, 0]}]}, {"random": {"count": 3, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "speed": 2e6}}])"));
+  INFO(fast);
+  CHECK(fast.find("scene.json: spheres[1].random: sphere 0 of this generator: hail: ") == 0);
+}

@@ -37,6 +37,14 @@ struct Where {
   }
 };
 
+/// A number in messages as printf's %g gives it: 1e-30 and 1e+38, where std::to_string gives
+/// 0.000000 and 39 digits.
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 /// Appends `j` as compact JSON to `out`, stopping once `out` holds `limit` characters. Unlike
 /// json::dump it never walks more of the value than it prints, so a value nested 60,000 deep or
 /// megabytes long costs a few dozen steps (and a recursion no deeper than `limit`).
@@ -453,14 +461,13 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     const Vec3 to_origin(params.origin_x, 0.0f, params.origin_z);
     try {
       if (shape == Shape::Rain) {
-        heightmap = Heightmap::from_function(cols, rows, local, terrain_rain_height).moved(to_origin);
+        heightmap = Heightmap::from_function(cols, rows, local, terrain_rain_height);
       } else if (shape == Shape::Bowl) {
         // h = k ((x - cx)^2 + (z - cz)^2), centred on the map: bowl-pile's bowl for the defaults.
         const float cx = 0.5f * static_cast<float>(cols - 1) * params.cell_x;
         const float cz = 0.5f * static_cast<float>(rows - 1) * params.cell_z;
-        heightmap = Heightmap::from_function(cols, rows, local, [=](float x, float z) {
-                      return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
-                    }).moved(to_origin);
+        heightmap = Heightmap::from_function(
+            cols, rows, local, [=](float x, float z) { return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz)); });
       } else {
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }
@@ -470,6 +477,13 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
             .fail(std::string(e.what()) +
                   " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
       o.where().fail(e.what());
+    }
+    if (shape != Shape::Flat) {
+      try {
+        heightmap = heightmap->moved(to_origin);
+      } catch (const InvalidArgument& e) {  // an origin or height no longer a finite float
+        o.at("origin").fail(e.what());
+      }
     }
   } else {
     o.forbid("coefficient", "applies to the \"bowl\" function only");
@@ -537,15 +551,19 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
   }
   if (!std::isfinite(heightmap->max_height() - heightmap->min_height()))
     (is_function ? o.where() : o.at("height_scale"))
-        .fail("the heights span " + std::to_string(heightmap->min_height()) + " .. " +
-              std::to_string(heightmap->max_height()) + " m, more than a float holds");
+        .fail("the heights span " + number_text(heightmap->min_height()) + " .. " +
+              number_text(heightmap->max_height()) + " m, more than a float holds");
 
   scene.has_terrain = true;
   scene.min_x = heightmap->x_of(0);
   scene.max_x = heightmap->max_x();
   scene.min_z = heightmap->z_of(0);
   scene.max_z = heightmap->max_z();
-  terrain = std::make_shared<const Terrain>(std::move(*heightmap));
+  try {
+    terrain = std::make_shared<const Terrain>(std::move(*heightmap));
+  } catch (const InvalidArgument& e) {  // the BVH's refusal: the checks above should leave none
+    o.where().fail(e.what());
+  }
   scene.ground_height = [t = terrain](float x, float z) { return t->heightmap().surface_height(x, z); };
 }
 
@@ -749,6 +767,53 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
                               " bytes a sphere, the most measured: docs/benchmarks.md, Memory" +
                               (terrain_bytes > 0.0 ? "; the terrain " + format_bytes(terrain_bytes) : std::string()),
                           limit));
+}
+
+// ---- adding to the World ----------------------------------------------------------------------
+// The reader checks what it can before the World does, so that its messages name the field. What
+// only the World checks (how far out a terrain may lie for its cell size, a plane's offset over
+// its normal's length, a sphere's mass, speed or resolution where it lies) is named here by the
+// path of the value the World refused.
+
+/// World::set_terrain; the material was checked, so its refusal is of a terrain reaching so far
+/// out that floats there do not resolve its cells (kTerrainCellResolution): named by the cell
+/// size when the file gives one, else by the origin when it gives one, else by the terrain.
+void set_terrain(World& world, const std::shared_ptr<const Terrain>& terrain, float restitution, float friction,
+                 const Object& o) {
+  try {
+    world.set_terrain(terrain, restitution, friction);
+  } catch (const InvalidArgument& e) {
+    (o.has("cell_size") ? o.at("cell_size") : o.has("origin") ? o.at("origin") : o.where()).fail(e.what());
+  }
+}
+
+/// World::add_plane; its refusal named by the plane's offset. The normal, the offset and the
+/// material were checked, so what is left is the World's rule that offset / |normal| be a
+/// finite float: the two numbers are added as %g (the World prints them with std::to_string).
+void add_plane(World& world, const PlaneDesc& plane, const Where& at) {
+  try {
+    world.add_plane(plane);
+  } catch (const InvalidArgument& e) {
+    at.key("offset").fail(std::string(e.what()) + " (offset " + number_text(plane.offset) + " m, |normal| " +
+                          number_text(plane.normal.norm()) + ")");
+  }
+}
+
+/// The spheres one generator made: from sphere `first` on, until the next generator's first.
+struct GeneratorSpheres {
+  std::size_t first;
+  Where at;  ///< "spheres[2].list", "spheres[0].random"
+  bool is_list;
+};
+
+/// Refuses sphere `k` (World::add_sphere's message `why`) by the generator that made it: a list's
+/// element by its path, a generated sphere by its place in the generator's sequence.
+[[noreturn]] void refuse_sphere(const std::vector<GeneratorSpheres>& made_by, std::size_t k, const std::string& why) {
+  const auto after = std::upper_bound(made_by.begin(), made_by.end(), k,
+                                      [](std::size_t index, const GeneratorSpheres& g) { return index < g.first; });
+  const GeneratorSpheres& g = *std::prev(after);  // made_by[0].first is 0
+  if (g.is_list) g.at.index(k - g.first).fail(why);
+  g.at.fail("sphere " + std::to_string(k - g.first) + " of this generator: " + why);
 }
 
 // ---- parsing -----------------------------------------------------------------------------------
@@ -1084,6 +1149,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   }
 
   std::vector<SphereDesc> spheres;
+  std::vector<GeneratorSpheres> made_by;
   if (top.has("spheres")) {
     const json& generators = top["spheres"];
     const Where at = top.at("spheres");
@@ -1102,6 +1168,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       if (generators[k].size() != 1) gen.where().fail("must have exactly one of \"list\", \"lattice\" or \"random\"");
       GeneratorContext g = context;
       if (is_counted_generator(generators[k])) g.count_override = overrides.spheres;
+      made_by.push_back(
+          {.first = spheres.size(), .at = gen.at(generators[k].begin().key()), .is_list = gen.has("list")});
       if (gen.has("list")) {
         read_list(gen["list"], gen.at("list"), g, spheres);
       } else if (gen.has("lattice")) {
@@ -1142,15 +1210,17 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   } catch (const InvalidArgument& e) {
     root.fail(e.what());
   }
-  if (terrain) scene.world->set_terrain(terrain, terrain_restitution, terrain_friction);
-  for (const PlaneDesc& p : planes) scene.world->add_plane(p);
+  if (terrain)
+    set_terrain(*scene.world, terrain, terrain_restitution, terrain_friction,
+                Object(top["terrain"], top.at("terrain"), {}));
+  for (std::size_t k = 0; k < planes.size(); ++k) add_plane(*scene.world, planes[k], top.at("planes").index(k));
   scene.world->reserve(spheres.size());
   scene.ids.reserve(spheres.size());
   for (std::size_t k = 0; k < spheres.size(); ++k) {
     try {
       scene.ids.push_back(scene.world->add_sphere(spheres[k]));
     } catch (const InvalidArgument& e) {
-      root.key("spheres").fail("sphere " + std::to_string(k) + ": " + e.what());
+      refuse_sphere(made_by, k, e.what());
     }
   }
   return scene;
