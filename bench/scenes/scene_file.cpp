@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <set>
-#include <sstream>
 #include <stdexcept>
+#include <system_error>
+#include <type_traits>
 #include <vector>
 
 #include "hail/errors.h"
@@ -36,6 +36,14 @@ struct Where {
     throw std::invalid_argument(source + ": " + (path.empty() ? "" : path + ": ") + message);
   }
 };
+
+/// A number in messages as printf's %g gives it: 1e-30 and 1e+38, where std::to_string gives
+/// 0.000000 and 39 digits.
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
 
 /// Appends `j` as compact JSON to `out`, stopping once `out` holds `limit` characters. Unlike
 /// json::dump it never walks more of the value than it prints, so a value nested 60,000 deep or
@@ -453,14 +461,13 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
     const Vec3 to_origin(params.origin_x, 0.0f, params.origin_z);
     try {
       if (shape == Shape::Rain) {
-        heightmap = Heightmap::from_function(cols, rows, local, terrain_rain_height).moved(to_origin);
+        heightmap = Heightmap::from_function(cols, rows, local, terrain_rain_height);
       } else if (shape == Shape::Bowl) {
         // h = k ((x - cx)^2 + (z - cz)^2), centred on the map: bowl-pile's bowl for the defaults.
         const float cx = 0.5f * static_cast<float>(cols - 1) * params.cell_x;
         const float cz = 0.5f * static_cast<float>(rows - 1) * params.cell_z;
-        heightmap = Heightmap::from_function(cols, rows, local, [=](float x, float z) {
-                      return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz));
-                    }).moved(to_origin);
+        heightmap = Heightmap::from_function(
+            cols, rows, local, [=](float x, float z) { return k * ((x - cx) * (x - cx) + (z - cz) * (z - cz)); });
       } else {
         heightmap = Heightmap::from_function(cols, rows, params, [](float, float) { return 0.0f; });
       }
@@ -470,6 +477,13 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
             .fail(std::string(e.what()) +
                   " (coefficient times the squared distance to the map's centre must stay below 3.4e38)");
       o.where().fail(e.what());
+    }
+    if (shape != Shape::Flat) {
+      try {
+        heightmap = heightmap->moved(to_origin);
+      } catch (const InvalidArgument& e) {  // an origin or height no longer a finite float
+        o.at("origin").fail(e.what());
+      }
     }
   } else {
     o.forbid("coefficient", "applies to the \"bowl\" function only");
@@ -537,15 +551,19 @@ void read_terrain(const Object& o, const std::string& base_dir, const MemoryLimi
   }
   if (!std::isfinite(heightmap->max_height() - heightmap->min_height()))
     (is_function ? o.where() : o.at("height_scale"))
-        .fail("the heights span " + std::to_string(heightmap->min_height()) + " .. " +
-              std::to_string(heightmap->max_height()) + " m, more than a float holds");
+        .fail("the heights span " + number_text(heightmap->min_height()) + " .. " +
+              number_text(heightmap->max_height()) + " m, more than a float holds");
 
   scene.has_terrain = true;
   scene.min_x = heightmap->x_of(0);
   scene.max_x = heightmap->max_x();
   scene.min_z = heightmap->z_of(0);
   scene.max_z = heightmap->max_z();
-  terrain = std::make_shared<const Terrain>(std::move(*heightmap));
+  try {
+    terrain = std::make_shared<const Terrain>(std::move(*heightmap));
+  } catch (const InvalidArgument& e) {  // the BVH's refusal: the checks above should leave none
+    o.where().fail(e.what());
+  }
   scene.ground_height = [t = terrain](float x, float z) { return t->heightmap().surface_height(x, z); };
 }
 
@@ -751,45 +769,130 @@ void check_sphere_total(const json& generators, const Where& at, const SceneOver
                           limit));
 }
 
+// ---- adding to the World ----------------------------------------------------------------------
+// The reader checks what it can before the World does, so that its messages name the field. What
+// only the World checks (how far out a terrain may lie for its cell size, a plane's offset over
+// its normal's length, a sphere's mass, speed or resolution where it lies) is named here by the
+// path of the value the World refused.
+
+/// World::set_terrain; the material was checked, so its refusal is of a terrain reaching so far
+/// out that floats there do not resolve its cells (kTerrainCellResolution): named by the cell
+/// size when the file gives one, else by the origin when it gives one, else by the terrain.
+void set_terrain(World& world, const std::shared_ptr<const Terrain>& terrain, float restitution, float friction,
+                 const Object& o) {
+  try {
+    world.set_terrain(terrain, restitution, friction);
+  } catch (const InvalidArgument& e) {
+    (o.has("cell_size") ? o.at("cell_size") : o.has("origin") ? o.at("origin") : o.where()).fail(e.what());
+  }
+}
+
+/// World::add_plane; its refusal named by the plane's offset. The normal, the offset and the
+/// material were checked, so what is left is the World's rule that offset / |normal| be a
+/// finite float: the two numbers are added as %g (the World prints them with std::to_string).
+void add_plane(World& world, const PlaneDesc& plane, const Where& at) {
+  try {
+    world.add_plane(plane);
+  } catch (const InvalidArgument& e) {
+    at.key("offset").fail(std::string(e.what()) + " (offset " + number_text(plane.offset) + " m, |normal| " +
+                          number_text(plane.normal.norm()) + ")");
+  }
+}
+
+/// The spheres one generator made: from sphere `first` on, until the next generator's first.
+struct GeneratorSpheres {
+  std::size_t first;
+  Where at;  ///< "spheres[2].list", "spheres[0].random"
+  bool is_list;
+};
+
+/// Refuses sphere `k` (World::add_sphere's message `why`) by the generator that made it: a list's
+/// element by its path, a generated sphere by its place in the generator's sequence.
+[[noreturn]] void refuse_sphere(const std::vector<GeneratorSpheres>& made_by, std::size_t k, const std::string& why) {
+  const auto after = std::upper_bound(made_by.begin(), made_by.end(), k,
+                                      [](std::size_t index, const GeneratorSpheres& g) { return index < g.first; });
+  const GeneratorSpheres& g = *std::prev(after);  // made_by[0].first is 0
+  if (g.is_list) g.at.index(k - g.first).fail(why);
+  g.at.fail("sphere " + std::to_string(k - g.first) + " of this generator: " + why);
+}
+
 // ---- parsing -----------------------------------------------------------------------------------
 
-/// Follows the parser's events (json::parse's callback) to know where in the document it is,
-/// so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps the last
-/// silently) and nesting beyond kMaxSceneNesting are named by their path. Refusing deep nesting
-/// here, as the parser meets it, keeps every later recursion over the document shallow.
-class ParseTracker {
- public:
-  explicit ParseTracker(const std::string& source) : source_(source) {}
+/// What a value takes in nlohmann::json's document once parsed (libstdc++, 64 bits), to refuse
+/// a document over the memory limit while it is parsed. From the layout: sizeof(json) is 16; an
+/// array holds its elements in a std::vector (16 bytes each, up to twice that for the vector's
+/// growth); an object's member is a std::map node (32 bytes of links, the std::string key and
+/// the json: 96 with malloc's header); an object or array points to its std::map or std::vector
+/// (48 or 24 bytes, 64 with the header); a string points to a std::string (48 with the header),
+/// and a key or string over 15 characters (libstdc++'s in-place buffer) has its characters in
+/// another block. Checked against glibc's mallinfo2 for json::parse of 200,000 spheres
+/// ({"position": [1.5, 2.5, 3.5], "radius": 0.5}: 75 bytes a value here, 65 measured), of
+/// 1,000,000 numbers in one array (32 here, 17 measured) and of nested one-key objects
+/// (139 here, 135 measured): never below the measured heap.
+constexpr double kJsonArrayElementBytes = 32.0;
+constexpr double kJsonObjectMemberBytes = 96.0;
+constexpr double kJsonContainerBytes = 64.0;
+constexpr double kJsonStringBytes = 48.0;
+constexpr std::size_t kJsonInPlaceChars = 15;
 
-  bool operator()(int /*depth*/, json::parse_event_t event, const json& parsed) {
-    using Event = json::parse_event_t;
-    switch (event) {
-      case Event::object_start:
-      case Event::array_start:
-        if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
-          where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
-        frames_.push_back({.is_array = event == Event::array_start, .next_index = 0, .key = {}, .keys = {}});
-        break;
-      case Event::key: {
-        Frame& object = frames_.back();
-        object.key = parsed.get<std::string>();
-        if (!object.keys.insert(object.key).second) {
-          const Where at = container();
-          at.fail("duplicate key \"" + object.key + "\"" + (at.path.empty() ? " at top level" : "") +
-                  " (a key may be given once)");
-        }
-        break;
-      }
-      case Event::value:
-        finish_element();
-        break;
-      case Event::object_end:
-      case Event::array_end:
-        frames_.pop_back();
-        finish_element();
-        break;
+/// The heap a key or string's characters take beyond its std::string (none up to 15).
+double string_chars_bytes(std::size_t length) { return length > kJsonInPlaceChars ? double(length) + 1.0 + 16.0 : 0.0; }
+
+/// Refuses text over the memory limit before it is read or parsed: the parsed document takes
+/// several times the text (about 9 for a list of spheres), so text alone over the limit cannot fit.
+void check_text_size(const std::string& source, double text_bytes, const MemoryLimit& limit) {
+  if (limit.bytes > 0.0 && text_bytes > limit.bytes)
+    throw std::invalid_argument(source + ": the text " +
+                                over_memory_limit(text_bytes, "the file's JSON text, before it is parsed", limit));
+}
+
+/// Builds the document from nlohmann's SAX events (json::sax_parse) and follows where in it the
+/// parser is, so that a syntax error, a number beyond a double, a key given twice (nlohmann keeps
+/// the last silently), nesting beyond kMaxSceneNesting and a document over the memory limit are
+/// refused naming their path. Refusing deep nesting here, as the parser meets it, keeps every
+/// later recursion over the document shallow. json::parse with a callback did the same, but
+/// nlohmann's callback builder looks through the parent container for a discarded value after
+/// every element: quadratic, over 25 s for a list of 400,000 spheres. The document is built
+/// through json's public API, as nlohmann's own (internal) SAX builder builds it.
+class DocumentBuilder {
+ public:
+  DocumentBuilder(json& doc, const std::string& source, std::size_t text_bytes, const MemoryLimit& limit)
+      : doc_(doc), source_(source), text_bytes_(double(text_bytes)), limit_(limit) {}
+
+  bool null() { return add_scalar(json(nullptr)); }
+  bool boolean(bool value) { return add_scalar(json(value)); }
+  bool number_integer(json::number_integer_t value) { return add_scalar(json(value)); }
+  bool number_unsigned(json::number_unsigned_t value) { return add_scalar(json(value)); }
+  bool number_float(json::number_float_t value, const json::string_t& /*text*/) { return add_scalar(json(value)); }
+  bool string(json::string_t& value) {
+    document_bytes_ += kJsonStringBytes + string_chars_bytes(value.size());
+    return add_scalar(json(std::move(value)));
+  }
+  bool binary(json::binary_t& value) { return add_scalar(json::binary(std::move(value))); }
+  bool start_object(std::size_t /*elements*/) { return open(json::object(), /*is_array=*/false); }
+  bool start_array(std::size_t /*elements*/) { return open(json::array(), /*is_array=*/true); }
+  bool key(json::string_t& name) {
+    Frame& object = frames_.back();
+    if (!object.keys.insert(name).second) {
+      const Where at = container();
+      at.fail("duplicate key \"" + name + "\"" + (at.path.empty() ? " at top level" : "") +
+              " (a key may be given once)");
     }
+    document_bytes_ += string_chars_bytes(name.size());
+    member_ = &(*object.value)[name];
+    object.key = std::move(name);
     return true;
+  }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+
+  /// A syntax error (its message has the line and column) or a number beyond a double (406),
+  /// named by the path of the value being parsed.
+  template <class Exception>
+  [[noreturn]] bool parse_error(std::size_t /*position*/, const std::string& /*token*/, const Exception& error) {
+    const bool beyond_double = std::is_same_v<Exception, json::out_of_range>;
+    where().fail((beyond_double ? "must be a finite number (a double holds up to about 1.8e308): " : "") +
+                 std::string(error.what()));
   }
 
   /// The value being parsed now ("spheres[2].random.count").
@@ -797,11 +900,66 @@ class ParseTracker {
 
  private:
   struct Frame {
+    json* value;  ///< the array or object, in the document
     bool is_array;
     std::size_t next_index;      ///< arrays: elements finished so far
     std::string key;             ///< objects: the latest key
     std::set<std::string> keys;  ///< objects: every key so far
   };
+
+  /// Puts `value` where the parser is (the root, the next element of the open array or the
+  /// open object's latest key) and returns it there.
+  json* place(json&& value) {
+    count_value();
+    if (frames_.empty()) {
+      doc_ = std::move(value);
+      return &doc_;
+    }
+    json& container = *frames_.back().value;
+    if (!container.is_array()) {
+      *member_ = std::move(value);
+      return member_;
+    }
+    container.push_back(std::move(value));
+    return &container.back();
+  }
+
+  bool open(json&& empty, bool is_array) {
+    if (frames_.size() >= static_cast<std::size_t>(kMaxSceneNesting))
+      where().fail("arrays and objects nest deeper than " + std::to_string(kMaxSceneNesting) + " levels");
+    document_bytes_ += kJsonContainerBytes;
+    json* value = place(std::move(empty));
+    frames_.push_back({.value = value, .is_array = is_array, .next_index = 0, .key = {}, .keys = {}});
+    return true;
+  }
+
+  bool close() {
+    frames_.pop_back();
+    finish_element();
+    return true;
+  }
+
+  /// A number, string, true, false or null: one whole element of its container.
+  bool add_scalar(json&& value) {
+    place(std::move(value));
+    finish_element();
+    return true;
+  }
+
+  /// Counts a value's place in its container and refuses the document once it and the text
+  /// are over the memory limit.
+  void count_value() {
+    ++values_;
+    document_bytes_ += frames_.empty() || frames_.back().is_array ? kJsonArrayElementBytes : kJsonObjectMemberBytes;
+    if (limit_.bytes > 0.0 && text_bytes_ + document_bytes_ > limit_.bytes) refuse_over_memory_limit();
+  }
+
+  [[noreturn]] void refuse_over_memory_limit() const {
+    const std::string why = "the text " + format_bytes(text_bytes_) + " and " + std::to_string(values_) +
+                            " JSON values so far at " + std::to_string(std::lround(document_bytes_ / values_)) +
+                            " bytes each in nlohmann::json; the parse stopped here";
+    where().fail("the parsed document " + over_memory_limit(text_bytes_ + document_bytes_, why, limit_));
+  }
 
   /// The innermost object or array itself.
   [[nodiscard]] Where container() const { return path_through(frames_.size() - 1); }
@@ -823,9 +981,72 @@ class ParseTracker {
     if (!frames_.empty() && frames_.back().is_array) ++frames_.back().next_index;
   }
 
+  json& doc_;
   const std::string& source_;
+  double text_bytes_;
+  const MemoryLimit& limit_;
   std::vector<Frame> frames_;
+  json* member_ = nullptr;  ///< the open object's member for the latest key
+  std::size_t values_ = 0;
+  double document_bytes_ = 0.0;  ///< the estimate of the document so far, without the text
 };
+
+// ---- reading the file ----------------------------------------------------------------------------
+
+/// What a path that is not a regular file is, for the message refusing it.
+const char* describe_file_type(std::filesystem::file_type type) {
+  using std::filesystem::file_type;
+  switch (type) {
+    case file_type::directory:
+      return "a directory";
+    case file_type::fifo:
+      return "a pipe (FIFO)";
+    case file_type::character:
+      return "a character device";
+    case file_type::block:
+      return "a block device";
+    case file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
+  }
+}
+
+/// The size of the regular file at `path` (after symbolic links). Anything else is refused by
+/// its kind without being opened: opening a FIFO (`--scene <(generate)`) waits for a writer that
+/// may never come, and a device has no size to bound the read (/dev/zero never ends).
+std::uintmax_t regular_file_size(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (status.type() == fs::file_type::not_found)
+    throw std::invalid_argument(path + ": cannot open the scene file (no such file)");
+  if (error) throw std::invalid_argument(path + ": cannot open the scene file (" + error.message() + ")");
+  if (status.type() == fs::file_type::directory)
+    throw std::invalid_argument(path + ": is a directory, not a scene file");
+  if (status.type() != fs::file_type::regular)
+    throw std::invalid_argument(path + ": is " + describe_file_type(status.type()) +
+                                ", not a scene file (write the scene to a file)");
+  const std::uintmax_t size = fs::file_size(path, error);
+  if (error) throw std::invalid_argument(path + ": cannot read the scene file's size (" + error.message() + ")");
+  return size;
+}
+
+/// The file's `size` bytes, and no more: a file that is shorter or longer by then changed while
+/// it was read (one byte past `size` is read to notice it), and the memory limit was checked
+/// against `size`.
+std::string read_file_of_size(const std::string& path, std::uintmax_t size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  const auto got = static_cast<std::uintmax_t>(in.gcount());
+  if (in.bad()) throw std::invalid_argument(path + ": cannot read the scene file");
+  if (got != size || in.peek() != std::ifstream::traits_type::eof())
+    throw std::invalid_argument(path + ": changed while being read (its size was " + std::to_string(size) + " bytes; " +
+                                (got < size ? "only " + std::to_string(got) + " could be read" : "it held more") + ")");
+  return text;
+}
 
 }  // namespace
 
@@ -928,6 +1149,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   }
 
   std::vector<SphereDesc> spheres;
+  std::vector<GeneratorSpheres> made_by;
   if (top.has("spheres")) {
     const json& generators = top["spheres"];
     const Where at = top.at("spheres");
@@ -946,6 +1168,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       if (generators[k].size() != 1) gen.where().fail("must have exactly one of \"list\", \"lattice\" or \"random\"");
       GeneratorContext g = context;
       if (is_counted_generator(generators[k])) g.count_override = overrides.spheres;
+      made_by.push_back(
+          {.first = spheres.size(), .at = gen.at(generators[k].begin().key()), .is_list = gen.has("list")});
       if (gen.has("list")) {
         read_list(gen["list"], gen.at("list"), g, spheres);
       } else if (gen.has("lattice")) {
@@ -986,15 +1210,17 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   } catch (const InvalidArgument& e) {
     root.fail(e.what());
   }
-  if (terrain) scene.world->set_terrain(terrain, terrain_restitution, terrain_friction);
-  for (const PlaneDesc& p : planes) scene.world->add_plane(p);
+  if (terrain)
+    set_terrain(*scene.world, terrain, terrain_restitution, terrain_friction,
+                Object(top["terrain"], top.at("terrain"), {}));
+  for (std::size_t k = 0; k < planes.size(); ++k) add_plane(*scene.world, planes[k], top.at("planes").index(k));
   scene.world->reserve(spheres.size());
   scene.ids.reserve(spheres.size());
   for (std::size_t k = 0; k < spheres.size(); ++k) {
     try {
       scene.ids.push_back(scene.world->add_sphere(spheres[k]));
     } catch (const InvalidArgument& e) {
-      root.key("spheres").fail("sphere " + std::to_string(k) + ": " + e.what());
+      refuse_sphere(made_by, k, e.what());
     }
   }
   return scene;
@@ -1002,32 +1228,23 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
 
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides,
                        const std::string& base_dir) {
-  ParseTracker tracker(source_name);
+  check_text_size(source_name, double(text.size()), overrides.memory_limit);
   json doc;
+  DocumentBuilder builder(doc, source_name, text.size(), overrides.memory_limit);
   try {
-    doc = json::parse(text, std::ref(tracker), /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {  // its message has the line and column
-    tracker.where().fail(e.what());
-  } catch (const json::out_of_range& e) {  // 406: a number beyond a double (1e400)
-    tracker.where().fail(std::string("must be a finite number (a double holds up to about 1.8e308): ") + e.what());
-  } catch (const json::exception& e) {
-    tracker.where().fail(e.what());
+    json::sax_parse(text, &builder, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true);
+  } catch (const json::exception& e) {  // parse errors end in the builder; anything else is named here
+    builder.where().fail(e.what());
   }
   return parse_scene_json(doc, source_name, overrides, base_dir);
 }
 
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides) {
-  // A directory opens and reads as empty; a pipe is allowed (`--scene <(generate)`).
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored))
-    throw std::invalid_argument(path + ": is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::invalid_argument(path + ": cannot read the scene file");
+  const std::uintmax_t size = regular_file_size(path);
+  check_text_size(path, double(size), overrides.memory_limit);
+  const std::string text = read_file_of_size(path, size);
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  return parse_scene_text(text.str(), path, overrides, folder.empty() ? std::string(".") : folder.string());
+  return parse_scene_text(text, path, overrides, folder.empty() ? std::string(".") : folder.string());
 }
 
 }  // namespace hail::bench

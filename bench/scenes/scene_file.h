@@ -39,19 +39,24 @@ struct SceneOverrides {
   std::optional<bool> continuous_collision = std::nullopt;
   std::optional<bool> rotation = std::nullopt;
   std::optional<bool> sleep = std::nullopt;
-  /// `--memory-limit`: a file whose spheres and terrain would need more (kBytesPerSphereGuide a
-  /// sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before they are allocated.
+  /// `--memory-limit`: a file whose text, parsed document, spheres or terrain would need more
+  /// (kBytesPerSphereGuide a sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before
+  /// they are allocated.
   MemoryLimit memory_limit = {};
 };
 
 /// Reads and builds the scene in `path`; a heightmap path inside is relative to the file's
 /// folder. The description is the file's; dt and default_steps are set; ids holds every sphere.
+/// Only a regular file (after symbolic links) is read: a directory, FIFO, device or socket is
+/// refused by its kind without being opened, and a file larger than the memory limit before it
+/// is read. Reads the size the file had when it was looked at, and refuses a file that changed.
 Scene load_scene_file(const std::string& path, const SceneOverrides& overrides = {});
 
 /// The same from JSON text (`//` and `/* */` comments allowed); `source_name` starts every
-/// error message and `base_dir` resolves a relative heightmap path. Refuses, naming the path,
-/// nesting deeper than kMaxSceneNesting, a key given twice in one object and numbers beyond a
-/// double.
+/// error message and `base_dir` resolves a relative heightmap path. Parses in time linear in the
+/// text. Refuses, naming the path, nesting deeper than kMaxSceneNesting, a key given twice in
+/// one object, numbers beyond a double, and text or a parsed document over the memory limit
+/// (overrides.memory_limit, checked as the parse goes).
 Scene parse_scene_text(std::string_view text, const std::string& source_name, const SceneOverrides& overrides = {},
                        const std::string& base_dir = ".");
 
