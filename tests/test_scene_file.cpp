@@ -670,6 +670,27 @@ TEST_CASE("scene files: a dt the World would split into too many substeps is ref
   // A --dt from the command line is judged the same way, and named as the flag.
   CHECK(error_of(scene_text(R"("settings": {"time_scale": 2})"), {.dt = 10.0f}).find("scene.json: --dt: ") == 0);
   CHECK(error_of(scene_text(""), {.dt = 10.0f}) == "(no error)");  // 200 substeps
+  // A step too short to move anything (World::step's kMinStep): "dt": 1e-40, or a time scale
+  // of 1e-37, turned every sphere NaN.
+  for (const char* body : {R"("dt": 1e-40)", R"("dt": 0.0166666675, "settings": {"time_scale": 1e-37})"}) {
+    INFO(body);
+    const std::string tiny = error_of(scene_text(body));
+    CHECK(tiny.find("scene.json: dt: ") == 0);
+    CHECK(tiny.find("kMinStep") != std::string::npos);
+  }
+}
+
+TEST_CASE("scene files: iteration counts take the World's one range", "[scene_file]") {
+  // 2147483647 resting passes were accepted (8 spheres, 2 steps took over 20 s); the command
+  // line capped --resting at 1000. Now both refuse past kMaxIterations.
+  for (const char* setting : {R"("resting_iterations": 2147483647)", R"("depenetration_iterations": 1001)",
+                              R"("collision_iterations": 5000)", R"("soft_step": {"substeps": 100000})"}) {
+    INFO(setting);
+    const std::string refused = error_of(scene_text(std::string(R"("settings": {)") + setting + "}"));
+    CHECK(refused.find("scene.json") == 0);
+    CHECK(refused.find("must be <= " + std::to_string(hail::kMaxIterations)) != std::string::npos);
+  }
+  CHECK(error_of(scene_text(R"("settings": {"resting_iterations": 1000})")) == "(no error)");
 }
 
 namespace {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -280,3 +281,29 @@ TEST_CASE("set_terrain refuses a terrain too far out for a float to resolve its 
   }
 }
 #endif
+
+TEST_CASE("reserve refuses sizes whose bytes would wrap, and the world stays usable", "[invalid][limits]") {
+  // reserve(1 << 62) wrapped n * sizeof(T), took a small block for a huge one and overflowed the
+  // heap; reserve(2^62 + 1) threw half-way and the next add_sphere aborted.
+  World w(WorldSettings{.threads = 1});
+  w.add_plane({});
+  w.add_sphere({.position = {0, 1, 0}, .velocity = {1, 0, 0}});
+  w.add_sphere({.position = {2, 3, 0}});
+  w.step(1.0f / 60);
+  for (std::size_t n : {std::size_t{1} << 62, (std::size_t{1} << 62) + 1, std::numeric_limits<std::size_t>::max(),
+                        std::size_t{hail::SphereSoA::kMaxSpheres} + 1})
+    expect_rejected(
+        w, [&] { w.reserve(n); }, "cannot reserve");
+  const SphereId added = w.add_sphere({.position = {4, 2, 0}});
+  w.reserve(1000);
+  for (int k = 0; k < 30; ++k) w.step(1.0f / 60);
+  CHECK(w.nan_count() == 0);
+  CHECK(w.sphere_count() == 3);
+  CHECK(w.position(added).y() < 2.0f);
+
+  hail::AlignedArray<float> array(4, 1.0f);
+  CHECK_THROWS_AS(array.reserve(hail::AlignedArray<float>::max_size() + 1), std::length_error);
+  CHECK_THROWS_AS(array.reserve(std::numeric_limits<std::size_t>::max() / 2), std::length_error);
+  CHECK(array.size() == 4);
+  CHECK(array[3] == 1.0f);
+}

@@ -309,6 +309,7 @@ SphereDesc sphere(const Vec3& position, const Vec3& velocity, const Vec3& angula
 void read_settings(const Object& o, WorldSettings& s) {
   o.reject_unknown_keys();
   constexpr std::int64_t big = std::numeric_limits<int>::max();
+  // Iteration counts take the World's one range (kMaxIterations), named here with the field.
   s.time_scale = non_negative(o, "time_scale", s.time_scale);
   if (auto v = o.choice<Integrator>("integrator", {{"semi-implicit-euler", Integrator::SemiImplicitEuler},
                                                    {"uniform-acceleration", Integrator::UniformAcceleration}}))
@@ -319,19 +320,20 @@ void read_settings(const Object& o, WorldSettings& s) {
                    {"substeps", "contact_cycles", "damping_ratio", "relax_iterations", "max_push_speed",
                     "depenetration_iterations_max"});
     d.reject_unknown_keys();
-    s.soft_step.substeps = static_cast<int>(d.integer("substeps", s.soft_step.substeps, 1, 1000));
+    s.soft_step.substeps = static_cast<int>(d.integer("substeps", s.soft_step.substeps, 1, kMaxIterations));
     s.soft_step.contact_cycles = positive(d, "contact_cycles", s.soft_step.contact_cycles);
     s.soft_step.damping_ratio = positive(d, "damping_ratio", s.soft_step.damping_ratio);
     s.soft_step.relax_iterations =
-        static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, 1000));
+        static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, kMaxIterations));
     s.soft_step.max_push_speed = positive(d, "max_push_speed", s.soft_step.max_push_speed);
-    s.soft_step.depenetration_iterations_max =
-        static_cast<int>(d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, 1000));
+    s.soft_step.depenetration_iterations_max = static_cast<int>(
+        d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, kMaxIterations));
   }
-  s.collision_iterations = static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, big));
-  s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, big));
+  s.collision_iterations =
+      static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, kMaxIterations));
+  s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, kMaxIterations));
   s.depenetration_iterations =
-      static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, big));
+      static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, kMaxIterations));
   s.solver_tile_spheres = static_cast<std::size_t>(
       o.integer("solver_tile_spheres", static_cast<std::int64_t>(s.solver_tile_spheres), 0, 100000000));
   if (o.has("depenetration")) {
