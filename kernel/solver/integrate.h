@@ -53,9 +53,9 @@ struct IntegrationParams {
 /// roll), at rest on flat ground zero (it stays where it rests: reconstructing the start velocity
 /// as v_end - f dt lifted it by |g| dt^2 / 2 every step). What lies outside is impulsive (a
 /// push from a collision, a bounce) or friction, and moves the sphere with its end velocity, as
-/// the solver assumed: with the part across f only bounded by |f| (before commit 83b2a4a), two
-/// spheres pushed apart sideways each moved up to |g| dt^2 / 2 less than their solved
-/// velocities, and terrain-rain's mean deepest overlap was 16-24% deeper (docs/accuracy.md).
+/// the solver assumed: were the part across f only bounded by |f|, two spheres pushed apart
+/// sideways would each move up to |g| dt^2 / 2 less than their solved velocities, and
+/// terrain-rain's mean deepest overlap would be 16-24% deeper (docs/accuracy.md).
 /// Positions then move by v_end dt - a dt^2 / 2 (integrate_positions; soft_store_bodies takes
 /// the same off).
 inline void uniform_step_acceleration(const SphereSoA& s, std::size_t i, const IntegrationParams& p,
