@@ -4,6 +4,7 @@
 
 #include "catch.h"
 #include "hail/world.h"
+#include "kernel/world/step_heuristics.h"
 #include "sample_count.h"
 
 namespace {

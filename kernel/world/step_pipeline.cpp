@@ -42,6 +42,7 @@
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/sleep_islands.h"
+#include "kernel/world/step_heuristics.h"
 #include "kernel/world/step_state.h"
 #include "soa/grow.h"
 
