@@ -2,7 +2,7 @@
 # default when hail is the top-level project):
 #
 #   <prefix>/include/hail/*.h                      the public headers (include/hail/ and the
-#                                                  generated version.h and features.h), only those
+#                                                  generated version.h), only those
 #   <prefix>/lib/libhail.a
 #   <prefix>/lib/cmake/hail/hail{Config,ConfigVersion,Targets*}.cmake
 #   <prefix>/share/doc/hail/LICENSE
@@ -31,7 +31,7 @@ install(TARGETS hail EXPORT hailTargets
 # Only the public headers (include/hail/) are installed; the kernel's internals are not.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/hail/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail
         FILES_MATCHING PATTERN "*.h")
-install(FILES ${PROJECT_BINARY_DIR}/include/hail/version.h ${PROJECT_BINARY_DIR}/include/hail/features.h
+install(FILES ${PROJECT_BINARY_DIR}/include/hail/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hail)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
 

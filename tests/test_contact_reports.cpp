@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "kernel/terrain/terrain_parts.h"
 
@@ -65,7 +64,7 @@ TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then r
     CHECK(hit.ny == -1.0f);  // from the sphere into the plane
     CHECK(hit.time > 0.0f);
     CHECK(hit.time <= kDt);
-    CHECK(hit.py == Approx(0.0f).margin(1e-4));     // the contact point lies on the plane
+    CHECK(hit.py == Approx(0.0f).margin(1e-4));  // the contact point lies on the plane
     // The speed it meets the plane with, and its velocity at the end of the step after it
     // rebounds with e. Semi-implicit Euler moves with the velocity after predict all step; the
     // uniform-acceleration integrator meets the plane at the exact time, falling faster by g t
@@ -94,7 +93,6 @@ TEST_CASE("A sphere dropped onto a plane reports its bounce as an impact, then r
   }
 }
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("A sphere dropped onto flat terrain reports the bounce and then the resting impulse in its contacts",
           "[contacts][terrain]") {
   // Terrain contacts are speculative: the step in which the sphere would pass the surface has a
@@ -137,7 +135,6 @@ TEST_CASE("A sphere dropped onto flat terrain reports the bounce and then the re
     CHECK(g.impacts == 0.0f);
   }
 }
-#endif
 
 TEST_CASE("Two spheres meeting head-on report (1 + e) times the closing speed over the summed inverse masses",
           "[contacts][sphere-sphere]") {
@@ -172,7 +169,6 @@ TEST_CASE("Two spheres meeting head-on report (1 + e) times the closing speed ov
   }
 }
 
-#if HAIL_WITH_TERRAIN && HAIL_WITH_CONTINUOUS_COLLISION
 TEST_CASE("Continuous collision reports its impacts: a 1,000 m/s sphere on terrain, two crossing spheres",
           "[impacts][ccd]") {
   const float e = 0.5f;
@@ -219,4 +215,3 @@ TEST_CASE("Continuous collision reports its impacts: a 1,000 m/s sphere on terra
     CHECK(hit.impulse == Approx(2.0f * (2.0f * v) / 2.0f).epsilon(1e-5));
   }
 }
-#endif

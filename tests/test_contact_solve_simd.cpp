@@ -18,7 +18,6 @@
 
 #include "bench/scenes/solver_problems.h"
 #include "catch.h"
-#include "hail/features.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "simd_paths.h"
 
@@ -58,7 +57,7 @@ std::vector<FrictionWork> friction_modes() {
   // Built from one array (a push_back after an initializer list trips GCC 12's -Warray-bounds
   // false positive in the sanitizer build).
   constexpr FrictionWork kAll[] = {kNoFriction, kLinearFriction, kWithFriction};
-  return std::vector<FrictionWork>(std::begin(kAll), std::end(kAll) - (HAIL_WITH_ROTATION ? 0 : 1));
+  return std::vector<FrictionWork>(std::begin(kAll), std::end(kAll));
 }
 
 }  // namespace
@@ -266,7 +265,6 @@ TEST_CASE("Frictionless passes do no angular work and match the full rules to ro
   }
   CHECK(std::any_of(simd.contacts.begin(), simd.contacts.end(),
                     [](const Contact& c) { return c.bounce_impulse > 0.0f; }));
-#if HAIL_WITH_ROTATION
   Problem full = base;
   run_passes(full, false, kWithFriction);
   for (std::size_t i = 0; i < base.bodies.size(); ++i) {
@@ -277,7 +275,6 @@ TEST_CASE("Frictionless passes do no angular work and match the full rules to ro
       CHECK(std::fabs(scalar.bodies[i].v[d] - full.bodies[i].v[d]) <= 1e-4f * (1.0f + std::fabs(full.bodies[i].v[d])));
     }
   }
-#endif
 }
 
 TEST_CASE("Friction without rotation: SIMD equals scalar, no angular velocity is read or written", "[solver][simd]") {

@@ -16,7 +16,6 @@
 
 #include "catch.h"
 #include "hail/events.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "world_refusal.h"
 
@@ -122,13 +121,11 @@ TouchCounts count_touches(World& world, int steps, SphereId id, ContactWith with
   return counts;
 }
 
-#if HAIL_WITH_TERRAIN
 std::shared_ptr<const Terrain> flat_terrain() {
   return std::make_shared<const Terrain>(
       Heightmap::from_function(33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f},
                                [](float, float) { return 0.0f; }));
 }
-#endif
 
 }  // namespace
 
@@ -244,7 +241,6 @@ TEST_CASE("A sphere placed at rest on a plane begins touching once and never end
   CHECK(after.ends == 0);
 }
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("A sphere dropped onto terrain hits it once above the speed, then rests touching for 200 steps",
           "[events][terrain]") {
   const float m = 2.0f, e = 0.5f, h = 5.0f, r = 0.5f;
@@ -276,9 +272,7 @@ TEST_CASE("A sphere dropped onto terrain hits it once above the speed, then rest
   CHECK(resting.begins == 1);
   CHECK(resting.ends == 0);
 }
-#endif
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("A settled pile keeps its touches: few begin or end", "[events][terrain]") {
   // 384 spheres of mixed sizes and masses in a box on a bowl of terrain (the allocation test's
   // scene), settled for 10 s, then 200 steps. Counted by "gap <= 0 after the step" instead,
@@ -318,7 +312,6 @@ TEST_CASE("A settled pile keeps its touches: few begin or end", "[events][terrai
   CHECK(begins < 200);
   CHECK(ends < 200);
 }
-#endif
 
 TEST_CASE("Events name spheres by handle across the Morton re-sort", "[events]") {
   // Spheres added right to left at rising heights: the re-sort (every step) reverses their
@@ -404,12 +397,10 @@ TEST_CASE("Event arrays are bitwise the same on 1 and 2 threads", "[events][thre
       world.add_plane({.normal = {sign, 0, 0}, .offset = -4.0f, .restitution = 0.6f});
       world.add_plane({.normal = {0, 0, sign}, .offset = -4.0f, .restitution = 0.6f});
     }
-#if HAIL_WITH_TERRAIN
     world.set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(
                           17, 17, {.cell_x = 0.5f, .cell_z = 0.5f, .origin_x = -4.0f, .origin_z = -4.0f},
                           [](float x, float z) { return 0.05f * (x * x + z * z) - 0.5f; })),
                       0.6f, 0.5f);
-#endif
     for (int k = 0; k < 300; ++k) {
       const float x = -3.0f + 0.6f * static_cast<float>(k % 10), z = -3.0f + 0.6f * static_cast<float>((k / 10) % 10);
       world.add_sphere({.position = {x, 1.0f + 0.7f * static_cast<float>(k / 100), z},

@@ -10,11 +10,9 @@
 #include <vector>
 
 #include "catch.h"
-#include "hail/world.h"
-#if HAIL_WITH_TERRAIN
 #include "hail/heightmap.h"
 #include "hail/terrain.h"
-#endif
+#include "hail/world.h"
 
 using namespace hail;
 
@@ -118,7 +116,6 @@ TEST_CASE("A sphere whose filter rejects the ground falls through planes; others
   }
 }
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("A sphere whose filter rejects the ground falls through terrain; others stay on it", "[filters][terrain]") {
   for (const bool ccd : {false, true}) {
     WorldSettings s = settings({0, -9.81f, 0});
@@ -147,7 +144,6 @@ TEST_CASE("A sphere whose filter rejects the ground falls through terrain; other
     for (const SphereId g : solids) CHECK(world.position(g).y() > -0.5f);
   }
 }
-#endif
 
 TEST_CASE("Every pair search gives bitwise the same state with filters", "[filters][determinism]") {
   for (const bool ccd : {true, false}) {

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "world_refusal.h"
 
@@ -165,9 +164,6 @@ TEST_CASE("World settings are validated", "[invalid]") {
   rejected(with([](WorldSettings& s) { s.shock_mass_ratio = kNaN; }), "shock_mass_ratio");
   rejected(with([](WorldSettings& s) { s.max_substep = 0; }), "max_substep");
   rejected(with([](WorldSettings& s) { s.max_substep = kInf; }), "max_substep");
-#if !HAIL_WITH_ROTATION
-  rejected(with([](WorldSettings& s) { s.rotation = true; }), "HAIL_WITH_ROTATION=OFF");
-#endif
 }
 
 TEST_CASE("Without rotation add_sphere refuses a spinning sphere and leaves the world unchanged", "[invalid]") {

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 
 using hail::Integrator;
@@ -99,7 +98,6 @@ TEST_CASE("A: bounce apexes follow 10 e^(2n)", "[known][bounce]") {
   }
 }
 
-#if HAIL_WITH_ROTATION  // rolling needs rotation (tests/test_rotation.cpp: without it)
 TEST_CASE("B: a sliding sphere switches to rolling at 5/7 v0 at t*", "[known][friction]") {
   const float dt = 1.0f / 1000, mu = 0.3f, v0 = 5.0f, g = 9.81f;
   WorldSettings settings;
@@ -125,7 +123,6 @@ TEST_CASE("B: a sliding sphere switches to rolling at 5/7 v0 at t*", "[known][fr
   CHECK(std::abs(switch_time - t_star) <= 0.02);
   CHECK(std::abs(world.position(id).y() - 0.5) < 1e-3);
 }
-#endif
 
 TEST_CASE("C: head-on collision gives the 1-D elastic formulas", "[known][sphere-sphere]") {
   const double m2 = GENERATE(1.0, 1000.0);

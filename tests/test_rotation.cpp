@@ -7,7 +7,6 @@
 #include <memory>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 
 using namespace hail;
@@ -30,12 +29,10 @@ void build_pile(World& world) {
     world.add_plane({.normal = {sign, 0, 0}, .offset = -5.0f, .restitution = 0.3f, .friction = 0.6f});
     world.add_plane({.normal = {0, 0, sign}, .offset = -5.0f, .restitution = 0.3f, .friction = 0.6f});
   }
-#if HAIL_WITH_TERRAIN
   world.set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(
                         21, 21, {.cell_x = 0.5f, .cell_z = 0.5f, .origin_x = -5.0f, .origin_z = -5.0f},
                         [](float x, float z) { return 0.03f * (x * x + z * z) + 0.1f * std::sin(x + z); })),
                     0.3f, 0.6f);
-#endif
   for (int k = 0; k < 300; ++k) {
     const float x = -3.5f + static_cast<float>(k % 8), z = -3.5f + static_cast<float>((k / 8) % 8);
     world.add_sphere({.position = {x + 0.1f * static_cast<float>(k % 3), 2.0f + static_cast<float>(k / 64), z},
@@ -90,11 +87,10 @@ TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane im
   }
   CHECK(any.friction);
   CHECK(any.shock);
-  CHECK(any.sweep == bool(HAIL_WITH_CONTINUOUS_COLLISION));
+  CHECK(any.sweep);
   CHECK_FALSE(any.rotation);  // no angular work in any step
   CHECK(off.nan_count() == 0);
   CHECK(off.kinetic_energy() < 1e3);  // it came to rest in the box (purely linear energy)
-#if HAIL_WITH_ROTATION
   World on({.threads = 2});
   build_pile(on);
   bool rotation_ran = false;
@@ -105,7 +101,6 @@ TEST_CASE("Without rotation a pile with friction, shock pass, sweep and plane im
   CHECK(rotation_ran);
   CHECK_FALSE(all_angular_zero(on));  // with rotation they spin and roll
   CHECK(on.state_hash() != off.state_hash());
-#endif
 }
 
 TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off", "[rotation][threads]") {
@@ -131,10 +126,7 @@ TEST_CASE("A frictionless scene steps bitwise the same with rotation on and off"
     CHECK(all_angular_zero(world));
     return world.state_hash();
   };
-  if (HAIL_WITH_ROTATION)
-    CHECK(run(true) == run(false));
-  else
-    CHECK(run(false) != 0);
+  CHECK(run(true) == run(false));
 }
 
 TEST_CASE("A normal impulse never spins a sphere, though friction elsewhere turns the angular passes on",
@@ -162,7 +154,7 @@ TEST_CASE("A normal impulse never spins a sphere, though friction elsewhere turn
     world.step(1.0f / 60.0f);
     angular_passes |= world.last_step_stats().ran.rotation;
   }
-  CHECK(angular_passes == (HAIL_WITH_ROTATION != 0));
+  CHECK(angular_passes);
   CHECK(world.velocity(hit).dot(d) < -1.0f);  // they collided: the hit sphere moves off along -d
   for (const SphereId id : {hit, mover}) {
     const Vec3 w = world.angular_velocity(id);

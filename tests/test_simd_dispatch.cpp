@@ -16,7 +16,6 @@
 #include "bench/scenes/solver_problems.h"
 #include "catch.h"
 #include "hail/errors.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
@@ -169,7 +168,7 @@ TEST_CASE("Every SIMD path's contact passes equal the scalar rules bit for bit",
   // In every FrictionWork mode: no friction, friction without rotation, the full rules (when
   // compiled in).
   std::vector<FrictionWork> modes = {kNoFriction, kLinearFriction};
-  if (HAIL_WITH_ROTATION) modes.push_back(kWithFriction);
+  modes.push_back(kWithFriction);
   for (SimdPath p : supported_paths()) {
     const ScopedSimdPath path(p);
     for (const FrictionWork work : modes)

@@ -13,7 +13,6 @@
 
 #include "bench/scenes/solver_problems.h"
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/soft_step.h"
@@ -83,7 +82,7 @@ void run_soft(Problem& p, bool simd, FrictionWork work) {
 
 std::vector<FrictionWork> friction_modes() {
   constexpr FrictionWork kAll[] = {kNoFriction, kLinearFriction, kWithFriction};
-  return std::vector<FrictionWork>(std::begin(kAll), std::end(kAll) - (HAIL_WITH_ROTATION ? 0 : 1));
+  return std::vector<FrictionWork>(std::begin(kAll), std::end(kAll));
 }
 
 /// A 600-sphere cloud falling onto a floor between two walls, stepped with the soft step.

@@ -9,7 +9,6 @@
 #include <string>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "sample_count.h"
@@ -193,7 +192,6 @@ TEST_CASE("Internal edges: every shared edge of a flat map is internal, a sharp 
   for (std::size_t k = 0; k < flat.triangles().size(); ++k) CHECK(flat.triangles().ny[k] == 1.0f);
 }
 
-#if HAIL_WITH_ROTATION  // rolling needs rotation (tests/test_rotation.cpp: without it)
 TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight path and rolls at 5/7 v0",
           "[terrain]") {
   auto world = std::make_unique<World>(WorldSettings{.threads = 1});
@@ -220,9 +218,7 @@ TEST_CASE("A pushed sphere on flat, finely triangulated terrain keeps a straight
   CHECK(v.z() / v.x() == Approx(0.3).epsilon(1e-3));  // straight path: direction unchanged
   CHECK((p.z() - 2.1) / (p.x() - 2.0) == Approx(0.3).epsilon(1e-3));
 }
-#endif
 
-#if HAIL_WITH_ROTATION  // rolling needs rotation (tests/test_rotation.cpp: without it)
 TEST_CASE("A sphere rolls down a slope at 5/7 g sin(theta)", "[terrain]") {
   const float theta = 0.2f, g = 9.81f, r = 0.5f;
   auto world = std::make_unique<World>(WorldSettings{.threads = 1});
@@ -243,4 +239,3 @@ TEST_CASE("A sphere rolls down a slope at 5/7 g sin(theta)", "[terrain]") {
   INFO("speed " << along << " exact " << exact);
   CHECK(along == Approx(exact).epsilon(0.01));
 }
-#endif

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 
 using hail::Integrator;
@@ -74,7 +73,6 @@ TEST_CASE("Uniform acceleration: a sphere resting on a plane is not lifted", "[u
   CHECK(world.velocity(id).norm() < 1e-4);
 }
 
-#if HAIL_WITH_ROTATION
 TEST_CASE("Uniform acceleration at 1/60: slide to roll within 0.5% (t* and 5/7 v0)", "[uniform][known][friction]") {
   const float mu = 0.3f, v0 = 5.0f, g = 9.81f;
   const Solver solver = GENERATE(Solver::Passes, Solver::SoftStep);
@@ -101,7 +99,6 @@ TEST_CASE("Uniform acceleration at 1/60: slide to roll within 0.5% (t* and 5/7 v
   CHECK(std::abs(switch_time - t_star) <= 0.005 * t_star);
   CHECK(std::abs(world.position(id).y() - 0.5) < 1e-4);
 }
-#endif
 
 namespace {
 
@@ -113,13 +110,11 @@ struct Settled {
 
 Settled drop_and_wait(Solver solver, bool terrain, int steps) {
   World world(uniform_settings(solver));
-#if HAIL_WITH_TERRAIN
   if (terrain)
     world.set_terrain(std::make_shared<const hail::Terrain>(hail::Heightmap::from_function(
                           9, 9, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -4.0f, .origin_z = -4.0f},
                           [](float, float) { return 0.0f; })),
                       0.5f, 0.5f);
-#endif
   if (!terrain) world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.5f, .friction = 0.5f});
   const SphereId id = world.add_sphere(
       {.position = {0.3f, 2.5f, 0.2f}, .radius = 0.5f, .mass = 1, .restitution = 0.5f, .friction = 0.5f});
@@ -131,11 +126,7 @@ Settled drop_and_wait(Solver solver, bool terrain, int steps) {
 
 TEST_CASE("Uniform acceleration: a sphere dropped on a plane or a terrain comes to rest", "[uniform][rest]") {
   const Solver solver = GENERATE(Solver::Passes, Solver::SoftStep);
-#if HAIL_WITH_TERRAIN
   const bool terrain = GENERATE(false, true);
-#else
-  const bool terrain = false;
-#endif
   // A drop from 2 m at e = 0.5 bounces out in about 2.5 s: 400 steps leave time to spare.
   const Settled s = drop_and_wait(solver, terrain, 400);
   INFO("solver " << int(solver) << (terrain ? " terrain" : " plane") << ": speed " << s.speed << " m/s, height "

@@ -10,7 +10,6 @@
 #include <tuple>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 #include "world_refusal.h"
 
@@ -147,7 +146,6 @@ TEST_CASE("add_sphere refuses radii, masses and speeds whose derived quantities 
   CHECK(std::isfinite(edge.linear_momentum().norm()));
 }
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("A sphere that starts inside the terrain is lifted out, as a plane pushes it out", "[terrain][limits]") {
   for (const float degrees : {0.0f, 30.0f, 60.0f}) {
     const float slope = std::tan(degrees * 3.14159265f / 180.0f);
@@ -195,7 +193,6 @@ TEST_CASE("Spheres above the terrain, static spheres and spheres off its edge ar
   CHECK(w.last_step_stats().lifted_out == 1);
   CHECK(w.position(late).y() > 0.4f);
 }
-#endif
 
 TEST_CASE("Coincident spheres: contacts capped and reported, the step completes, deterministic", "[limits]") {
   // 10,000 spheres at one point made every pair a contact (50 million) and the step ran out of
@@ -253,7 +250,6 @@ TEST_CASE("add_sphere refuses a sphere too far out for a float to resolve its ra
   CHECK(w.sphere_count() == 3);
 }
 
-#if HAIL_WITH_TERRAIN
 TEST_CASE("set_terrain refuses a terrain too far out for a float to resolve its cells", "[invalid][limits]") {
   auto flat = [](float origin, float cell, float height) {
     hail::HeightmapParams p;
@@ -280,7 +276,6 @@ TEST_CASE("set_terrain refuses a terrain too far out for a float to resolve its 
     CHECK(far.position(id).y() == Approx(r).margin(0.05 * r));
   }
 }
-#endif
 
 TEST_CASE("reserve refuses sizes whose bytes would wrap, and the world stays usable", "[invalid][limits]") {
   // reserve(1 << 62) wrapped n * sizeof(T), took a small block for a huge one and overflowed the

@@ -28,7 +28,7 @@ struct BvhNodeBox {
 
 /// Every node of the terrain's BVH (Terrain::bvh), depth-first (the root first, each node's
 /// left subtree before its right), into `out` (replacing what it held). Terrain-rain's map
-/// has about 2 x triangles / 8 nodes (leaves of 8 triangles). Needs HAIL_WITH_TERRAIN.
+/// has about 2 x triangles / 8 nodes (leaves of 8 triangles).
 void terrain_bvh_boxes(const Terrain& terrain, std::vector<BvhNodeBox>& out);
 
 }  // namespace hail

@@ -20,7 +20,6 @@
 //   <hail/phase_trace.h>     hail::PhaseTrace: the per-thread phase trace (World::enable_trace)
 //   <hail/errors.h>          InvalidArgument, FileError: what the API throws (never exit/abort)
 //   <hail/vec3.h>            hail::Vec3 (Eigen::Vector3f)
-//   <hail/features.h>        HAIL_WITH_*: the features this build of the library has
 //   <hail/version.h>         HAIL_VERSION_*
 //
 // These are the only headers installed: the kernel's internals (BVH, pair searches, solver,
@@ -34,7 +33,6 @@
 #include "hail/contact.h"
 #include "hail/errors.h"
 #include "hail/events.h"
-#include "hail/features.h"
 #include "hail/heightmap.h"
 #include "hail/phase_trace.h"
 #include "hail/plane.h"

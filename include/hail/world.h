@@ -37,7 +37,6 @@
 #include "hail/debug_draw.h"
 #include "hail/errors.h"
 #include "hail/events.h"
-#include "hail/features.h"
 #include "hail/phase_trace.h"
 #include "hail/plane.h"
 #include "hail/queries.h"
@@ -175,9 +174,7 @@ class World {
   /// moved out along the deepest overlap (Terrain::push_out). This is checked once for each
   /// sphere added since the last step, and for every sphere after set_terrain;
   /// StepStats::lifted_out counts them.
-#if HAIL_WITH_TERRAIN
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
-#endif
   /// Moves the world's origin to `offset`: every sphere's position (static ones too) becomes
   /// position - offset, every plane and the terrain move with them, and velocities, spins,
   /// handles and warm-start impulses are kept, so the motion goes on as before, only where

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "hail/features.h"
 #include "hail/vec3.h"
 
 namespace hail {
@@ -192,8 +191,7 @@ struct WorldSettings {
   /// so they neither tunnel nor bounce early. Off: they are left to the discrete step, whose
   /// terrain contacts then reach at most fast_travel_fraction radii (fast spheres tunnel; the
   /// benchmark shows what the sweep prevents). Spheres that are not fast step the same either way.
-  /// Default: on when compiled in (HAIL_WITH_CONTINUOUS_COLLISION); true is refused otherwise.
-  bool continuous_collision = HAIL_WITH_CONTINUOUS_COLLISION != 0;
+  bool continuous_collision = true;
   /// In (0, 1]. At 1 (one radius per step) the discrete step is still safe: a sphere's
   /// terrain contacts reach as far as it travels, and two spheres that are not fast close by at
   /// most ra + rb in a step, so they may overlap (the pair margin is capped at speculative_radii
@@ -220,9 +218,8 @@ struct WorldSettings {
   /// rolling, and no angular velocity is read, changed or integrated: every angular velocity
   /// stays 0 (add_sphere refuses a non-zero one) and the step does no angular work
   /// (StepParts::rotation). A scene without friction runs the same passes either way and
-  /// steps bitwise the same. Default: on when compiled in
-  /// (HAIL_WITH_ROTATION); true is refused otherwise.
-  bool rotation = HAIL_WITH_ROTATION != 0;
+  /// steps bitwise the same.
+  bool rotation = true;
   /// Sleeping (kernel/world/sleep_islands.h): spheres joined by sphere-sphere contacts form an
   /// island (the terrain, planes and immovable spheres join none); an island all of whose
   /// spheres have stayed below sleep_linear_speed and sleep_angular_speed for sleep_time goes

@@ -10,7 +10,6 @@
 #include <cstdint>
 #include <span>
 
-#include "hail/features.h"
 #include "kernel/bvh/flat_node.h"
 
 namespace hail {
@@ -49,7 +48,6 @@ void walk_stackless(std::span<const FlatNode> nodes, HitsNode&& hits_node, Visit
   }
 }
 
-#if HAIL_WITH_REFERENCE_WALKS  // hail/features.h
 /// The same walk with a fixed stack of kMaxBvhDepth entries (the seed's alternative, for
 /// tests and the benchmark): on an inner-node hit it keeps the right child (nodes[i + 1].skip)
 /// and descends into the left (i + 1). The stack holds at most one entry per level, and the
@@ -76,6 +74,5 @@ void walk_stack(std::span<const FlatNode> nodes, HitsNode&& hits_node, VisitLeaf
     i = stack[--top];
   }
 }
-#endif  // HAIL_WITH_REFERENCE_WALKS
 
 }  // namespace hail

@@ -67,7 +67,6 @@ void query_sphere(const FlatBvh& bvh, float cx, float cy, float cz, float r, Vis
       count);
 }
 
-#if HAIL_WITH_REFERENCE_WALKS
 /// query_sphere with the fixed-stack walk: the same candidates, in the same order.
 template <class Visit, class Count = NoNodeCount>
 void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float r, Visit&& visit, Count&& count = {}) {
@@ -78,7 +77,6 @@ void query_sphere_stack(const FlatBvh& bvh, float cx, float cy, float cz, float 
       },
       count);
 }
-#endif
 
 /// Stackless box query: visit(k) for every primitive k (BVH order) of every leaf whose box
 /// touches `box` (closed boxes: touching faces count).
@@ -92,7 +90,6 @@ void query_aabb(const FlatBvh& bvh, const Aabb& box, Visit&& visit, Count&& coun
       count);
 }
 
-#if HAIL_WITH_REFERENCE_WALKS
 /// query_aabb with the fixed-stack walk.
 template <class Visit, class Count = NoNodeCount>
 void query_aabb_stack(const FlatBvh& bvh, const Aabb& box, Visit&& visit, Count&& count = {}) {
@@ -103,7 +100,6 @@ void query_aabb_stack(const FlatBvh& bvh, const Aabb& box, Visit&& visit, Count&
       },
       count);
 }
-#endif
 
 /// kNoPrimitive in RayHit::primitive: the ray hit nothing.
 inline constexpr std::uint32_t kNoPrimitive = 0xFFFFFFFFu;
@@ -153,7 +149,6 @@ template <class Intersect, class Count = NoNodeCount>
                             std::forward<Count>(count));
 }
 
-#if HAIL_WITH_REFERENCE_WALKS  // hail/features.h
 /// Brute force beside the BVH (tests, benchmark): visit(i) for every box bounds[i] the sphere
 /// touches, in index order. Exact per primitive, where the BVH gives leaf candidates.
 template <class Visit>
@@ -179,6 +174,5 @@ template <class Intersect>
   }
   return best;
 }
-#endif  // HAIL_WITH_REFERENCE_WALKS
 
 }  // namespace hail

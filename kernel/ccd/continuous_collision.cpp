@@ -282,15 +282,15 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     }
     contact.nx = static_cast<float>(n[0]), contact.ny = static_cast<float>(n[1]), contact.nz = static_cast<float>(n[2]);
     // Without rotation the impulse acts on linear velocities alone and w is not touched.
-    const bool spin = HAIL_WITH_ROTATION && scene.rotation;
-    ContactBodies bodies = spin ? gather_bodies<kRotationWork>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
+    const bool spin = scene.rotation;
+    ContactBodies bodies = spin ? gather_bodies<kWithFriction>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
     for (int d = 0; d < 3; ++d) bodies.va[d] = static_cast<float>(motions_[ma].v[d]);
     if (mb != ma)
       for (int d = 0; d < 3; ++d) bodies.vb[d] = static_cast<float>(motions_[mb].v[d]);
-    const float j = spin ? solve_impact<kRotationWork>(contact, bodies, restitution_threshold)
+    const float j = spin ? solve_impact<kWithFriction>(contact, bodies, restitution_threshold)
                          : solve_impact<kLinearFriction>(contact, bodies, restitution_threshold);
     // Angular velocities (linear ones: sync_path below).
-    if (spin) scatter_bodies<kRotationWork>(s, contact, bodies);
+    if (spin) scatter_bodies<kWithFriction>(s, contact, bodies);
     ++stats_.events;
     if (j > 0.0f) {
       const double r = s.radius[a];

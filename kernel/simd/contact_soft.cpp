@@ -77,7 +77,8 @@ void iteration_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       const batch limit(-p.max_push_speed);
       const lane_mask pushing = !speculative & (push > limit);
       bias = xsimd::select(speculative, bias, xsimd::select(pushing, push, zero));
-      mass_scale = xsimd::select(pushing, xsimd::select(ground, batch(p.ground.mass_scale), batch(p.contact.mass_scale)), one);
+      mass_scale =
+          xsimd::select(pushing, xsimd::select(ground, batch(p.ground.mass_scale), batch(p.contact.mass_scale)), one);
       impulse_scale = xsimd::select(
           pushing, xsimd::select(ground, batch(p.ground.impulse_scale), batch(p.contact.impulse_scale)), zero);
     } else {
@@ -173,7 +174,7 @@ void contact_soft(const ContactBatchArrays& c, std::size_t first, std::size_t la
     case kWithFriction:
       break;
   }
-  soft_pass<kRotationWork>(c, first, last, bodies, body_count, pass);
+  soft_pass<kWithFriction>(c, first, last, bodies, body_count, pass);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -148,8 +148,6 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
 
 }  // namespace
 
-// kWithFriction runs kRotationWork: the angular passes are not compiled without rotation
-// (HAIL_WITH_ROTATION=OFF), where World never asks for them.
 bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
                        std::size_t body_count, float dt, float restitution_threshold, std::uint32_t pass,
                        FrictionWork work, const float* gravity_dt) {
@@ -163,7 +161,7 @@ bool contact_collision(const ContactBatchArrays& c, std::size_t first, std::size
     case kWithFriction:
       break;
   }
-  return collision_pass<kRotationWork>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, gravity_dt);
+  return collision_pass<kWithFriction>(c, first, last, bodies, body_count, dt, restitution_threshold, pass, gravity_dt);
 }
 
 void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
@@ -176,7 +174,7 @@ void contact_resting(const ContactBatchArrays& c, std::size_t first, std::size_t
     case kWithFriction:
       break;
   }
-  resting_pass<kRotationWork>(c, first, last, bodies, body_count, inv_dt);
+  resting_pass<kWithFriction>(c, first, last, bodies, body_count, inv_dt);
 }
 
 void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::size_t last, SolverBody* bodies,
@@ -189,7 +187,7 @@ void contact_warm_start(const ContactBatchArrays& c, std::size_t first, std::siz
     case kWithFriction:
       break;
   }
-  warm_start_pass<kRotationWork>(c, first, last, bodies, body_count);
+  warm_start_pass<kWithFriction>(c, first, last, bodies, body_count);
 }
 
 }  // namespace HAIL_SIMD_NS

@@ -12,7 +12,6 @@
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
-#include "hail/features.h"
 #include "hail/sphere_soa.h"
 #include "kernel/bvh/bvh_packet_walk.h"
 #include "kernel/geometry/sphere_triangle.h"
@@ -23,11 +22,6 @@ namespace hail {
 inline namespace HAIL_SIMD_NS {
 
 std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& s, const std::uint32_t* slots, std::size_t count) {
-#if !HAIL_WITH_TERRAIN
-  // A build without terrain has no Terrain::push_out, and no World ever calls this.
-  static_cast<void>(terrain), static_cast<void>(s), static_cast<void>(slots), static_cast<void>(count);
-  return 0;
-#else
   const TerrainTriangles& t = terrain.triangles();
   constexpr std::uint32_t W = kSpherePacketWidth;
   std::size_t moved = 0;
@@ -66,7 +60,6 @@ std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& s, const std::ui
     }
   }
   return moved;
-#endif
 }
 
 }  // namespace HAIL_SIMD_NS

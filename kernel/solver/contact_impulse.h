@@ -20,7 +20,6 @@
 #include <cstdint>
 
 #include "hail/contact.h"
-#include "hail/features.h"
 #include "hail/sphere_soa.h"
 
 namespace hail {
@@ -36,11 +35,6 @@ namespace hail {
 /// kWithFriction is the full rule: friction with the angular impulse that makes spheres spin
 /// and roll.
 enum FrictionWork : std::uint8_t { kNoFriction, kLinearFriction, kWithFriction };
-
-/// kWithFriction where rotation is compiled in (HAIL_WITH_ROTATION, hail/features.h). Without
-/// it the dispatchers instantiate no angular code: a request for kWithFriction (which World
-/// never makes then) runs kLinearFriction.
-inline constexpr FrictionWork kRotationWork = HAIL_WITH_ROTATION ? kWithFriction : kLinearFriction;
 
 /// Whether a mode applies friction impulses.
 [[nodiscard]] constexpr bool has_friction(FrictionWork work) { return work != kNoFriction; }

@@ -60,7 +60,7 @@ bool solve_collision_run_scalar(std::span<Contact> contacts, std::span<SolverBod
     case kWithFriction:
       break;
   }
-  return collision_run<kRotationWork>(contacts, bodies, dt, restitution_threshold, pass, gravity_dt);
+  return collision_run<kWithFriction>(contacts, bodies, dt, restitution_threshold, pass, gravity_dt);
 }
 
 void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, float inv_dt,
@@ -73,7 +73,7 @@ void solve_resting_run_scalar(std::span<Contact> contacts, std::span<SolverBody>
     case kWithFriction:
       break;
   }
-  resting_run<kRotationWork>(contacts, bodies, inv_dt);
+  resting_run<kWithFriction>(contacts, bodies, inv_dt);
 }
 
 void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBody> bodies, FrictionWork work) {
@@ -85,7 +85,7 @@ void warm_start_run_scalar(std::span<const Contact> contacts, std::span<SolverBo
     case kWithFriction:
       break;
   }
-  warm_start_run<kRotationWork>(contacts, bodies);
+  warm_start_run<kWithFriction>(contacts, bodies);
 }
 
 std::size_t contact_batch_width() { return simd_kernels().width; }

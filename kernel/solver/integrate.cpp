@@ -143,10 +143,10 @@ double earliest_root(double d0, double vn, double an, double limit) {
     contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
     contact.friction = combine_friction(s.friction[i], pl.friction);
     // Without rotation the impulse acts on the linear velocity alone and w is not touched.
-    const bool spin = HAIL_WITH_ROTATION && p.rotation;
-    ContactBodies bodies = spin ? gather_bodies<kRotationWork>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
+    const bool spin = p.rotation;
+    ContactBodies bodies = spin ? gather_bodies<kWithFriction>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
     for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
-    const float j = spin ? solve_impact<kRotationWork>(contact, bodies, p.restitution_threshold)
+    const float j = spin ? solve_impact<kWithFriction>(contact, bodies, p.restitution_threshold)
                          : solve_impact<kLinearFriction>(contact, bodies, p.restitution_threshold);
     if (impacts && j > 0.0f) {
       const float r = s.radius[i];

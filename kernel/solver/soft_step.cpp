@@ -45,7 +45,7 @@ void soft_run_scalar(std::span<Contact> contacts, std::span<SolverBody> bodies, 
     case kWithFriction:
       break;
   }
-  soft_run<kRotationWork>(contacts, bodies, p);
+  soft_run<kWithFriction>(contacts, bodies, p);
 }
 
 void soft_load_bodies(const SphereSoA& s, std::size_t first, std::size_t last, std::span<SolverBody> bodies,

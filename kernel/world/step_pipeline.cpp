@@ -92,7 +92,7 @@ struct StepPipeline {
   bool guarding = false;                       // terrain guard on (there is a terrain)
   bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
   bool pair_margins = false;                   // pairs filtered by their own margin (pair_margin_travel > 0)
-  bool rotation = true;    // spheres spin (WorldSettings::rotation; always false without HAIL_WITH_ROTATION)
+  bool rotation = true;                        // spheres spin (WorldSettings::rotation)
   bool forces = false;     // some sphere has a force or torque to apply (World::apply_force / apply_torque)
   bool filtering = false;  // some collision filter is not the default (World::set_collision_filter, set_ground_filter)
   CollisionFilter ground{};           // the terrain's and planes' filter (World::set_ground_filter)
@@ -246,7 +246,6 @@ struct StepPipeline {
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
   /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
   void guard_terrain() {
-#if HAIL_WITH_TERRAIN  // without terrain nothing is guarded (guarding is false)
     SphereSoA& s = w.spheres;
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
     for_each_block(s.size(), kSphereBlock, [&](std::size_t block, std::size_t first, std::size_t last) {
@@ -302,7 +301,6 @@ struct StepPipeline {
       if (count) pushed += count;
     });
     w.stats.pushed_out += pushed.load();
-#endif
   }
 
   void detect_static() {
@@ -315,11 +313,9 @@ struct StepPipeline {
       st.contact_blocks[b].clear();
       if (sleeping && block_still(first, last)) return;  // sleepers' ground contacts are left out
       find_plane_contacts(s, w.planes, first, last, st.contact_blocks[b]);
-#if HAIL_WITH_TERRAIN
       if (w.terrain)
         w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
                                  st.contact_blocks[b], fast_fraction, sweeping);
-#endif
       if (filtering)  // static contacts all have the sphere in a
         std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, ground); });
       if (sleeping) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
@@ -450,7 +446,6 @@ struct StepPipeline {
   /// Continuous collision: the fast spheres' first impacts found in parallel, then all impacts
   /// taken in time order (serial, few), then the swept spheres placed at their end of step.
   void sweep() {
-#if HAIL_WITH_CONTINUOUS_COLLISION
     ContinuousCollision& ccd = st.ccd;
     SphereSoA& s = w.spheres;
     ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings.reorder_interval > 0);
@@ -470,7 +465,6 @@ struct StepPipeline {
     ccd.resolve(s, scene, params.restitution_threshold, w.settings.max_sweep_events);
     ccd.finish(s);
     if (sleeping) st.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
-#endif
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
@@ -1279,7 +1273,7 @@ void World::substep(float scaled) {
   pipeline.params.dt = scaled;
   pipeline.fast_fraction = settings_.fast_travel_fraction;
   pipeline.sweeping = settings_.continuous_collision;
-  pipeline.rotation = HAIL_WITH_ROTATION && settings_.rotation;  // constant false when compiled out
+  pipeline.rotation = settings_.rotation;
   pipeline.params.rotation = pipeline.rotation;
   pipeline.forces = forces_pending_;
   pipeline.params.forces = forces_pending_;

@@ -87,11 +87,6 @@ void World::validate(const WorldSettings& s) {
           "WorldSettings::reorder_interval must be >= 0 (0 = never), got " + std::to_string(s.reorder_interval));
   require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
           describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
-  require(HAIL_WITH_CONTINUOUS_COLLISION || !s.continuous_collision,
-          "WorldSettings::continuous_collision is true, but this hail was built without it "
-          "(HAIL_WITH_CONTINUOUS_COLLISION=OFF)");
-  require(HAIL_WITH_ROTATION || !s.rotation,
-          "WorldSettings::rotation is true, but this hail was built without it (HAIL_WITH_ROTATION=OFF)");
   require(s.shock_mass_ratio >= 1.0f,  // false for NaN
           describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
   require(s.max_sweep_events >= 1,
@@ -231,7 +226,6 @@ std::size_t World::add_plane(const PlaneDesc& d) {
   return planes_.size() - 1;
 }
 
-#if HAIL_WITH_TERRAIN
 namespace {
 /// set_terrain's rule (kTerrainCellResolution): floats at the terrain's farthest coordinate
 /// resolve its cells.
@@ -260,7 +254,6 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
 }
-#endif
 
 void World::shift_origin(const Vec3& offset) {
   require_finite(offset, "World::shift_origin: offset");
@@ -294,7 +287,6 @@ void World::shift_origin(const Vec3& offset) {
     });
   }
   std::shared_ptr<const Terrain> moved_terrain;
-#if HAIL_WITH_TERRAIN
   if (terrain_) {
     try {
       moved_terrain = std::make_shared<const Terrain>(terrain_->moved(-offset));
@@ -303,7 +295,6 @@ void World::shift_origin(const Vec3& offset) {
     }
     require_terrain_resolvable(*moved_terrain);
   }
-#endif
 
   wake_all();  // positions round: contacts that held may not
   for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
@@ -311,7 +302,6 @@ void World::shift_origin(const Vec3& offset) {
   for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
   step_->sphere_queries.invalidate();
   for (Impact& i : step_->impacts) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
-#if HAIL_WITH_TERRAIN
   if (moved_terrain) {
     // Warm starting keys terrain contacts by triangle index in BVH order (Contact::feature).
     // The moved terrain's BVH is built over moved boxes; rounding can make two centroids equal
@@ -321,12 +311,10 @@ void World::shift_origin(const Vec3& offset) {
     if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) step_->contact_cache.clear();
     terrain_ = std::move(moved_terrain);
   }
-#endif
 }
 
 std::size_t World::lift_out_of_terrain() {
   std::size_t lifted = 0;
-#if HAIL_WITH_TERRAIN
   SphereSoA& s = spheres_;
   if (terrain_) {
     for (std::size_t i = unchecked_from_; i < s.size(); ++i) {
@@ -337,7 +325,6 @@ std::size_t World::lift_out_of_terrain() {
       ++lifted;
     }
   }
-#endif
   unchecked_from_ = spheres_.size();
   return lifted;
 }

@@ -124,13 +124,11 @@ std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terr
                                     const UnitRay& r, const QueryFilter& filter, const SphereRayHit& sphere) {
   std::optional<QueryHit> best;
   if (sphere.k != kNoPrimitive) best = sphere_hit(s, sphere.k, r, sphere.t, 0.0f);
-#if HAIL_WITH_TERRAIN
   if (terrain && filter.terrain) {
     // Terrain::raycast with the unit direction: its t is the distance in metres.
     const auto hit = terrain->raycast(Vec3(r.o[0], r.o[1], r.o[2]), Vec3(r.d[0], r.d[1], r.d[2]), r.max);
     if (hit) keep_if_before(best, terrain_hit(r, terrain->triangles(), hit->triangle, hit->t));
   }
-#endif
   if (filter.planes)
     if (auto p = closest_plane(planes, r, 0.0f)) keep_if_before(best, *p);
   return best;
@@ -202,7 +200,6 @@ std::vector<QueryHit> World::raycast_all(const Ray& ray, const QueryFilter& filt
           if (t >= 0.0f && t < r.max) hits.push_back(sphere_hit(s, k, r, t, 0.0f));
         }
       });
-#if HAIL_WITH_TERRAIN
   if (terrain_ && filter.terrain) {
     const TerrainTriangles& tri = terrain_->triangles();
     walk_stackless(
@@ -217,7 +214,6 @@ std::vector<QueryHit> World::raycast_all(const Ray& ray, const QueryFilter& filt
           }
         });
   }
-#endif
   if (filter.planes)
     for (std::uint32_t k = 0; k < planes_.size(); ++k) {
       const float t = ray_plane(r, planes_[k], 0.0f);
@@ -231,7 +227,6 @@ std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const Q
   const UnitRay r = check_ray(ray, "World::sphere_cast");
   check_radius(radius, "World::sphere_cast");
   std::optional<QueryHit> best = closest_sphere(step_->sphere_queries.get(spheres_), r, radius, filter);
-#if HAIL_WITH_TERRAIN
   if (terrain_ && filter.terrain) {
     // kernel/geometry/swept_sphere.h in double, every edge a real edge (no internal-edge
     // smoothing: a query reports the geometry as it is).
@@ -254,7 +249,6 @@ std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const Q
       keep_if_before(best, {QueryHitKind::Terrain, {}, hit.primitive, along(r, hit.t) + radius * into, -into, hit.t});
     }
   }
-#endif
   if (filter.planes)
     if (auto p = closest_plane(planes_, r, radius)) keep_if_before(best, *p);
   return best;

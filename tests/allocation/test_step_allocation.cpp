@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "catch.h"
-#include "hail/features.h"
 #include "hail/world.h"
 
 namespace {
@@ -92,12 +91,10 @@ void build_box(World& world) {
     world.add_plane({.normal = {sign, 0, 0}, .offset = -6.0f, .restitution = 0.3f, .friction = 0.6f});
     world.add_plane({.normal = {0, 0, sign}, .offset = -6.0f, .restitution = 0.3f, .friction = 0.6f});
   }
-#if HAIL_WITH_TERRAIN
   world.set_terrain(std::make_shared<const Terrain>(Heightmap::from_function(
                         25, 25, {.cell_x = 0.5f, .cell_z = 0.5f, .origin_x = -6.0f, .origin_z = -6.0f},
                         [](float x, float z) { return 0.02f * (x * x + z * z) + 0.1f * std::sin(x) * std::cos(z); })),
                     0.3f, 0.6f);
-#endif
 }
 
 /// Sphere k of a column of layers over the box: radii 0.25..0.4, every fifth sphere 20 kg (the
@@ -171,7 +168,7 @@ TEST_CASE("Steps of a settled scene allocate nothing", "[allocation]") {
     // Static contacts in quantity: the terrain's bowl holds over 100; on the box's flat floor
     // alone (a build without terrain) the pile spreads to about 90, more than its first layer
     // of 64 would make.
-    REQUIRE(stats.static_contacts > (HAIL_WITH_TERRAIN ? 100u : 64u));
+    REQUIRE(stats.static_contacts > 100u);
     REQUIRE(stats.sphere_contacts > 300);
     // 120 more steps, past several Morton re-sorts (every 16 steps).
     const std::size_t allocations = allocations_during([&] {
