@@ -73,9 +73,15 @@ void write_file_atomically(const std::string& path, std::span<const std::byte> b
   if (exists && !S_ISREG(old.st_mode)) refuse(context, path, "is not a regular file (a FIFO or socket)");
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   static std::atomic<unsigned> serial{0};
-  Temporary temporary((folder / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                                 std::to_string(serial++)))
-                          .string());
+  // Hidden, named after the target; appended piece by piece (GCC 12 warns, wrongly, on the
+  // chain of operator+ with -Wrestrict).
+  std::string name = ".";
+  name.append(target.filename().string())
+      .append(".tmp-")
+      .append(std::to_string(::getpid()))
+      .append("-")
+      .append(std::to_string(serial++));
+  Temporary temporary((folder / name).string());
   temporary.fd_ = ::open(temporary.name_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (temporary.fd_ < 0) refuse(context, path, "cannot create " + temporary.name_ + " (" + system_reason() + ")");
   if (exists) (void)::fchmod(temporary.fd_, old.st_mode & 07777);
