@@ -6,6 +6,7 @@
 //   <hail/world.h>           hail::World: spheres, planes, terrain; step(); spans over the sphere
 //                            state; the contacts and impacts of the last step; SphereDesc, PlaneDesc
 //   <hail/world_settings.h>  hail::WorldSettings: every knob, with units and what too little/much does
+//   <hail/settings_table.h>  for_each_setting: every setting's name, range and doc line, in one list
 //   <hail/step_stats.h>      StepStats, StepParts, PhaseTimes: what the last step did
 //   <hail/terrain.h>         hail::Terrain: a heightmap's triangles and BVH; raycast()
 //   <hail/heightmap.h>       hail::Heightmap: from a function h(x, z), samples, PGM, PNG, raw files
@@ -38,6 +39,7 @@
 #include "hail/plane.h"
 #include "hail/queries.h"
 #include "hail/recording.h"
+#include "hail/settings_table.h"
 #include "hail/snapshot.h"
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"

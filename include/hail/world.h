@@ -59,13 +59,6 @@ struct StepState;  // kernel/world/step_state.h
 /// reader or a command line can call it to refuse a dt (with check_step) before it builds one.
 [[nodiscard]] std::int64_t substeps_needed(const WorldSettings& settings, float dt);
 
-/// The shortest step World::step takes, in simulated seconds (dt * time_scale; time_scale 0,
-/// a pause, is always accepted): a step divides by its length (and the soft step by its
-/// substeps' squares, up to kMaxIterations of them), which left float range below about 2e-39 s
-/// and turned every sphere NaN. 1e-9 s keeps those quotients 100 times inside float range for
-/// the heaviest sphere; no sphere moves measurably in it. WorldSettings::max_substep is at least it.
-inline constexpr float kMinStep = 1e-9f;
-
 /// Throws InvalidArgument exactly when World::step(dt) under `settings` would: dt not finite
 /// or not > 0, dt * time_scale below kMinStep (but time_scale 0), or substeps_needed(settings, dt) > settings.max_substeps (the message gives dt,
 /// time_scale, max_substep, the count needed and the ways out). Returns that count otherwise

@@ -95,6 +95,13 @@ enum class PairSearch {
 /// contacts to fill SIMD batches, and the colouring's per-tile tables grow with the tile count.
 inline constexpr std::size_t kMinSolverTileSpheres = 64;
 
+/// The shortest step World::step takes, in simulated seconds (dt * time_scale; time_scale 0,
+/// a pause, is always accepted): a step divides by its length (and the soft step by its
+/// substeps' squares, up to kMaxIterations of them), which left float range below about 2e-39 s
+/// and turned every sphere NaN. 1e-9 s keeps those quotients 100 times inside float range for
+/// the heaviest sphere; no sphere moves measurably in it. WorldSettings::max_substep is at least it.
+inline constexpr float kMinStep = 1e-9f;
+
 /// Most passes or substeps any iteration count of WorldSettings (and SoftStepParams) may ask
 /// for: collision, resting and depenetration passes, soft-step substeps, relax iterations and
 /// the soft step's depenetration maximum. Each costs a pass over every contact; the shipped

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "hail/errors.h"
+#include "hail/settings_table.h"
 #include "hail/snapshot.h"
 #include "hail/world_settings.h"
 #include "kernel/world/fnv1a.h"
@@ -147,33 +148,14 @@ class Reader {
 /// version 4 snapshot holds).
 [[nodiscard]] std::uint64_t terrain_hash(const Terrain& terrain, std::uint64_t basis);
 
-/// Calls f(field, name) for every WorldSettings field that a snapshot keeps: all but threads
-/// (a restored world keeps its own threads or arena; the result does not depend on them).
+/// Calls f(field, spec) for every WorldSettings field that a snapshot keeps, in the settings
+/// table's order (include/hail/settings_table.h): all but threads (a restored world keeps its
+/// own threads or arena; the result does not depend on them).
 template <class Settings, class F>
 void for_each_setting(Settings& s, F&& f) {
-  // A field added to WorldSettings changes its size (mostly): list it here, and raise
-  // kSnapshotVersion.
-  static_assert(sizeof(WorldSettings) == 160, "a WorldSettings field was added: list it in for_each_setting");
-  f(s.gravity, "gravity"), f(s.time_scale, "time_scale"), f(s.max_substep, "max_substep");
-  f(s.max_substeps, "max_substeps"), f(s.integrator, "integrator");
-  f(s.solver, "solver"), f(s.soft_step.substeps, "soft_step.substeps");
-  f(s.soft_step.contact_cycles, "soft_step.contact_cycles"), f(s.soft_step.damping_ratio, "soft_step.damping_ratio");
-  f(s.soft_step.relax_iterations, "soft_step.relax_iterations");
-  f(s.soft_step.max_push_speed, "soft_step.max_push_speed");
-  f(s.soft_step.depenetration_iterations_max, "soft_step.depenetration_iterations_max");
-  f(s.collision_iterations, "collision_iterations"), f(s.resting_iterations, "resting_iterations");
-  f(s.depenetration_iterations, "depenetration_iterations"), f(s.solver_tile_spheres, "solver_tile_spheres");
-  f(s.depenetration.fraction, "depenetration.fraction");
-  f(s.depenetration.slop_fraction, "depenetration.slop_fraction");
-  f(s.restitution_threshold, "restitution_threshold"), f(s.sphere_collisions, "sphere_collisions");
-  f(s.pair_search, "pair_search"), f(s.speculative_radii, "speculative_radii");
-  f(s.max_sphere_contacts_per_sphere, "max_sphere_contacts_per_sphere");
-  f(s.pair_margin_travel, "pair_margin_travel"), f(s.reorder_interval, "reorder_interval");
-  f(s.warm_start, "warm_start"), f(s.warm_start_factor, "warm_start_factor");
-  f(s.continuous_collision, "continuous_collision"), f(s.fast_travel_fraction, "fast_travel_fraction");
-  f(s.max_sweep_events, "max_sweep_events"), f(s.shock_mass_ratio, "shock_mass_ratio"), f(s.rotation, "rotation");
-  f(s.sleep, "sleep"), f(s.sleep_linear_speed, "sleep_linear_speed"), f(s.sleep_angular_speed, "sleep_angular_speed");
-  f(s.sleep_time, "sleep_time");
+  hail::for_each_setting(s, [&](auto& field, const SettingSpec& spec) {
+    if (spec.snapshot) f(field, spec);
+  });
 }
 
 }  // namespace hail::snapshot

@@ -32,17 +32,16 @@ std::string hex(std::uint64_t v) {
 }
 
 /// Reads one setting as save wrote it (snapshot_writer.cpp), refusing bools other than 0 or 1
-/// and enums out of range; World::validate checks the values afterwards.
+/// and enums out of the table's values; World::validate checks the values afterwards.
 template <class T>
-void read_setting(snapshot::Reader& r, T& field, const char* name) {
+void read_setting(snapshot::Reader& r, T& field, const SettingSpec& spec) {
+  const char* name = spec.name;
   if constexpr (std::is_same_v<T, bool>) {
     field = r.flag(name);
   } else if constexpr (std::is_enum_v<T>) {
     const auto v = r.value<std::uint32_t>(name);
-    // Integrator, Solver, PairSearch
-    constexpr std::uint32_t kCount = std::is_same_v<T, Integrator> || std::is_same_v<T, Solver> ? 2u : 5u;
-    static_assert(std::is_same_v<T, Integrator> || std::is_same_v<T, Solver> || std::is_same_v<T, PairSearch>);
-    if (v >= kCount) r.refuse(std::string("setting ") + name + " is " + std::to_string(v) + ", not one of its values");
+    if (v >= setting_value_count(spec))
+      r.refuse(std::string("setting ") + name + " is " + std::to_string(v) + ", not one of its values");
     field = static_cast<T>(v);
   } else if constexpr (std::is_same_v<T, std::size_t>) {
     field = static_cast<std::size_t>(r.value<std::uint64_t>(name));
@@ -125,7 +124,7 @@ struct Parsed {
 };
 
 void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, std::uint64_t basis) {
-  snapshot::for_each_setting(p.settings, [&](auto& field, const char* name) { read_setting(r, field, name); });
+  snapshot::for_each_setting(p.settings, [&](auto& field, const SettingSpec& spec) { read_setting(r, field, spec); });
   p.steps_taken = r.value<std::uint64_t>("steps taken");
   p.unchecked_from = r.value<std::uint64_t>("unchecked_from");
   p.forces_pending = r.flag("forces pending");

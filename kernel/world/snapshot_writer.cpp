@@ -45,7 +45,7 @@ void World::save(std::vector<std::byte>& out) const {
   w.value(std::uint64_t{0}), w.value(std::uint64_t{0});  // payload length and checksum, below
 
   w.begin_section(snapshot::kWorldTag);
-  snapshot::for_each_setting(settings_, [&](const auto& field, const char*) {
+  snapshot::for_each_setting(settings_, [&](const auto& field, const SettingSpec&) {
     using T = std::remove_cvref_t<decltype(field)>;
     if constexpr (std::is_same_v<T, bool>)
       w.value(std::uint8_t{field});

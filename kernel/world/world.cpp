@@ -1,4 +1,5 @@
 #include "hail/world.h"
+#include "hail/settings_table.h"
 #include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
 
@@ -18,90 +19,65 @@ namespace hail {
 using namespace checks;  // kernel/world/world_checks.h
 
 namespace {
-/// The iteration counts' one range, [0, kMaxIterations] (or [1, ...] for `least` 1).
-void require_iterations(int value, const char* name, int least = 0) {
-  require(value >= least && value <= kMaxIterations, [&] {
-    return std::string("WorldSettings::") + name + " must be in [" + std::to_string(least) +
-           ", kMaxIterations = " + std::to_string(kMaxIterations) + "] (include/hail/world_settings.h), got " +
-           std::to_string(value);
-  });
+
+/// "[min, max]" with the table's open ends and the limits' names where they have one.
+std::string range_text(const SettingSpec& spec) {
+  auto end = [](double v) {
+    if (v == double(kMaxIterations)) return "kMaxIterations = " + number(v);
+    if (v == double(kMaxSubstepsCap)) return "kMaxSubstepsCap = " + number(v);
+    if (v == double(kMinStep)) return "kMinStep = " + number(v);
+    if (v >= settings_detail::kFloatMax) return std::string("inf");
+    return number(v);
+  };
+  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) +
+         (spec.max_open || spec.max >= settings_detail::kFloatMax ? ")" : "]");
 }
+
+/// One setting against its range in the table (include/hail/settings_table.h).
+template <class T>
+void require_in_table_range(const T& value, const SettingSpec& spec) {
+  if constexpr (std::is_same_v<T, bool>) {
+    return;
+  } else if constexpr (std::is_same_v<T, Vec3>) {
+    require_finite(value, (std::string("WorldSettings::") + spec.name).c_str());
+  } else if constexpr (std::is_enum_v<T>) {
+    const auto index = static_cast<std::size_t>(value);
+    require(index < setting_value_count(spec), [&] {
+      return std::string("WorldSettings::") + spec.name + " must be one of " + spec.values + " (values 0.." +
+             std::to_string(setting_value_count(spec) - 1) + "), got " + std::to_string(index);
+    });
+  } else {
+    const double v = static_cast<double>(value);
+    const bool finite_or_allowed = std::isfinite(v) || (spec.infinity && v > 0.0);
+    const bool above = spec.min_open ? v > spec.min : v >= spec.min;
+    const bool below =
+        (spec.infinity && v > 0.0 && !std::isfinite(v)) || (spec.max_open ? v < spec.max : v <= spec.max);
+    require(finite_or_allowed && above && below, [&] {
+      return std::string("WorldSettings::") + spec.name + " must be " +
+             (std::is_floating_point_v<T> ? "finite and " : "") + "in " + range_text(spec) +
+             (spec.infinity ? " or infinity" : "") + " (include/hail/settings_table.h), got " + number(v);
+    });
+  }
+}
+
 }  // namespace
 
 void World::validate(const WorldSettings& s) {
-  require_finite(s.gravity, "WorldSettings::gravity");
-  require(std::isfinite(s.time_scale) && s.time_scale >= 0.0f,
-          [&] { return "WorldSettings::time_scale must be finite and >= 0, got " + number(s.time_scale); });
-  require(std::isfinite(s.max_substep) && s.max_substep >= kMinStep,
-          describe("WorldSettings::max_substep must be finite and >= kMinStep = 1e-09 s, got", s.max_substep));
-  require(s.max_sphere_contacts_per_sphere >= 1, [&] {
-    return "WorldSettings::max_sphere_contacts_per_sphere must be >= 1, got " +
-           std::to_string(s.max_sphere_contacts_per_sphere);
-  });
-  require(s.max_substeps >= 1 && s.max_substeps <= kMaxSubstepsCap, [&] {
-    return "WorldSettings::max_substeps must be in [1, kMaxSubstepsCap = " + std::to_string(kMaxSubstepsCap) +
-           "], got " + std::to_string(s.max_substeps);
+  for_each_setting(s, [](const auto& value, const SettingSpec& spec) { require_in_table_range(value, spec); });
+  // What a range cannot say:
+  require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
+    return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
+           ", got " + std::to_string(s.solver_tile_spheres);
   });
   // One step from rest under gravity alone stays within the speed limit (the longest step is
   // what check_step lets through); a stronger gravity turned spheres NaN a few steps later.
-  require(double(s.gravity.cast<double>().norm()) * longest_step(s) <= kMaxSphereSpeed, [&] {
+  const double g = s.gravity.cast<double>().norm();
+  require(g == 0.0 || g * longest_step(s) <= kMaxSphereSpeed, [&] {
     return "WorldSettings::gravity of |g| = " + number(s.gravity.cast<double>().norm()) +
            " m/s^2 over the longest step (max_substeps * max_substep = " + number(longest_step(s)) +
            " s) would exceed kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s: |g| may be at most " +
            number(kMaxSphereSpeed / longest_step(s)) + " m/s^2 (lower max_substeps or max_substep for more)";
   });
-  require(s.threads >= 0,
-          "WorldSettings::threads must be >= 0 (0 = all hardware threads), got " + std::to_string(s.threads));
-  require_iterations(s.collision_iterations, "collision_iterations");
-  require_iterations(s.resting_iterations, "resting_iterations");
-  require(s.solver == Solver::Passes || s.solver == Solver::SoftStep,
-          "WorldSettings::solver must be Solver::Passes or Solver::SoftStep, got " +
-              std::to_string(static_cast<int>(s.solver)));
-  require_iterations(s.soft_step.substeps, "soft_step.substeps", 1);
-  require(std::isfinite(s.soft_step.contact_cycles) && s.soft_step.contact_cycles > 0.0f &&
-              s.soft_step.contact_cycles <= 0.25f,
-          describe("WorldSettings::soft_step.contact_cycles must be in (0, 0.25] cycles per substep, got",
-                   s.soft_step.contact_cycles));
-  require(std::isfinite(s.soft_step.damping_ratio) && s.soft_step.damping_ratio > 0.0f,
-          describe("WorldSettings::soft_step.damping_ratio must be finite and > 0, got", s.soft_step.damping_ratio));
-  require_iterations(s.soft_step.relax_iterations, "soft_step.relax_iterations");
-  require(std::isfinite(s.soft_step.max_push_speed) && s.soft_step.max_push_speed > 0.0f,
-          describe("WorldSettings::soft_step.max_push_speed must be finite and > 0 (m/s), got",
-                   s.soft_step.max_push_speed));
-  require_iterations(s.depenetration_iterations, "depenetration_iterations");
-  require_iterations(s.soft_step.depenetration_iterations_max, "soft_step.depenetration_iterations_max");
-  require(s.solver_tile_spheres == 0 || s.solver_tile_spheres >= kMinSolverTileSpheres, [&] {
-    return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
-           ", got " + std::to_string(s.solver_tile_spheres);
-  });
-  require(
-      std::isfinite(s.depenetration.fraction) && s.depenetration.fraction >= 0.0f && s.depenetration.fraction <= 1.0f,
-      describe("WorldSettings::depenetration.fraction must be in [0, 1], got", s.depenetration.fraction));
-  require(std::isfinite(s.depenetration.slop_fraction) && s.depenetration.slop_fraction >= 0.0f,
-          describe("WorldSettings::depenetration.slop_fraction must be >= 0, got", s.depenetration.slop_fraction));
-  require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f,
-          describe("WorldSettings::restitution_threshold must be >= 0, got", s.restitution_threshold));
-  require(std::isfinite(s.warm_start_factor) && s.warm_start_factor >= 0.0f && s.warm_start_factor <= 1.0f,
-          describe("WorldSettings::warm_start_factor must be in [0, 1], got", s.warm_start_factor));
-  require(s.reorder_interval >= 0,
-          "WorldSettings::reorder_interval must be >= 0 (0 = never), got " + std::to_string(s.reorder_interval));
-  require(std::isfinite(s.fast_travel_fraction) && s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f,
-          describe("WorldSettings::fast_travel_fraction must be in (0, 1], got", s.fast_travel_fraction));
-  require(s.shock_mass_ratio >= 1.0f,  // false for NaN
-          describe("WorldSettings::shock_mass_ratio must be >= 1 (infinity: never), got", s.shock_mass_ratio));
-  require(s.max_sweep_events >= 1,
-          "WorldSettings::max_sweep_events must be >= 1, got " + std::to_string(s.max_sweep_events));
-  require(std::isfinite(s.speculative_radii) && s.speculative_radii >= 0.0f,
-          describe("WorldSettings::speculative_radii must be >= 0, got", s.speculative_radii));
-  require(std::isfinite(s.pair_margin_travel) && s.pair_margin_travel >= 0.0f,
-          describe("WorldSettings::pair_margin_travel must be >= 0, got", s.pair_margin_travel));
-  auto require_sleep_value = [&](float value, const char* name) {
-    require(std::isfinite(value) && value >= 0.0f,
-            describe((std::string("WorldSettings::") + name + " must be finite and >= 0, got").c_str(), value));
-  };
-  require_sleep_value(s.sleep_linear_speed, "sleep_linear_speed");
-  require_sleep_value(s.sleep_angular_speed, "sleep_angular_speed");
-  require_sleep_value(s.sleep_time, "sleep_time");
   // Chooses the SIMD path now if nothing has yet, so that a bad HAIL_SIMD is reported here, at
   // the API boundary, and not from inside a step's parallel loop.
   (void)active_simd_path();

@@ -79,7 +79,8 @@ void require_resolvable(const Vec3& position, float radius) {
 }
 
 void require_step_change(const Vec3& load, float inverse, double seconds, const StepLimit& limit, const char* what) {
-  const double change = load.cast<double>().norm() * double(inverse) * seconds;
+  const double size = load.cast<double>().norm();
+  const double change = size == 0.0 || inverse == 0.0f ? 0.0 : size * double(inverse) * seconds;  // 0 * inf is 0 here
   require(change <= double(limit.value), [&] {
     return std::string(what) + " of " + number(load.cast<double>().norm()) + " would change the sphere's " +
            limit.quantity + " by " + number(change) + " " + limit.unit +
@@ -91,7 +92,7 @@ void require_step_change(const Vec3& load, float inverse, double seconds, const 
 
 void require_gravity_scale_step(const WorldSettings& settings, float scale) {
   const double gravity = settings.gravity.cast<double>().norm() * std::fabs(double(scale));
-  require(gravity * longest_step(settings) <= double(kMaxSphereSpeed), [&] {
+  require(gravity == 0.0 || gravity * longest_step(settings) <= double(kMaxSphereSpeed), [&] {
     return "sphere gravity scale " + number(scale) + " makes its gravity " + number(gravity) +
            " m/s^2, which over the longest step (max_substeps * max_substep = " + number(longest_step(settings)) +
            " s) would exceed kMaxSphereSpeed = " + number(kMaxSphereSpeed) + " m/s (include/hail/world.h)";
