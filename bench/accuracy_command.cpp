@@ -10,12 +10,12 @@
 #include <stdexcept>
 
 #include "accuracy_cases.h"
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scenes.h"
 #include "gnuplot.h"
 #include "peer_engine.h"
+#include "scenes/machine_info.h"
+#include "scenes/metrics.h"
+#include "scenes/output_file.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "accuracy_command.h"
-#include "bench/scenes/stress_cases.h"
 #include "cli.h"
 #include "compare_command.h"
 #include "kernel/bvh/flat_node.h"
@@ -21,6 +20,7 @@
 #include "rays_command.h"
 #include "run_command.h"
 #include "scale_command.h"
+#include "scenes/stress_cases.h"
 #include "sleep_command.h"
 #include "solver_options.h"
 #include "stress_command.h"

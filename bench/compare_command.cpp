@@ -10,13 +10,13 @@
 #include <optional>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "peer_engine.h"
 #include "peer_engine_bullet.h"
+#include "scenes/machine_info.h"
+#include "scenes/metrics.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {}  // namespace

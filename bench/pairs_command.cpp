@@ -19,13 +19,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "bench/scenes/machine_info.h"
 #include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/world/fnv1a.h"
+#include "scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

@@ -7,7 +7,6 @@
 #include <random>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
 #include "hail/heightmap.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/flat_bvh.h"
@@ -16,6 +15,7 @@
 #include "kernel/geometry/morton.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/terrain/terrain_triangles.h"
+#include "scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

@@ -8,11 +8,11 @@
 #include <random>
 #include <sstream>
 
-#include "bench/scenes/machine_info.h"
 #include "hail/world.h"
 #include "kernel/geometry/ray_sphere.h"
 #include "kernel/world/ray_batch_leaf_test.h"
 #include "parse_numbers.h"
+#include "scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {

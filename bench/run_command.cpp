@@ -10,14 +10,14 @@
 #include <optional>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_inputs.h"
-#include "bench/scenes/scene_filters.h"
-#include "bench/scenes/scene_run.h"
 #include "hail/recording.h"
+#include "scenes/machine_info.h"
+#include "scenes/memory_use.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_filters.h"
+#include "scenes/scene_inputs.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {

@@ -6,11 +6,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
 #include "gnuplot.h"
+#include "scenes/machine_info.h"
+#include "scenes/memory_use.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {

@@ -7,11 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
 #include "gnuplot.h"
 #include "parse_numbers.h"
+#include "scenes/machine_info.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {
@@ -59,9 +59,10 @@ void print_row(const char* label, const RunResult& r) {
   const ErrorFigures& e = r.errors;
   std::printf("%9zu %5s %9.3f %9.3f %6.1f%% %6.1f%% %8zu | %9.6f %9.6f %9.6f %9.6f %5zu %5zu %4zu %10.4g %s\n",
               r.spheres, label, r.mean_ms, r.median_ms, 100.0 * r.sleeping / double(r.spheres),
-              100.0 * double(r.sleeping_at_end) / double(r.spheres), r.ready_to_sleep_at_end, e.worst_sphere_penetration,
-              e.worst_static_penetration, e.mean_step_sphere_penetration, e.mean_step_static_penetration,
-              r.tunnelling.spheres, e.fell_off, e.nan_count, e.kinetic_energy, r.state_hash.c_str());
+              100.0 * double(r.sleeping_at_end) / double(r.spheres), r.ready_to_sleep_at_end,
+              e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
+              e.mean_step_static_penetration, r.tunnelling.spheres, e.fell_off, e.nan_count, e.kinetic_energy,
+              r.state_hash.c_str());
   std::fflush(stdout);
 }
 
@@ -85,7 +86,8 @@ int compare_sizes(const SleepOptions& o, const std::vector<std::size_t>& sizes) 
   std::printf("# part 1: %s, %d steps, sleeping off then on at each count, %d threads\n", o.scene.c_str(), o.steps,
               o.threads);
   std::printf(
-      "# asleep: mean share over the timed steps / share at the end; ready: awake spheres slow for sleep_time at the end (held awake by their island);\n"
+      "# asleep: mean share over the timed steps / share at the end; ready: awake spheres slow for sleep_time at the "
+      "end (held awake by their island);\n"
       "# worst: deepest overlap any step started from, spheres / ground (m); mean: each step's deepest, averaged;\n"
       "# tunnelled: spheres whose centre ever ended a step inside the ground; KE at the end (J)\n");
   std::printf("%9s %5s %9s %9s %7s %7s %8s | %9s %9s %9s %9s %5s %5s %4s %10s %s\n", "spheres", "sleep", "mean_ms",

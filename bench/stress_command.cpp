@@ -5,9 +5,9 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/stress_cases.h"
+#include "scenes/machine_info.h"
+#include "scenes/output_file.h"
+#include "scenes/stress_cases.h"
 
 namespace hail::bench {
 
