@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "accuracy_command.h"
+#include "bvh_build_command.h"
 #include "cli.h"
 #include "compare_command.h"
 #include "kernel/dispatch/simd_dispatch.h"

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli.h"
 #include "gnuplot.h"
 #include "parse_numbers.h"
 #include "scenes/machine_info.h"
@@ -239,6 +240,29 @@ int sleep_command(const SleepOptions& o) {
   if (!sizes.empty()) status = compare_sizes(o, sizes);
   if (o.drop_spheres > 0) status = std::max(status, compare_drop(o));
   return status;
+}
+
+// The flags of `hail-bench sleep` (bench/cli.h's rules).
+
+void add_sleep_options(CLI::App& app, SleepOptions& o) {
+  app.description(
+      "sleeping on against off: ms/step, spheres asleep and error figures side by side, the share asleep over time; "
+      "then a sphere dropped on a sleeping pile against the same drop with sleeping off");
+  app.add_option("scene", o.scene, "a built-in scene for part 1")->check(CLI::IsMember(scene_names()));
+  app.add_option("--sizes", o.sizes, "part 1's sphere counts, comma-separated (empty: skip part 1)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps per part-1 run");
+  add_count(app, "--threads", o.threads, 0, 4096, "worker threads (0: all)");
+  add_count(app, "--every", o.every, 1, 100'000'000, "steps between samples of the share asleep");
+  app.add_option("--out", o.out_dir, "folder for asleep-N.csv, sleep.gp and asleep_share.svg")->type_name("DIR");
+  app.add_flag("--no-plot", o.no_plot, "write the CSV files but do not run gnuplot");
+  add_count(app, "--drop-spheres", o.drop_spheres, 0, 10'000'000, "part 2's pile (0: skip part 2)");
+  add_count(app, "--settle-steps", o.settle_steps, 1, 100'000'000, "most steps the pile may take to fall asleep");
+  add_count(app, "--drop-steps", o.drop_steps, 1, 100'000'000, "steps after the drop");
+}
+
+int sleep_command(const std::vector<std::string>& args) {
+  const std::optional<SleepOptions> parsed = parse_command("sleep", add_sleep_options, args);
+  return parsed ? sleep_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench
