@@ -10,12 +10,14 @@
 #include <stdexcept>
 
 #include "accuracy_cases.h"
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scenes.h"
+#include "cli.h"
 #include "gnuplot.h"
 #include "peer_engine.h"
+#include "scenes/machine_info.h"
+#include "scenes/metrics.h"
+#include "scenes/output_file.h"
+#include "scenes/scenes.h"
+#include "solver_options.h"
 
 namespace hail::bench {
 namespace {
@@ -288,6 +290,41 @@ int accuracy_command(const AccuracyOptions& o) {
                         "; MACHINE=" + gnuplot_string(cpu_model()),
                     o.out_dir + "/accuracy_<case>.svg (one per case)");
   return 0;
+}
+
+// The flags of `hail-bench accuracy` (bench/cli.h's rules).
+
+void add_accuracy_options(CLI::App& app, AccuracyOptions& o) {
+  app.description("error against wall time: known-answer cases and two scenes, for hail's knobs and the peers");
+  app.add_option_function<std::string>(
+         "--dt",
+         [&o](const std::string& list) {
+           o.dts.clear();
+           for (std::size_t start = 0; start <= list.size();) {
+             const std::size_t end = std::min(list.find(',', start), list.size());
+             const std::string item = list.substr(start, end - start);
+             o.dts.push_back(item.rfind("1/", 0) == 0 ? 1.0 / parse_real("--dt 1/N", item.substr(2), 1.0, 1e9)
+                                                      : parse_real("--dt", item, 0.0, 1.0, /*exclude_min=*/true));
+             start = end + 1;
+           }
+         },
+         "time steps, comma-separated, each a number or 1/N in (0, 1] (default 1/60,1/240,1/1000)")
+      ->type_name("LIST");
+  add_count(app, "--spheres", o.scene_spheres, 1, 10'000'000, "spheres of the terrain-rain and bowl-pile cases");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "runs of each case; the median wall time is reported");
+  app.add_option("--out", o.out_dir, "folder of the CSV, JSON and plots")->type_name("DIR");
+  app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
+  app.add_flag("--no-scenes", o.no_scenes, "the known-answer cases only");
+  app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
+  add_soft_step_options(app, o.soft);
+  app.add_option("--variants", o.only, "only these engines / knobs (as the table names them), comma-separated")
+      ->delimiter(',')
+      ->type_name("LIST");
+}
+
+int accuracy_command(const std::vector<std::string>& args) {
+  const std::optional<AccuracyOptions> parsed = parse_command("accuracy", add_accuracy_options, args);
+  return parsed ? accuracy_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

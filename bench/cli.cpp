@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

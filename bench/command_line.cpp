@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "accuracy_command.h"
-#include "bench/scenes/scenes.h"
+#include "bvh_build_command.h"
 #include "cli.h"
 #include "compare_command.h"
 #include "kernel/dispatch/simd_dispatch.h"
@@ -15,6 +15,7 @@
 #include "rays_command.h"
 #include "run_command.h"
 #include "scale_command.h"
+#include "scenes/scenes.h"
 #include "sleep_command.h"
 #include "stress_command.h"
 

@@ -10,13 +10,14 @@
 #include <optional>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
+#include "cli.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "peer_engine.h"
 #include "peer_engine_bullet.h"
+#include "scenes/machine_info.h"
+#include "scenes/metrics.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {}  // namespace
@@ -277,6 +278,24 @@ int compare_command(const CompareOptions& o) {
     write_file_atomically(o.json_path, [&](std::ostream& out) { out << out_json.dump(2) << "\n"; });
   }
   return contenders[0].errors.nan_spheres == 0 ? 0 : 3;
+}
+
+// The flags of `hail-bench compare` (bench/cli.h's rules).
+
+void add_compare_options(CLI::App& app, CompareOptions& o) {
+  app.description("hail and Bullet (if built in) on the identical scene, R runs each alternating ABBA: one table");
+  app.add_option("scene", o.scene, "a built-in scene")->check(CLI::IsMember(scene_names()));
+  add_count(app, "--spheres", o.params.spheres, 1, 10'000'000, "sphere count");
+  add_count(app, "--threads", o.params.threads, 0, 4096, "hail's worker threads (0: all; Bullet runs on one)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs of each engine");
+  app.add_option("--json", o.json_path, "every figure as JSON")->type_name("FILE");
+  app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
+}
+
+int compare_command(const std::vector<std::string>& args) {
+  const std::optional<CompareOptions> parsed = parse_command("compare", add_compare_options, args);
+  return parsed ? compare_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/scene_run.h"
+#include "scenes/scene_run.h"
 
 namespace CLI {
 class App;

@@ -19,13 +19,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "bench/scenes/machine_info.h"
+#include "cli.h"
 #include "kernel/broadphase/sorted_axis_pairs.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_bvh_pairs.h"
 #include "kernel/broadphase/sphere_grid.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/world/fnv1a.h"
+#include "scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {
@@ -232,6 +233,19 @@ int pairs_command(const PairsOptions& o) {
   }
   std::printf("  all methods agree: %s\n", all_agree ? "yes" : "NO");
   return all_agree ? 0 : 1;
+}
+
+// The flags of `hail-bench pairs` (bench/cli.h's rules).
+
+void add_pairs_options(CLI::App& app, PairsOptions& o) {
+  app.description("sphere-sphere pair searches (brute force, grid, sweep and prune, sphere BVH) by N and radius mix");
+  add_count(app, "--max", o.max_n, 1, 10'000'000, "the largest sphere count");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
+}
+
+int pairs_command(const std::vector<std::string>& args) {
+  const std::optional<PairsOptions> parsed = parse_command("pairs", add_pairs_options, args);
+  return parsed ? pairs_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

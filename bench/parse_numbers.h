@@ -1,7 +1,7 @@
 #pragma once
 // Numbers and names inside a hail-bench flag's value (a comma-separated list of counts or time
-// steps), checked by the same rules as whole flags (bench/cli.h), without CLI11: the commands'
-// own files include this alone (bench/command_flags.cpp says why).
+// steps), checked by the same rules as whole flags (bench/cli.h), without CLI11 (bench/cli.h
+// says what it costs to compile).
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #include <stdexcept>
 
-#include "bench/scenes/scenes.h"
 #include "peer_engine.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
+#include "cli.h"
 #include "hail/heightmap.h"
 #include "kernel/bvh/bvh_build.h"
 #include "kernel/bvh/flat_bvh.h"
@@ -16,15 +16,13 @@
 #include "kernel/geometry/morton.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/terrain/terrain_triangles.h"
+#include "scenes/machine_info.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 namespace {
 
 using clock_type = std::chrono::steady_clock;
-
-float rain_height(float x, float z) {
-  return 8.0f * std::sin(0.05f * x) * std::cos(0.07f * z) + 3.0f * std::sin(0.21f * x + 0.13f * z);
-}
 
 std::vector<Aabb> triangle_bounds(const TerrainTriangles& t) {
   std::vector<Aabb> bounds(t.size());
@@ -95,7 +93,7 @@ std::vector<Sphere> morton_sorted(std::vector<Sphere> spheres, const Aabb& bound
 
 int query_command(const QueryOptions& o) {
   const int count = o.queries, leaf = o.leaf, repeats = o.repeats;
-  const Heightmap map = Heightmap::from_function(256, 256, {}, rain_height);
+  const Heightmap map = Heightmap::from_function(256, 256, {}, terrain_rain_height);
   const TerrainTriangles grid_order = build_terrain_triangles(map);
   const std::vector<Aabb> bounds = triangle_bounds(grid_order);
   BvhBuildOptions options;
@@ -218,34 +216,18 @@ int query_command(const QueryOptions& o) {
   return agree ? 0 : 1;
 }
 
-int bvh_build_command(const BvhBuildCommandOptions& o) {
-  const int max_side = o.max_side;
-  std::printf(
-      "hail-bench bvh-build: BVH over heightmap triangles (terrain-rain's function), leaf size %u, one thread\n",
-      Terrain::kDefaultLeafSize);
-  std::printf("  %-12s %12s %12s %12s %12s\n", "vertices", "triangles", "nodes", "median s", "binned SAH s");
-  for (int side : {256, 1024, 4096}) {
-    if (side > max_side) {
-      std::printf("  %dx%d skipped (pass --max-side %d; about 2 GB and 50 s)\n", side, side, side);
-      continue;
-    }
-    const Heightmap map = Heightmap::from_function(std::uint32_t(side), std::uint32_t(side), {}, rain_height);
-    const std::vector<Aabb> bounds = triangle_bounds(build_terrain_triangles(map));
-    double seconds[2] = {0, 0};
-    std::size_t nodes = 0;
-    for (int method = 0; method < 2; ++method) {
-      BvhBuildOptions options;
-      options.split = method == 0 ? BvhSplit::Median : BvhSplit::BinnedSah;
-      options.leaf_size = static_cast<int>(Terrain::kDefaultLeafSize);  // as a Terrain builds it
-      const auto t0 = clock_type::now();
-      const FlatBvh bvh = build_flat_bvh(bounds, options);
-      seconds[method] = std::chrono::duration<double>(clock_type::now() - t0).count();
-      if (method == 0) nodes = bvh.nodes.size();
-    }
-    std::printf("  %-12s %12zu %12zu %12.3f %12.3f\n", (std::to_string(side) + "^2").c_str(), bounds.size(), nodes,
-                seconds[0], seconds[1]);
-  }
-  return 0;
+// The flags of `hail-bench query` (bench/cli.h's rules).
+
+void add_query_options(CLI::App& app, QueryOptions& o) {
+  app.description("terrain query microbenchmark: BVH walks (stackless, fixed stack, packet), grid lookup, brute force");
+  add_count(app, "--queries", o.queries, 1, 100'000'000, "spheres queried");
+  add_count(app, "--leaf", o.leaf, 1, kMaxLeafSize, "triangles per BVH leaf (default the terrain's)");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
+}
+
+int query_command(const std::vector<std::string>& args) {
+  const std::optional<QueryOptions> parsed = parse_command("query", add_query_options, args);
+  return parsed ? query_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

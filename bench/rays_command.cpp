@@ -8,11 +8,12 @@
 #include <random>
 #include <sstream>
 
-#include "bench/scenes/machine_info.h"
+#include "cli.h"
 #include "hail/world.h"
 #include "kernel/geometry/ray_sphere.h"
 #include "kernel/world/ray_batch_leaf_test.h"
 #include "parse_numbers.h"
+#include "scenes/machine_info.h"
 
 namespace hail::bench {
 namespace {
@@ -155,6 +156,23 @@ int rays_command(const RaysOptions& o) {
     if (mismatches) status = 1;
   }
   return status;
+}
+
+// The flags of `hail-bench rays` (bench/cli.h's rules).
+
+void add_rays_options(CLI::App& app, RaysOptions& o) {
+  app.description("World::raycast_batch throughput (rays/s) against a brute-force loop, by sphere count");
+  app.add_option("--sizes", o.sizes, "sphere counts, comma-separated (e.g. 1000,16000,64000,256000,1000000)");
+  add_count(app, "--rays", o.rays, 1, 100'000'000, "rays per batch");
+  add_count(app, "--threads", o.threads, 1, 1024, "threads of the World's arena");
+  add_count(app, "--repeats", o.repeats, 1, 1000, "timed repeats; the median is reported");
+  add_count(app, "--brute-budget", o.brute_budget, 1, 1'000'000'000'000LL,
+            "ray-sphere tests the brute force may make per repeat (its rays are cut to fit, at least 64)");
+}
+
+int rays_command(const std::vector<std::string>& args) {
+  const std::optional<RaysOptions> parsed = parse_command("rays", add_rays_options, args);
+  return parsed ? rays_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

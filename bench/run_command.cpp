@@ -6,23 +6,36 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_inputs.h"
-#include "bench/scenes/scene_filters.h"
-#include "bench/scenes/scene_run.h"
+#include "cli.h"
 #include "hail/recording.h"
+#include "scenes/machine_info.h"
+#include "scenes/memory_use.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_filters.h"
+#include "scenes/scene_inputs.h"
+#include "scenes/scene_run.h"
+#include "solver_options.h"
 
 namespace hail::bench {
 namespace {
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
+
+/// The sphere-pair searches by their names on the command line.
+const std::map<std::string, PairSearch>& pair_search_names() {
+  static const std::map<std::string, PairSearch> names{{"auto", PairSearch::Automatic},
+                                                       {"brute", PairSearch::BruteForce},
+                                                       {"grid", PairSearch::Grid},
+                                                       {"sweep", PairSearch::SweepAndPrune},
+                                                       {"bvh", PairSearch::Bvh}};
+  return names;
+}
 
 using CommandOptions = RunCommandOptions;
 
@@ -432,6 +445,170 @@ int report_runs(const RunCommandOptions& o, const RunCommandResult& result) {
     write_file_atomically(o.json_path, [&](std::ostream& file) { file << to_json(r).dump(2) << "\n"; });
   }
   return r.errors.nan_count == 0 ? 0 : 3;
+}
+
+// The flags of `hail-bench run` (bench/cli.h's rules).
+
+void add_run_options(CLI::App& app, RunCommandOptions& o) {
+  SceneParams& p = o.params;
+  app.description(
+      "step a scene (built-in, or --scene FILE.json); print ms/step, the per-phase split and error figures");
+  app.add_option("scene", o.scene, "a built-in scene (hail-bench --help lists them)")
+      ->check(CLI::IsMember(scene_names()));
+  app.add_option("--scene", o.scene_file, "a scene file (docs/scene_format.md); flags given override its values")
+      ->type_name("FILE.json");
+  add_count(app, "--spheres", p.spheres, 1, 100'000'000, "sphere count");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
+  add_count(app, "--threads", p.threads, 0, 4096, "worker threads (0: all)");
+  add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
+  add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
+  add_count(app, "--resting", p.resting_iterations, 0, kMaxIterations, "resting-contact passes per step");
+  add_solver_options(app, p.solver, p.soft_step);
+  app.add_option_function<std::string>(
+         "--integrator",
+         [&p](const std::string& v) {
+           p.integrator = v == "uniform-acceleration" ? Integrator::UniformAcceleration : Integrator::SemiImplicitEuler;
+         },
+         "how positions follow velocities (WorldSettings::integrator)")
+      ->check(CLI::IsMember({"semi-implicit-euler", "uniform-acceleration"}));
+  add_count(app, "--tile", p.solver_tile_spheres, 0, 100'000'000,
+            "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            const long long n = std::stoll(v);  // whole_number_in ran first
+            return n != 0 && n < static_cast<long long>(kMinSolverTileSpheres)
+                       ? "must be 0 (no solver tiles) or a whole number in [" + std::to_string(kMinSolverTileSpheres) +
+                             ", 100000000], got '" + v + "'"
+                       : std::string();
+          },
+          ""));
+  app.add_option_function<std::string>(
+         "--warm-start",
+         [&p](const std::string& v) {
+           if (v == "on" || v == "off")
+             p.warm_start = v == "on";
+           else
+             p.warm_start_factor = static_cast<float>(std::stod(v));
+         },
+         "warm starting; a factor in [0, 1] turns it on with that factor")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            std::string factor = v;
+            return v == "on" || v == "off" || number_in(0.0, 1.0)(factor).empty()
+                       ? std::string()
+                       : "must be on, off or a factor in [0, 1], got '" + v + "'";
+          },
+          "on|off|FACTOR"))
+      ->type_name("on|off|FACTOR");
+  app.add_option_function<std::string>(
+         "--pairs", [&p](const std::string& v) { p.pair_search = pair_search_names().at(v); }, "the sphere-pair search")
+      ->check(CLI::IsMember({"auto", "brute", "grid", "sweep", "bvh"}));
+  app.add_option_function<std::string>(
+         "--ccd",
+         [&](const std::string& v) {
+           p.continuous_collision = v != "off";
+           o.ccd_both = v == "both";
+         },
+         "continuous collision; both: alternate runs with it on and off, one table")
+      ->check(CLI::IsMember({"on", "off", "both"}));
+  app.add_option_function<std::string>(
+         "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; },
+         "off: spheres never spin (WorldSettings::rotation)")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option_function<std::string>(
+         "--sleep", [&p](const std::string& v) { p.sleep = v == "on"; },
+         "on: islands at rest sleep and cost nothing until woken (WorldSettings::sleep)")
+      ->check(CLI::IsMember({"on", "off"}));
+  add_number(app, "--origin", o.origin, -1e7, 1e7,
+             "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
+  add_count(app, "--home-after", o.home_after, 1, 100'000'000,
+            "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both or --filters compare)");
+  app.add_option("--filters", o.filters,
+                 "collision filters given to every sphere: accept-all (filtered, nothing rejected), teams (two "
+                 "teams that pass through each other); compare: runs none, accept-all and teams in turn, one table")
+      ->check(CLI::IsMember({"none", "accept-all", "teams", "compare"}));
+  app.add_option("--json", o.json_path, "every figure of the (last) run as JSON")->type_name("FILE");
+  app.add_option("--trace", o.trace_path,
+                 "Chrome trace-event JSON (Perfetto) of the last run: a slice per phase per step per thread")
+      ->type_name("FILE");
+  app.add_option("--dump-state", o.dump_state_path, "every sphere's final state: id,x,y,z,vx,vy,vz,wx,wy,wz")
+      ->type_name("FILE.csv");
+  add_count(app, "--dump-every", o.dump_every, 1, 100'000'000,
+            "with --dump-state: also the state at step 0 and every N steps, to FILE-000060.csv (the step, 6 digits, "
+            "before .csv)");
+  add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+             "GB; a sphere count over it is refused before anything is built (default -1: 80% of the memory available; "
+             "0: none)");
+  app.add_option_function<std::pair<int, std::string>>(
+         "--save-at",
+         [&o](const std::pair<int, std::string>& v) {
+           if (v.first < 1) usage_error("--save-at STEP must be >= 1, got " + std::to_string(v.first));
+           o.save_at = v.first, o.save_path = v.second;
+         },
+         "after step STEP, save a snapshot of the world to FILE (World::save_file; --restore reads it)")
+      ->type_name("STEP FILE");
+  app.add_option("--restore", o.restore_path,
+                 "restore the world from a snapshot once the scene is built (the same scene and terrain), then step "
+                 "it --steps more")
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
+  app.add_option("--expect-hash", o.expect_hash,
+                 "exit status 1 unless the final state hash is H (16 hex digits, as printed): a run checked on "
+                 "another machine")
+      ->type_name("H");
+  app.add_option("--record", o.record_path,
+                 "record the (last) run: positions at step 0 and every --every K steps (docs/recording_format.md; "
+                 "hail-view --replay plays it); untimed")
+      ->type_name("FILE");
+  add_count(app, "--every", o.record_every, 1, 100'000'000, "with --record: steps between frames");
+  app.add_flag("--velocities", o.record_velocities, "with --record: frames carry velocities too");
+  app.add_flag("--quiet", o.quiet,
+               "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
+               "progress lines on stderr; with --ccd both, the table");
+  // The checks between flags, once every flag is read.
+  app.callback([&app, &o] {
+    if (o.home_after > 0 && o.origin == 0.0)
+      usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
+    // The solver's flags too (they were left out, and --solver passes with --scene ran the file's solver).
+    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
+                             "--ccd", "--rotation", "--warm-start", "--sleep", "--solver", "--substeps",
+                             "--contact-cycles", "--damping-ratio", "--relax", "--integrator"})
+      if (app.count(flag) > 0) o.given.emplace_back(flag);
+    o.scene_named = app.count("scene") > 0;
+    if (o.dump_every > 0 && o.dump_state_path.empty())
+      usage_error("--dump-every " + std::to_string(o.dump_every) +
+                  " needs --dump-state FILE.csv (the files are named after it)");
+    if (o.ccd_both && (o.save_at > 0 || !o.restore_path.empty() || !o.expect_hash.empty() || !o.record_path.empty()))
+      usage_error("--save-at, --restore, --expect-hash and --record take one world: not with --ccd both");
+    if (o.record_path.empty() && (app.count("--every") > 0 || o.record_velocities))
+      usage_error("--every and --velocities need --record FILE");
+    if (!o.record_path.empty() && o.filters == "compare")
+      usage_error("--record takes one world: not with --filters compare");
+    if (o.save_at > 0 && o.save_path == o.restore_path)
+      usage_error("--save-at would overwrite the --restore snapshot '" + o.save_path + "'");
+    // A snapshot holds every setting of the world it saved (all but threads) and every sphere's
+    // filter bits: these flags would be overwritten by it, so a run would report one thing and
+    // step another. They belong to the run that saves it.
+    if (!o.restore_path.empty()) {
+      for (const char* flag :
+           {"--reorder", "--resting", "--tile", "--pairs", "--ccd", "--rotation", "--warm-start", "--sleep", "--solver",
+            "--substeps", "--contact-cycles", "--damping-ratio", "--relax", "--depenetration-max", "--integrator"})
+        if (app.count(flag) > 0)
+          usage_error(std::string("--restore takes the world's settings from the snapshot: ") + flag +
+                      " would be ignored (give it to the run that saves the snapshot)");
+      if (o.filters != "none")
+        usage_error("--restore takes every sphere's collision filter from the snapshot: --filters " + o.filters +
+                    " would be ignored (give it to the run that saves the snapshot)");
+    }
+    if (o.scene_named && !o.scene_file.empty())
+      usage_error("give a scene name or --scene FILE.json, not both ('" + o.scene + "' and '" + o.scene_file + "')");
+  });
+}
+
+int run_command(const std::vector<std::string>& args) {
+  const std::optional<RunCommandOptions> parsed = parse_command("run", add_run_options, args);
+  return parsed ? run_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

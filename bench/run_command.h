@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/scene_run.h"
+#include "scenes/scene_run.h"
 
 namespace CLI {
 class App;
@@ -28,9 +28,9 @@ struct RunCommandOptions {
   bool ccd_both = false;           // --ccd both: alternate runs with continuous collision on and off
   int repeat = 0;                  // --repeat N (0: 1, or 3 with --ccd both)
   double memory_limit_gb = -1.0;   // --memory-limit GB (< 0: 80% of the memory available; 0: none)
-  double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (bench/scenes/scene_origin.cpp)
+  double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (scenes/scene_origin.cpp)
   int home_after = 0;              // --home-after K: after step K, shift the scene back by (D, 0, D)
-  std::string filters = "none";    // --filters none|accept-all|teams|compare (bench/scenes/scene_filters.h)
+  std::string filters = "none";    // --filters none|accept-all|teams|compare (scenes/scene_filters.h)
   int save_at = 0;                 // --save-at STEP FILE: World::save_file after step STEP (0: none)
   std::string save_path;
   std::string restore_path;        // --restore FILE: World::restore_file once the scene is built

@@ -6,11 +6,12 @@
 #include <stdexcept>
 #include <thread>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
+#include "cli.h"
 #include "gnuplot.h"
+#include "scenes/machine_info.h"
+#include "scenes/memory_use.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {
@@ -171,6 +172,33 @@ int scale_command(const ScaleOptions& o) {
                       o.out_dir + "/ns_per_sphere_step.svg, " + o.out_dir + "/speedup.svg");
   }
   return deterministic && finite ? 0 : 3;
+}
+
+// The flags of `hail-bench scale` (bench/cli.h's rules).
+
+void add_scale_options(CLI::App& app, ScaleOptions& o) {
+  constexpr long long kMax = static_cast<long long>(kScaleMaxSpheres);
+  app.description("the scene at doubling sphere counts on 1..T threads: table, CSV, JSON and gnuplot SVGs");
+  app.add_option("scene", o.scene, "a built-in scene")->check(CLI::IsMember(scene_names()));
+  add_count(app, "--min", o.min_spheres, 1, kMax, "the smallest sphere count");
+  add_count(app, "--max", o.max_spheres, 1, kMax, "the largest sphere count");
+  add_count(app, "--threads", o.max_threads, 0, 4096, "the most threads (0: the hardware's)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps of each run");
+  app.add_option("--out", o.out_dir, "folder of the CSV, JSON and plots")->type_name("DIR");
+  add_number(app, "--memory-limit", o.memory_limit_gb, 0.0, 1e9,
+             "GB; a count whose estimate exceeds it is not started (default -1: 80% of the memory available; 0: none)");
+  app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
+  app.callback([&o] {
+    if (o.min_spheres > o.max_spheres)
+      throw std::invalid_argument("--min (" + std::to_string(o.min_spheres) + ") must not exceed --max (" +
+                                  std::to_string(o.max_spheres) + ")");
+    if (o.max_threads == 0) o.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  });
+}
+
+int scale_command(const std::vector<std::string>& args) {
+  const std::optional<ScaleOptions> parsed = parse_command("scale", add_scale_options, args);
+  return parsed ? scale_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

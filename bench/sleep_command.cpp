@@ -7,11 +7,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_run.h"
+#include "cli.h"
 #include "gnuplot.h"
 #include "parse_numbers.h"
+#include "scenes/machine_info.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::bench {
 namespace {
@@ -59,9 +60,10 @@ void print_row(const char* label, const RunResult& r) {
   const ErrorFigures& e = r.errors;
   std::printf("%9zu %5s %9.3f %9.3f %6.1f%% %6.1f%% %8zu | %9.6f %9.6f %9.6f %9.6f %5zu %5zu %4zu %10.4g %s\n",
               r.spheres, label, r.mean_ms, r.median_ms, 100.0 * r.sleeping / double(r.spheres),
-              100.0 * double(r.sleeping_at_end) / double(r.spheres), r.ready_to_sleep_at_end, e.worst_sphere_penetration,
-              e.worst_static_penetration, e.mean_step_sphere_penetration, e.mean_step_static_penetration,
-              r.tunnelling.spheres, e.fell_off, e.nan_count, e.kinetic_energy, r.state_hash.c_str());
+              100.0 * double(r.sleeping_at_end) / double(r.spheres), r.ready_to_sleep_at_end,
+              e.worst_sphere_penetration, e.worst_static_penetration, e.mean_step_sphere_penetration,
+              e.mean_step_static_penetration, r.tunnelling.spheres, e.fell_off, e.nan_count, e.kinetic_energy,
+              r.state_hash.c_str());
   std::fflush(stdout);
 }
 
@@ -85,7 +87,8 @@ int compare_sizes(const SleepOptions& o, const std::vector<std::size_t>& sizes) 
   std::printf("# part 1: %s, %d steps, sleeping off then on at each count, %d threads\n", o.scene.c_str(), o.steps,
               o.threads);
   std::printf(
-      "# asleep: mean share over the timed steps / share at the end; ready: awake spheres slow for sleep_time at the end (held awake by their island);\n"
+      "# asleep: mean share over the timed steps / share at the end; ready: awake spheres slow for sleep_time at the "
+      "end (held awake by their island);\n"
       "# worst: deepest overlap any step started from, spheres / ground (m); mean: each step's deepest, averaged;\n"
       "# tunnelled: spheres whose centre ever ended a step inside the ground; KE at the end (J)\n");
   std::printf("%9s %5s %9s %9s %7s %7s %8s | %9s %9s %9s %9s %5s %5s %4s %10s %s\n", "spheres", "sleep", "mean_ms",
@@ -237,6 +240,29 @@ int sleep_command(const SleepOptions& o) {
   if (!sizes.empty()) status = compare_sizes(o, sizes);
   if (o.drop_spheres > 0) status = std::max(status, compare_drop(o));
   return status;
+}
+
+// The flags of `hail-bench sleep` (bench/cli.h's rules).
+
+void add_sleep_options(CLI::App& app, SleepOptions& o) {
+  app.description(
+      "sleeping on against off: ms/step, spheres asleep and error figures side by side, the share asleep over time; "
+      "then a sphere dropped on a sleeping pile against the same drop with sleeping off");
+  app.add_option("scene", o.scene, "a built-in scene for part 1")->check(CLI::IsMember(scene_names()));
+  app.add_option("--sizes", o.sizes, "part 1's sphere counts, comma-separated (empty: skip part 1)");
+  add_count(app, "--steps", o.steps, 1, 100'000'000, "steps per part-1 run");
+  add_count(app, "--threads", o.threads, 0, 4096, "worker threads (0: all)");
+  add_count(app, "--every", o.every, 1, 100'000'000, "steps between samples of the share asleep");
+  app.add_option("--out", o.out_dir, "folder for asleep-N.csv, sleep.gp and asleep_share.svg")->type_name("DIR");
+  app.add_flag("--no-plot", o.no_plot, "write the CSV files but do not run gnuplot");
+  add_count(app, "--drop-spheres", o.drop_spheres, 0, 10'000'000, "part 2's pile (0: skip part 2)");
+  add_count(app, "--settle-steps", o.settle_steps, 1, 100'000'000, "most steps the pile may take to fall asleep");
+  add_count(app, "--drop-steps", o.drop_steps, 1, 100'000'000, "steps after the drop");
+}
+
+int sleep_command(const std::vector<std::string>& args) {
+  const std::optional<SleepOptions> parsed = parse_command("sleep", add_sleep_options, args);
+  return parsed ? sleep_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

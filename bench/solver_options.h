@@ -10,11 +10,12 @@ class App;
 
 namespace hail::bench {
 
-/// Adds --solver (defined in bench/command_flags.cpp, with every flag: it says why), --substeps, --contact-cycles, --damping-ratio and --relax, writing them to
-/// `solver` and `soft`.
+/// Adds --solver and the soft step's knobs (add_soft_step_options), writing them to `solver` and
+/// `soft`.
 void add_solver_options(CLI::App& app, Solver& solver, SoftStepParams& soft);
 
-/// The soft step's knobs alone: --substeps, --contact-cycles, --damping-ratio, --relax.
+/// The soft step's knobs alone: --substeps, --contact-cycles, --damping-ratio, --relax,
+/// --depenetration-max.
 void add_soft_step_options(CLI::App& app, SoftStepParams& soft);
 
 /// "passes" or "soft", as --solver takes them.

@@ -5,9 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/stress_cases.h"
+#include "cli.h"
+#include "scenes/machine_info.h"
+#include "scenes/output_file.h"
+#include "scenes/stress_cases.h"
 
 namespace hail::bench {
 
@@ -58,6 +59,27 @@ int stress_command(const StressOptions& o) {
   std::printf("\n  %d of %d cases passed\n", ran - failed, ran);
   if (!json_path.empty()) write_file_atomically(json_path, [&](std::ostream& file) { file << out.dump(2) << "\n"; });
   return failed == 0 ? 0 : 1;
+}
+
+// The flags of `hail-bench stress` (bench/cli.h's rules).
+
+void add_stress_options(CLI::App& app, StressOptions& o) {
+  std::vector<std::string> names;
+  for (const StressCase& c : stress_cases()) names.push_back(c.name);
+  app.description("the stability battery: each stiff or extreme case with its invariants; exit status 1 if any fails");
+  // A misspelt case name is refused before the header, naming the cases there are.
+  app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
+  app.add_flag("--quick", o.quick, "skip the slow cases");
+  app.add_option_function<std::string>(
+         "--solver", [&o](const std::string& v) { o.solver = v == "soft" ? Solver::SoftStep : Solver::Passes; },
+         "the contact solver every case runs: passes (the default) or soft (the soft step)")
+      ->check(CLI::IsMember({"passes", "soft"}));
+  app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
+}
+
+int stress_command(const std::vector<std::string>& args) {
+  const std::optional<StressOptions> parsed = parse_command("stress", add_stress_options, args);
+  return parsed ? stress_command(*parsed) : 0;  // 0 after --help
 }
 
 }  // namespace hail::bench

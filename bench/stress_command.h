@@ -1,5 +1,5 @@
 #pragma once
-// `hail-bench stress`: runs the stability battery (bench/scenes/stress_cases.h) and prints each case,
+// `hail-bench stress`: runs the stability battery (scenes/stress_cases.h) and prints each case,
 // its invariants and the worst values measured; exit status 1 when any case fails.
 
 #include <string>

@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "bench/peer_engine_bullet.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "hail/heightmap.h"
+#include "scenes/scenes.h"
 
 using hail::Heightmap;
 using hail::HeightmapParams;

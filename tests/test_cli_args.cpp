@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bench/accuracy_command.h"
+#include "bench/bvh_build_command.h"
 #include "bench/cli.h"
 #include "bench/command_line.h"
 #include "bench/compare_command.h"

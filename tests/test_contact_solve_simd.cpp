@@ -16,9 +16,9 @@
 #include <span>
 #include <vector>
 
-#include "bench/scenes/solver_problems.h"
 #include "catch.h"
 #include "kernel/solver/contact_solve_simd.h"
+#include "scenes/solver_problems.h"
 #include "simd_paths.h"
 
 using namespace hail;

@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 #include "simd_paths.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// Memory figures of hail-bench (bench/scenes/memory_use.h) and Terrain::memory_bytes: the heap a run
+// Memory figures of hail-bench (scenes/memory_use.h) and Terrain::memory_bytes: the heap a run
 // holds, and how the scale command's memory limit estimates a count it has not run.
 
 #include <cstring>
@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "scenes/memory_use.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 
 using namespace hail;
 

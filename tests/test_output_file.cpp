@@ -1,4 +1,4 @@
-// Every file hail-bench writes (bench/output_file.*): checked before the run, written to a
+// Every file hail-bench writes (scenes/output_file.*): checked before the run, written to a
 // temporary beside the target and renamed over it only when the whole write succeeded; and the
 // plot step's program started without a shell (bench/run_program.*, bench/gnuplot.*).
 #include <filesystem>
@@ -14,9 +14,9 @@
 #include "bench/run_command.h"
 #include "bench/run_program.h"
 #include "bench/scale_command.h"
-#include "bench/scenes/output_file.h"
 #include "bench/stress_command.h"
 #include "catch.h"
+#include "scenes/output_file.h"
 
 namespace bench = hail::bench;
 namespace fs = std::filesystem;

@@ -6,11 +6,11 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "hail/recording.h"
 #include "hail/snapshot.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 
 namespace bench = hail::bench;
 

@@ -1,5 +1,5 @@
-// The error figures hail-bench run reports next to its times (bench/scenes/scene_run.*), the
-// tunnelling counted after every step (bench/scenes/metrics.*) and the state dumps of --dump-every.
+// The error figures hail-bench run reports next to its times (scenes/scene_run.*), the
+// tunnelling counted after every step (scenes/metrics.*) and the state dumps of --dump-every.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
+#include "scenes/metrics.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 
 namespace bench = hail::bench;
 
@@ -54,7 +54,7 @@ TEST_CASE("The sphere penetration figure reads only real spheres, never the SIMD
 
 namespace {
 
-/// A scene from scene-file text (bench/scenes/scene_file.h), for the run figures below.
+/// A scene from scene-file text (scenes/scene_file.h), for the run figures below.
 bench::Scene scene_from(const std::string& body) {
   return bench::parse_scene_text(R"({"format": "hail-scene", "version": 1, )" + body + "}", "figures.json");
 }

@@ -1,4 +1,4 @@
-// Scene files (bench/scenes/scene_file.h): the shipped files are the built-in scenes exactly; bad files
+// Scene files (scenes/scene_file.h): the shipped files are the built-in scenes exactly; bad files
 // are refused with the file and the field named; the random generator is deterministic.
 
 #include <fcntl.h>
@@ -21,9 +21,9 @@
 #include <thread>
 #include <vector>
 
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_run.h"
 #include "catch.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_run.h"
 
 namespace {
 

@@ -13,7 +13,6 @@
 #include <span>
 #include <vector>
 
-#include "bench/scenes/solver_problems.h"
 #include "catch.h"
 #include "hail/errors.h"
 #include "hail/world.h"
@@ -24,6 +23,7 @@
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "scenes/solver_problems.h"
 #include "simd_paths.h"
 
 using namespace hail;

@@ -22,8 +22,6 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "file_faults.h"
 #include "fuzz/snapshot_harness.h"
@@ -31,6 +29,8 @@
 #include "kernel/world/fnv1a.h"
 #include "kernel/world/snapshot_format.h"
 #include "sample_count.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 #include "simd_paths.h"
 
 using namespace hail;

@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "bench/scenes/scene_run.h"
-#include "bench/scenes/scenes.h"
 #include "catch.h"
 #include "file_faults.h"
+#include "scenes/scene_run.h"
+#include "scenes/scenes.h"
 
 namespace bench = hail::bench;
 

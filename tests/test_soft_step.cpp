@@ -11,11 +11,11 @@
 #include <span>
 #include <vector>
 
-#include "bench/scenes/solver_problems.h"
 #include "catch.h"
 #include "hail/world.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/soft_step.h"
+#include "scenes/solver_problems.h"
 #include "simd_paths.h"
 
 using namespace hail;

@@ -11,12 +11,12 @@
 #include <random>
 #include <vector>
 
-#include "bench/scenes/steep_heightmaps.h"
 #include "catch.h"
 #include "hail/world.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/sphere_triangle.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "scenes/steep_heightmaps.h"
 #include "simd_paths.h"
 
 using namespace hail;

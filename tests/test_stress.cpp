@@ -1,12 +1,12 @@
-// The stability battery (bench/scenes/stress_cases.h): each case checks its invariants after every
+// The stability battery (scenes/stress_cases.h): each case checks its invariants after every
 // step, and every case passes with both solvers (WorldSettings::solver). A case the kernel stops passing would be tagged [!shouldfail]
 // (with the reason in the commit), so that it still runs and the suite says so the day it
 // passes again; `hail-bench stress` prints the worst values of every case.
 
 #include <string>
 
-#include "bench/scenes/stress_cases.h"
 #include "catch.h"
+#include "scenes/stress_cases.h"
 
 namespace {
 

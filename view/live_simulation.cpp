@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "bench/scenes/metrics.h"
+#include "scenes/metrics.h"
 #include "view/islands.h"
 
 namespace hail::view {

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 #include "view/draw_choices.h"
 #include "view/frame.h"
 #include "view/static_geometry.h"

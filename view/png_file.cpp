@@ -3,7 +3,7 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "bench/scenes/output_file.h"
+#include "scenes/output_file.h"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION

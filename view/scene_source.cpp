@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_run.h"
 #include "hail/snapshot.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_run.h"
 
 namespace hail::view {
 

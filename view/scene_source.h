@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "bench/scenes/scenes.h"
 #include "hail/recording.h"
+#include "scenes/scenes.h"
 #include "view/live_simulation.h"
 #include "view/view_options.h"
 

@@ -16,11 +16,11 @@
 #include <memory>
 #include <thread>
 
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/scene_file.h"
-#include "bench/scenes/scene_run.h"
 #include "hail/recording.h"
 #include "hail/snapshot.h"
+#include "scenes/metrics.h"
+#include "scenes/scene_file.h"
+#include "scenes/scene_run.h"
 #include "tests/catch.h"
 #include "view/camera.h"
 #include "view/debug_lines.h"

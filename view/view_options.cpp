@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "bench/scenes/output_file.h"
-#include "bench/scenes/scene_inputs.h"
+#include "scenes/output_file.h"
+#include "scenes/scene_inputs.h"
 
 namespace hail::view {
 namespace {

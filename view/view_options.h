@@ -5,13 +5,13 @@
 #include <optional>
 #include <string>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 #include "view/draw_choices.h"
 
 namespace hail::view {
 
 struct ViewOptions {
-  std::string scene = "terrain-rain";        ///< a built-in scene (bench/scenes)
+  std::string scene = "terrain-rain";        ///< a built-in scene (scenes/)
   std::string scene_file;                    ///< --scene FILE.json instead; with --replay, the terrain drawn under it
   std::string replay_path;                   ///< --replay FILE: play a recording (hail-bench run --record)
   bench::SceneParams params;                 ///< --spheres, --threads

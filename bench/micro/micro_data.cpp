@@ -10,11 +10,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/scenes.h"
 #include "hail/heightmap.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/morton.h"
+#include "scenes/machine_info.h"
+#include "scenes/scenes.h"
 
 namespace hail::micro {
 namespace {
@@ -113,7 +113,7 @@ SphereSoA make_cloud(Cloud cloud, std::size_t n, std::uint32_t seed) {
   SphereSoA s;
   s.reserve(n);
   if (cloud == Cloud::Rain) {
-    // bench/scenes/scene_terrain_rain.cpp's layout (first layer at y = 13, centred on the terrain).
+    // scenes/scene_terrain_rain.cpp's layout (first layer at y = 13, centred on the terrain).
     const std::size_t side = std::min<std::size_t>(160, static_cast<std::size_t>(std::ceil(std::sqrt(double(n)))));
     const float half = static_cast<float>(side) / 2.0f, spacing = 1.5f;
     for (std::size_t k = 0; k < n; ++k) {

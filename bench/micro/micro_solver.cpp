@@ -7,8 +7,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "bench/scenes/solver_problems.h"
 #include "kernel/solver/contact_solve_simd.h"
+#include "scenes/solver_problems.h"
 
 namespace hail::micro {
 namespace {

@@ -1,4 +1,4 @@
-// libFuzzer target: the JSON scene parser (bench/scenes/scene_file.h) on arbitrary text, then a few steps
+// libFuzzer target: the JSON scene parser (scenes/scene_file.h) on arbitrary text, then a few steps
 // of the World it built. A bad document must end in std::invalid_argument naming the field, never
 // a crash, a hang or a sanitizer report; a document the parser accepts must step without one.
 // Run through scripts/fuzz.sh (with tests/fuzz/scene.dict, so that numbers with exponents, huge
@@ -19,8 +19,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/scenes/scene_file.h"
 #include "hail/errors.h"
+#include "scenes/scene_file.h"
 
 namespace {
 

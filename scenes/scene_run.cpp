@@ -1,4 +1,4 @@
-#include "bench/scenes/scene_run.h"
+#include "scenes/scene_run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "bench/scenes/machine_info.h"
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/output_file.h"
+#include "scenes/machine_info.h"
+#include "scenes/memory_use.h"
+#include "scenes/output_file.h"
 
 namespace hail::bench {
 namespace {

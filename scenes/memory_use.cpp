@@ -1,4 +1,4 @@
-#include "bench/scenes/memory_use.h"
+#include "scenes/memory_use.h"
 
 #include <cstdio>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "bench/scenes/scene_file.h"
+#include "scenes/scene_file.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "bench/scenes/output_file.h"
+#include "scenes/output_file.h"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -82,7 +82,7 @@ float terrain_rain_height(float x, float z);
 Scene scene_on_terrain(const SceneParams& p, Heightmap heightmap, const std::string& description);
 
 /// Moves the whole scene by `by` (World::shift_origin(-by)), with its extent and ground height
-/// (`hail-bench run --origin D`: by = (D, 0, D)); bench/scenes/scene_origin.cpp.
+/// (`hail-bench run --origin D`: by = (D, 0, D)); scenes/scene_origin.cpp.
 void move_scene(Scene& scene, const Vec3& by);
 
 Scene build_implosion(const SceneParams& params);

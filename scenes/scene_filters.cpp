@@ -1,4 +1,4 @@
-#include "bench/scenes/scene_filters.h"
+#include "scenes/scene_filters.h"
 
 #include <stdexcept>
 

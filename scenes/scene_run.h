@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bench/scenes/metrics.h"
-#include "bench/scenes/scenes.h"
+#include "scenes/metrics.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 
@@ -46,7 +46,7 @@ struct RunResult {
   bool sleep = false;
   double sleeping = 0, ready_to_sleep = 0;
   std::size_t sleeping_at_end = 0, ready_to_sleep_at_end = 0;
-  /// Memory (bench/scenes/memory_use.h), measured outside the timed steps: the heap the run added,
+  /// Memory (scenes/memory_use.h), measured outside the timed steps: the heap the run added,
   /// after set-up (the World with its spheres, the terrain) and at the end (everything the
   /// World keeps between steps too: contacts, solver arrays, caches); 0 where the C library
   /// cannot say. terrain_bytes is Terrain::memory_bytes(), 0 without a terrain.

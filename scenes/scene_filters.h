@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 namespace {

@@ -1,14 +1,14 @@
 #pragma once
 // The stability battery (issue 7): stiff and extreme cases, each with the invariants it states
-// and checks after every step (bench/scenes/stress_watch.h). Shared by tests/test_stress.cpp (pass or
+// and checks after every step (scenes/stress_watch.h). Shared by tests/test_stress.cpp (pass or
 // fail) and `hail-bench stress` (the table of worst values).
 
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "bench/scenes/stress_watch.h"
 #include "hail/world_settings.h"
+#include "scenes/stress_watch.h"
 
 namespace hail::bench {
 

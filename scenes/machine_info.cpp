@@ -1,4 +1,4 @@
-#include "bench/scenes/machine_info.h"
+#include "scenes/machine_info.h"
 
 #include <fstream>
 

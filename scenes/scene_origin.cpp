@@ -3,7 +3,7 @@
 // origin"). The scene is built where it always is and then moved with World::shift_origin, so
 // each starting position is rounded once, to the float spacing where it lands, exactly as a
 // scene built out there would be.
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

@@ -1,4 +1,4 @@
-#include "bench/scenes/stress_watch.h"
+#include "scenes/stress_watch.h"
 
 #include <algorithm>
 #include <cmath>

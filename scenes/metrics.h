@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

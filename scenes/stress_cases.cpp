@@ -1,4 +1,4 @@
-#include "bench/scenes/stress_cases.h"
+#include "scenes/stress_cases.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "bench/scenes/scenes.h"
-#include "bench/scenes/steep_heightmaps.h"
+#include "scenes/scenes.h"
+#include "scenes/steep_heightmaps.h"
 
 namespace hail::bench {
 namespace {
@@ -510,7 +510,7 @@ double steepest_slope_deg(const Heightmap& h) {
 }
 
 /// Rain over steep ground (issue 28, part 1): the shipped DEMs (slopes to 84 degrees) and the
-/// generated noise, cliff, spike and fold maps (bench/scenes/steep_heightmaps.h), every step checked
+/// generated noise, cliff, spike and fold maps (scenes/steep_heightmaps.h), every step checked
 /// for centres below the surface and for ground overlap, where a ghost contact from a steep
 /// triangle's plane used to throw spheres through ridges.
 StressResult steep_rains() {

@@ -1,4 +1,4 @@
-#include "bench/scenes/scene_inputs.h"
+#include "scenes/scene_inputs.h"
 
 #include <filesystem>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "bench/scenes/steep_heightmaps.h"
+#include "scenes/steep_heightmaps.h"
 
 #include <random>
 #include <vector>

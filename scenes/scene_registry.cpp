@@ -1,4 +1,4 @@
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

@@ -1,4 +1,4 @@
-#include "bench/scenes/metrics.h"
+#include "scenes/metrics.h"
 
 #include <algorithm>
 #include <cmath>

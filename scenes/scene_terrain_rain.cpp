@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

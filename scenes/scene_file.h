@@ -13,8 +13,8 @@
 #include <string>
 #include <string_view>
 
-#include "bench/scenes/memory_use.h"
-#include "bench/scenes/scenes.h"
+#include "scenes/memory_use.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 

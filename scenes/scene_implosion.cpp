@@ -1,6 +1,6 @@
 #include <cmath>
 
-#include "bench/scenes/scenes.h"
+#include "scenes/scenes.h"
 
 namespace hail::bench {
 
