@@ -7,9 +7,9 @@
 // command_line.cpp makes those apps the subcommands of `hail-bench`, and parse_command() parses
 // one command alone (the tests, an embedding program).
 // CLI11 2.1 is header only, and its header alone costs about 10 s of CPU per file that includes
-// it in Release (GCC 12, -O2) and 44 s under ASan + UBSan. So no header includes it (they declare
-// CLI::App forward): only the command files, command_line.cpp, cli.cpp, solver_options.cpp and
-// tests/test_cli_args.cpp pay it. Values inside a list are read with parse_numbers.h, which needs
+// it in Release (GCC 12, -O2) and 44 s under ASan + UBSan: hail_bench_lib parses it once, into a
+// precompiled header (bench/CMakeLists.txt), and no other header includes it (they declare
+// CLI::App forward). Values inside a list are read with parse_numbers.h, which needs
 // no CLI11.
 
 #include <CLI/CLI.hpp>
