@@ -7,6 +7,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <list>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -15,6 +16,7 @@
 
 #include "hail/errors.h"
 #include "hail/heightmap.h"
+#include "hail/settings_table.h"
 
 namespace hail::bench {
 namespace {
@@ -116,7 +118,10 @@ Vec3 to_vec3(const json& j, const Where& at) {
 class Object {
  public:
   Object(const json& j, Where at, std::initializer_list<std::string_view> known)
-      : j_(j), at_(std::move(at)), known_(known) {
+      : Object(j, std::move(at), std::vector<std::string_view>(known)) {}
+  /// `known` must outlive the Object (it keeps the views).
+  Object(const json& j, Where at, std::vector<std::string_view> known)
+      : j_(j), at_(std::move(at)), known_(std::move(known)) {
     if (!j.is_object()) at_.fail("must be an object, got " + got(j));
   }
 
@@ -306,63 +311,92 @@ SphereDesc sphere(const Vec3& position, const Vec3& velocity, const Vec3& angula
 
 // ---- settings --------------------------------------------------------------------------------
 
-void read_settings(const Object& o, WorldSettings& s) {
+/// Settings a scene file gives at its top level ("gravity", "threads"), not in "settings".
+bool top_level_setting(std::string_view name) { return name == "gravity" || name == "threads"; }
+
+/// The keys of the "settings" object (`group` empty) or of one of its groups ("soft_step"):
+/// the settings table's names (include/hail/settings_table.h) below it, each once, and the
+/// groups' own names at the top.
+std::vector<std::string> setting_keys(std::string_view group) {
+  std::vector<std::string> keys;
+  const WorldSettings defaults;
+  for_each_setting(defaults, [&](const auto&, const SettingSpec& spec) {
+    const std::string_view name = spec.name;
+    if (top_level_setting(name)) return;
+    const std::size_t dot = name.find('.');
+    const std::string_view head = name.substr(0, dot), tail = dot == name.npos ? "" : name.substr(dot + 1);
+    const std::string key(group.empty() ? head : (head == group ? tail : std::string_view()));
+    if (!key.empty() && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  });
+  return keys;
+}
+
+/// "[0, 1]", "(0, inf)": a range as the settings table gives it.
+std::string range_text(const SettingSpec& spec) {
+  auto end = [](double v) { return v >= std::numeric_limits<float>::max() ? std::string("inf") : number_text(v); };
+  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) +
+         (spec.max_open || spec.max >= std::numeric_limits<float>::max() ? ")" : "]");
+}
+
+/// One setting's value from `o[key]`, by its type and the table's range, into `field`.
+template <class T>
+void read_setting(const Object& o, std::string_view key, T& field, const SettingSpec& spec) {
+  if (!o.has(key)) return;
+  if constexpr (std::is_same_v<T, bool>) {
+    field = o.boolean(key, field);
+  } else if constexpr (std::is_enum_v<T>) {
+    const std::optional<std::string> name = o.opt_string(key);
+    std::string list;
+    std::size_t index = 0;
+    for (std::string_view rest = spec.values;; ++index) {
+      const std::size_t bar = rest.find('|');
+      const std::string_view value = rest.substr(0, bar);
+      if (*name == value) {
+        field = static_cast<T>(index);
+        return;
+      }
+      list += std::string(list.empty() ? "" : ", ") + "\"" + std::string(value) + "\"";
+      if (bar == rest.npos) break;
+      rest.remove_prefix(bar + 1);
+    }
+    o.at(key).fail("must be one of " + list + ", got \"" + *name + "\"");
+  } else if constexpr (std::is_same_v<T, Vec3>) {
+    field = o.vec3(key, field);  // no table key holds one (gravity is a top-level key)
+  } else if constexpr (std::is_integral_v<T>) {
+    const auto min = static_cast<std::int64_t>(spec.min) + (spec.min_open ? 1 : 0);
+    const auto max = static_cast<std::int64_t>(spec.max) - (spec.max_open ? 1 : 0);
+    field = static_cast<T>(o.integer(key, static_cast<std::int64_t>(field), min, max));
+  } else {
+    const float v = o.number(key, field);  // finite, within float range
+    const bool above = spec.min_open ? v > spec.min : v >= spec.min;
+    const bool below = spec.max_open ? v < spec.max : v <= spec.max;
+    if (!(above && below)) o.at(key).fail("must be in " + range_text(spec) + ", got " + got(o[key]));
+    field = v;
+  }
+}
+
+/// The "settings" object: every key the settings table names, with its range (the World's own),
+/// so that a setting added to the table is a scene-file key at once.
+void read_settings(const json& j, const Where& at, WorldSettings& s) {
+  const std::vector<std::string> keys = setting_keys("");
+  const Object o(j, at, std::vector<std::string_view>(keys.begin(), keys.end()));
   o.reject_unknown_keys();
-  constexpr std::int64_t big = std::numeric_limits<int>::max();
-  // Iteration counts take the World's one range (kMaxIterations), named here with the field.
-  s.time_scale = non_negative(o, "time_scale", s.time_scale);
-  if (auto v = o.choice<Integrator>("integrator", {{"semi-implicit-euler", Integrator::SemiImplicitEuler},
-                                                   {"uniform-acceleration", Integrator::UniformAcceleration}}))
-    s.integrator = *v;
-  if (auto v = o.choice<Solver>("solver", {{"passes", Solver::Passes}, {"soft", Solver::SoftStep}})) s.solver = *v;
-  if (o.has("soft_step")) {
-    const Object d(o["soft_step"], o.at("soft_step"),
-                   {"substeps", "contact_cycles", "damping_ratio", "relax_iterations", "max_push_speed",
-                    "depenetration_iterations_max"});
-    d.reject_unknown_keys();
-    s.soft_step.substeps = static_cast<int>(d.integer("substeps", s.soft_step.substeps, 1, kMaxIterations));
-    s.soft_step.contact_cycles = positive(d, "contact_cycles", s.soft_step.contact_cycles);
-    s.soft_step.damping_ratio = positive(d, "damping_ratio", s.soft_step.damping_ratio);
-    s.soft_step.relax_iterations =
-        static_cast<int>(d.integer("relax_iterations", s.soft_step.relax_iterations, 0, kMaxIterations));
-    s.soft_step.max_push_speed = positive(d, "max_push_speed", s.soft_step.max_push_speed);
-    s.soft_step.depenetration_iterations_max = static_cast<int>(
-        d.integer("depenetration_iterations_max", s.soft_step.depenetration_iterations_max, 0, kMaxIterations));
+  std::list<std::vector<std::string>> group_keys;  // the groups' Objects keep views of these
+  std::vector<std::pair<std::string, Object>> groups;
+  for (const std::string& key : keys) {
+    const std::vector<std::string>& inner = group_keys.emplace_back(setting_keys(key));
+    if (inner.empty() || !o.has(key)) continue;
+    groups.emplace_back(key, Object(o[key], o.at(key), std::vector<std::string_view>(inner.begin(), inner.end())));
+    groups.back().second.reject_unknown_keys();
   }
-  s.collision_iterations =
-      static_cast<int>(o.integer("collision_iterations", s.collision_iterations, 0, kMaxIterations));
-  s.resting_iterations = static_cast<int>(o.integer("resting_iterations", s.resting_iterations, 0, kMaxIterations));
-  s.depenetration_iterations =
-      static_cast<int>(o.integer("depenetration_iterations", s.depenetration_iterations, 0, kMaxIterations));
-  s.solver_tile_spheres = static_cast<std::size_t>(
-      o.integer("solver_tile_spheres", static_cast<std::int64_t>(s.solver_tile_spheres), 0, 100000000));
-  if (o.has("depenetration")) {
-    const Object d(o["depenetration"], o.at("depenetration"), {"fraction", "slop_fraction"});
-    d.reject_unknown_keys();
-    s.depenetration.fraction = unit_interval(d, "fraction", s.depenetration.fraction);
-    s.depenetration.slop_fraction = non_negative(d, "slop_fraction", s.depenetration.slop_fraction);
-  }
-  s.restitution_threshold = non_negative(o, "restitution_threshold", s.restitution_threshold);
-  s.sphere_collisions = o.boolean("sphere_collisions", s.sphere_collisions);
-  if (auto v = o.choice<PairSearch>("pair_search", {{"auto", PairSearch::Automatic},
-                                                    {"brute", PairSearch::BruteForce},
-                                                    {"grid", PairSearch::Grid},
-                                                    {"sweep", PairSearch::SweepAndPrune},
-                                                    {"bvh", PairSearch::Bvh}}))
-    s.pair_search = *v;
-  s.speculative_radii = non_negative(o, "speculative_radii", s.speculative_radii);
-  s.pair_margin_travel = non_negative(o, "pair_margin_travel", s.pair_margin_travel);
-  s.reorder_interval = static_cast<int>(o.integer("reorder_interval", s.reorder_interval, 0, big));
-  s.warm_start = o.boolean("warm_start", s.warm_start);
-  s.warm_start_factor = unit_interval(o, "warm_start_factor", s.warm_start_factor);
-  s.continuous_collision = o.boolean("continuous_collision", s.continuous_collision);
-  s.fast_travel_fraction = o.number("fast_travel_fraction", s.fast_travel_fraction);
-  if (!(s.fast_travel_fraction > 0.0f && s.fast_travel_fraction <= 1.0f))
-    o.at("fast_travel_fraction").fail("must be in (0, 1], got " + got(o["fast_travel_fraction"]));
-  s.max_sweep_events = static_cast<int>(o.integer("max_sweep_events", s.max_sweep_events, 1, big));
-  s.shock_mass_ratio = o.number("shock_mass_ratio", s.shock_mass_ratio);
-  if (!(s.shock_mass_ratio >= 1.0f)) o.at("shock_mass_ratio").fail("must be >= 1, got " + got(o["shock_mass_ratio"]));
-  s.rotation = o.boolean("rotation", s.rotation);
+  for_each_setting(s, [&](auto& field, const SettingSpec& spec) {
+    const std::string_view name = spec.name;
+    if (top_level_setting(name)) return;
+    const std::size_t dot = name.find('.');
+    if (dot == name.npos) return read_setting(o, name, field, spec);
+    for (const auto& [group, object] : groups)
+      if (group == name.substr(0, dot)) read_setting(object, name.substr(dot + 1), field, spec);
+  });
 }
 
 // ---- terrain ---------------------------------------------------------------------------------
@@ -1080,31 +1114,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   WorldSettings settings;
   settings.gravity = top.vec3("gravity", settings.gravity);
   settings.threads = static_cast<int>(top.integer("threads", 0, 0, 4096));
-  if (top.has("settings"))
-    read_settings(Object(top["settings"], top.at("settings"),
-                         {"time_scale",
-                          "integrator",
-                          "solver",
-                          "soft_step",
-                          "collision_iterations",
-                          "resting_iterations",
-                          "depenetration_iterations",
-                          "solver_tile_spheres",
-                          "depenetration",
-                          "restitution_threshold",
-                          "sphere_collisions",
-                          "pair_search",
-                          "speculative_radii",
-                          "pair_margin_travel",
-                          "reorder_interval",
-                          "warm_start",
-                          "warm_start_factor",
-                          "continuous_collision",
-                          "fast_travel_fraction",
-                          "max_sweep_events",
-                          "shock_mass_ratio",
-                          "rotation"}),
-                  settings);
+  if (top.has("settings")) read_settings(top["settings"], top.at("settings"), settings);
 
   // A dt the World would refuse on its first step (too many substeps: World::step's contract,
   // check_step) is refused now, naming the field or flag, before minutes of set-up.

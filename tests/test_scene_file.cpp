@@ -19,9 +19,11 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "catch.h"
+#include "hail/settings_table.h"
 #include "scenes/scene_file.h"
 #include "scenes/scene_run.h"
 
@@ -1051,4 +1053,63 @@ TEST_CASE("scene files: values the World refuses are named by file and field", "
       R"("spheres": [{"list": [{"position": [5, 0, 0]}]}, {"random": {"count": 3, "seed": 1, "box_min": [0, 0, 0], "box_max": [1, 1, 1], "speed": 2e6}}])"));
   INFO(fast);
   CHECK(fast.find("scene.json: spheres[1].random: sphere 0 of this generator: hail: ") == 0);
+}
+
+TEST_CASE("scene files: every setting of the settings table is a key, read with its range", "[scene_file][settings]") {
+  // The "settings" object is read from include/hail/settings_table.h: each setting (but gravity
+  // and threads, top-level keys) given its default reads back as that default, and each value
+  // past a number's range is refused naming the key.
+  const hail::WorldSettings defaults;
+  std::size_t keys = 0;
+  hail::for_each_setting(defaults, [&](const auto& value, const hail::SettingSpec& spec) {
+    using T = std::remove_cvref_t<decltype(value)>;
+    const std::string name = spec.name;
+    if constexpr (std::is_same_v<T, hail::Vec3>) return;  // gravity, a top-level key
+    if (name == "threads") return;                        // a top-level key
+    INFO(name);
+    std::string json_value;
+    if constexpr (std::is_same_v<T, bool>) {
+      json_value = value ? "false" : "true";  // the other one: a real read
+    } else if constexpr (std::is_enum_v<T>) {
+      const std::string values = spec.values;
+      json_value = "\"" + values.substr(values.rfind('|') + 1) + "\"";  // the last name
+    } else if constexpr (std::is_arithmetic_v<T>) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.9g", static_cast<double>(value));
+      json_value = text;
+    }
+    const std::size_t dot = name.find('.');
+    const std::string body = dot == std::string::npos ? "\"" + name + "\": " + json_value
+                                                      : "\"" + name.substr(0, dot) + "\": {\"" + name.substr(dot + 1) +
+                                                            "\": " + json_value + "}";
+    const std::string text = scene_text(R"("settings": {)" + body + "}");
+    CHECK(error_of(text) == "(no error)");
+    const Scene scene = parse_scene_text(text, "scene.json");
+    hail::for_each_setting(scene.world->settings(), [&](const auto& read, const hail::SettingSpec& read_spec) {
+      using R = std::remove_cvref_t<decltype(read)>;
+      if constexpr (std::is_same_v<R, T>)
+        if (read_spec.name == name) {
+          if constexpr (std::is_same_v<T, bool>)
+            CHECK(read != value);
+          else if constexpr (std::is_enum_v<T>)
+            CHECK(static_cast<std::size_t>(read) + 1 == hail::setting_value_count(spec));
+          else
+            CHECK(read == value);
+        }
+    });
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      if (spec.min > -1e30) {  // just below the bottom, or at an open one
+        char below[48];
+        std::snprintf(below, sizeof below, "%.9g",
+                      spec.min_open ? spec.min : spec.min - (std::is_integral_v<T> ? 1.0 : 1e-3));
+        const std::string past = dot == std::string::npos ? "\"" + name + "\": " + below
+                                                          : "\"" + name.substr(0, dot) + "\": {\"" +
+                                                                name.substr(dot + 1) + "\": " + below + "}";
+        CHECK(error_of(scene_text(R"("settings": {)" + past + "}")).find("settings." + name + ": must be") !=
+              std::string::npos);
+      }
+    }
+    ++keys;
+  });
+  CHECK(keys >= 35);
 }
