@@ -20,6 +20,7 @@
 #include "scenes/scene_filters.h"
 #include "scenes/scene_inputs.h"
 #include "scenes/scene_run.h"
+#include "scenes/setting_text.h"
 #include "solver_options.h"
 
 namespace hail::bench {
@@ -59,6 +60,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
   if (given("--rotation")) v.rotation = o.params.rotation;
   if (given("--sleep")) v.sleep = o.params.sleep;
+  v.set = o.params.set;
   if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
     v.warm_start = o.params.warm_start;
     if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;
@@ -519,6 +521,21 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
          "--sleep", [&p](const std::string& v) { p.sleep = v == "on"; },
          "on: islands at rest sleep and cost nothing until woken (WorldSettings::sleep)")
       ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--set", p.set,
+                 "NAME=VALUE: any setting of the settings table by its name (include/hail/settings_table.h, "
+                 "docs/embedding.md#settings), after the flags above; repeatable, the last of one name wins")
+      ->type_name("NAME=VALUE")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            WorldSettings scratch;
+            try {
+              set_setting(scratch, v);  // an unknown name, or a value of the wrong kind, stops the parse
+            } catch (const std::invalid_argument& e) {
+              return std::string(e.what());
+            }
+            return std::string();
+          },
+          "NAME=VALUE"));
   add_number(app, "--origin", o.origin, -1e7, 1e7,
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
   add_count(app, "--home-after", o.home_after, 1, 100'000'000,
@@ -591,9 +608,9 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     // filter bits: these flags would be overwritten by it, so a run would report one thing and
     // step another. They belong to the run that saves it.
     if (!o.restore_path.empty()) {
-      for (const char* flag :
-           {"--reorder", "--resting", "--tile", "--pairs", "--ccd", "--rotation", "--warm-start", "--sleep", "--solver",
-            "--substeps", "--contact-cycles", "--damping-ratio", "--relax", "--depenetration-max", "--integrator"})
+      for (const char* flag : {"--reorder", "--resting", "--tile", "--pairs", "--ccd", "--rotation", "--warm-start",
+                               "--sleep", "--solver", "--substeps", "--contact-cycles", "--damping-ratio", "--relax",
+                               "--depenetration-max", "--integrator", "--set"})
         if (app.count(flag) > 0)
           usage_error(std::string("--restore takes the world's settings from the snapshot: ") + flag +
                       " would be ignored (give it to the run that saves the snapshot)");

@@ -17,6 +17,7 @@
 #include "hail/errors.h"
 #include "hail/heightmap.h"
 #include "hail/settings_table.h"
+#include "scenes/setting_text.h"
 
 namespace hail::bench {
 namespace {
@@ -1215,6 +1216,11 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.continuous_collision) settings.continuous_collision = *overrides.continuous_collision;
   if (overrides.rotation) settings.rotation = *overrides.rotation;
   if (overrides.sleep) settings.sleep = *overrides.sleep;
+  try {
+    set_settings(settings, overrides.set);
+  } catch (const std::invalid_argument& e) {
+    root.fail(e.what());
+  }
 
   // Every value was checked above; the World checks again, and its message gets the file's name.
   try {

@@ -12,6 +12,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scenes/memory_use.h"
 #include "scenes/scenes.h"
@@ -39,6 +40,8 @@ struct SceneOverrides {
   std::optional<bool> continuous_collision = std::nullopt;
   std::optional<bool> rotation = std::nullopt;
   std::optional<bool> sleep = std::nullopt;
+  /// --set NAME=VALUE (scenes/setting_text.h): applied after the file's settings and the above.
+  std::vector<std::string> set{};
   /// `--memory-limit`: a file whose text, parsed document, spheres or terrain would need more
   /// (kBytesPerSphereGuide a sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before
   /// they are allocated.

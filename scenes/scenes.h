@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hail/world.h"
+#include "scenes/setting_text.h"
 
 namespace hail::bench {
 
@@ -27,6 +28,9 @@ struct SceneParams {
   bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
   bool rotation = WorldSettings{}.rotation;                          ///< --rotation on|off
   bool sleep = WorldSettings{}.sleep;                                ///< --sleep on|off
+  /// --set NAME=VALUE: any setting of the settings table by its name, applied after the fields
+  /// above (scenes/setting_text.h).
+  std::vector<std::string> set{};
 };
 
 /// The WorldSettings the command-line parameters ask for (the rest at their defaults).
@@ -45,6 +49,7 @@ inline WorldSettings world_settings(const SceneParams& p) {
   s.continuous_collision = p.continuous_collision;
   s.rotation = p.rotation;
   s.sleep = p.sleep;
+  set_settings(s, p.set);
   return s;
 }
 

@@ -16,6 +16,7 @@
 #include "bench/scale_command.h"
 #include "bench/stress_command.h"
 #include "catch.h"
+#include "file_faults.h"
 #include "scenes/output_file.h"
 
 namespace bench = hail::bench;
@@ -43,16 +44,7 @@ std::size_t files_in(const fs::path& dir) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
-/// The message of the exception of type E that `call` throws, or "(no error)".
-template <class E, class Call>
-std::string message_of(Call&& call) {
-  try {
-    call();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using hail::testing::message_of;  // tests/file_faults.h
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
