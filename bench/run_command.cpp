@@ -49,21 +49,21 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--threads")) v.threads = o.params.threads;
   if (given("--steps")) v.steps = o.steps;
   if (given("--dt")) v.dt = o.params.dt;
-  if (given("--reorder")) v.reorder_interval = o.params.reorder_interval;
-  if (given("--resting")) v.resting_iterations = o.params.resting_iterations;
-  if (given("--tile")) v.solver_tile_spheres = o.params.solver_tile_spheres;
-  if (given("--solver")) v.solver = o.params.solver;
-  if (given("--integrator")) v.integrator = o.params.integrator;
+  if (given("--reorder")) v.reorder_interval = o.params.settings.reorder_interval;
+  if (given("--resting")) v.resting_iterations = o.params.settings.resting_iterations;
+  if (given("--tile")) v.solver_tile_spheres = o.params.settings.solver_tile_spheres;
+  if (given("--solver")) v.solver = o.params.settings.solver;
+  if (given("--integrator")) v.integrator = o.params.settings.integrator;
   for (const char* flag : {"--substeps", "--contact-cycles", "--damping-ratio", "--relax"})
-    if (given(flag)) v.soft_step = o.params.soft_step;
-  if (given("--pairs")) v.pair_search = o.params.pair_search;
-  if (given("--ccd")) v.continuous_collision = o.params.continuous_collision;
-  if (given("--rotation")) v.rotation = o.params.rotation;
-  if (given("--sleep")) v.sleep = o.params.sleep;
+    if (given(flag)) v.soft_step = o.params.settings.soft_step;
+  if (given("--pairs")) v.pair_search = o.params.settings.pair_search;
+  if (given("--ccd")) v.continuous_collision = o.params.settings.continuous_collision;
+  if (given("--rotation")) v.rotation = o.params.settings.rotation;
+  if (given("--sleep")) v.sleep = o.params.settings.sleep;
   v.set = o.params.set;
   if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
-    v.warm_start = o.params.warm_start;
-    if (o.params.warm_start) v.warm_start_factor = o.params.warm_start_factor;
+    v.warm_start = o.params.settings.warm_start;
+    if (o.params.settings.warm_start) v.warm_start_factor = o.params.settings.warm_start_factor;
   }
   return v;
 }
@@ -253,7 +253,7 @@ void run_both(const CommandOptions& o, RunCommandResult& result) {
   for (int k = 0; k < 2 * repeat; ++k) {
     const bool ccd = (k % 4 == 0 || k % 4 == 3);
     SceneParams params = o.params;
-    params.continuous_collision = ccd;
+    params.settings.continuous_collision = ccd;
     if (!o.quiet) std::fprintf(stderr, "  run %d/%d: continuous collision %s\n", k + 1, 2 * repeat, ccd ? "on" : "off");
     (ccd ? result.ccd_on : result.ccd_off).push_back(run_once(o, params, k + 2 >= 2 * repeat, o.filters));
   }
@@ -463,17 +463,19 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
   add_count(app, "--threads", p.threads, 0, 4096, "worker threads (0: all)");
   add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
-  add_count(app, "--reorder", p.reorder_interval, 0, 1'000'000'000, "steps between Morton re-sorts (0: never)");
-  add_count(app, "--resting", p.resting_iterations, 0, kMaxIterations, "resting-contact passes per step");
-  add_solver_options(app, p.solver, p.soft_step);
+  add_count(app, "--reorder", p.settings.reorder_interval, 0, 1'000'000'000,
+            "steps between Morton re-sorts (0: never)");
+  add_count(app, "--resting", p.settings.resting_iterations, 0, kMaxIterations, "resting-contact passes per step");
+  add_solver_options(app, p.settings.solver, p.settings.soft_step);
   app.add_option_function<std::string>(
          "--integrator",
          [&p](const std::string& v) {
-           p.integrator = v == "uniform-acceleration" ? Integrator::UniformAcceleration : Integrator::SemiImplicitEuler;
+           p.settings.integrator =
+               v == "uniform-acceleration" ? Integrator::UniformAcceleration : Integrator::SemiImplicitEuler;
          },
          "how positions follow velocities (WorldSettings::integrator)")
       ->check(CLI::IsMember({"semi-implicit-euler", "uniform-acceleration"}));
-  add_count(app, "--tile", p.solver_tile_spheres, 0, 100'000'000,
+  add_count(app, "--tile", p.settings.solver_tile_spheres, 0, 100'000'000,
             "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
       ->check(CLI::Validator(
           [](std::string& v) {
@@ -488,9 +490,9 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
          "--warm-start",
          [&p](const std::string& v) {
            if (v == "on" || v == "off")
-             p.warm_start = v == "on";
+             p.settings.warm_start = v == "on";
            else
-             p.warm_start_factor = static_cast<float>(std::stod(v));
+             p.settings.warm_start_factor = static_cast<float>(std::stod(v));
          },
          "warm starting; a factor in [0, 1] turns it on with that factor")
       ->check(CLI::Validator(
@@ -503,22 +505,23 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
           "on|off|FACTOR"))
       ->type_name("on|off|FACTOR");
   app.add_option_function<std::string>(
-         "--pairs", [&p](const std::string& v) { p.pair_search = pair_search_names().at(v); }, "the sphere-pair search")
+         "--pairs", [&p](const std::string& v) { p.settings.pair_search = pair_search_names().at(v); },
+         "the sphere-pair search")
       ->check(CLI::IsMember({"auto", "brute", "grid", "sweep", "bvh"}));
   app.add_option_function<std::string>(
          "--ccd",
          [&](const std::string& v) {
-           p.continuous_collision = v != "off";
+           p.settings.continuous_collision = v != "off";
            o.ccd_both = v == "both";
          },
          "continuous collision; both: alternate runs with it on and off, one table")
       ->check(CLI::IsMember({"on", "off", "both"}));
   app.add_option_function<std::string>(
-         "--rotation", [&p](const std::string& v) { p.rotation = v == "on"; },
+         "--rotation", [&p](const std::string& v) { p.settings.rotation = v == "on"; },
          "off: spheres never spin (WorldSettings::rotation)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option_function<std::string>(
-         "--sleep", [&p](const std::string& v) { p.sleep = v == "on"; },
+         "--sleep", [&p](const std::string& v) { p.settings.sleep = v == "on"; },
          "on: islands at rest sleep and cost nothing until woken (WorldSettings::sleep)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--set", p.set,

@@ -35,7 +35,7 @@ struct SleepRun {
 };
 
 SleepRun run_sampled(const SceneEntry& entry, SceneParams params, bool sleep, const SleepOptions& o) {
-  params.sleep = sleep;
+  params.settings.sleep = sleep;
   SleepRun run;
   RunOptions options;
   options.steps = o.steps;
@@ -147,7 +147,7 @@ PileAnswer drop_on_pile(const SleepOptions& o, bool sleep, int settle, int delay
   SceneParams params;
   params.spheres = static_cast<std::size_t>(o.drop_spheres);
   params.threads = o.threads;
-  params.sleep = sleep;
+  params.settings.sleep = sleep;
   Scene scene = find_scene("bowl-pile").build(params);
   World& w = *scene.world;
   PileAnswer a;

@@ -16,39 +16,20 @@ struct SceneParams {
   std::size_t spheres = 4000;
   int threads = 0;
   float dt = 1.0f / 60.0f;
-  int reorder_interval = WorldSettings{}.reorder_interval;  ///< --reorder K (0: never re-sort)
-  PairSearch pair_search = PairSearch::Automatic;           ///< --pairs NAME
-  bool warm_start = WorldSettings{}.warm_start;             ///< --warm-start on|off|FACTOR
-  float warm_start_factor = WorldSettings{}.warm_start_factor;
-  int resting_iterations = WorldSettings{}.resting_iterations;            ///< --resting N
-  std::size_t solver_tile_spheres = WorldSettings{}.solver_tile_spheres;  ///< --tile N (0: no tiles)
-  Solver solver = WorldSettings{}.solver;                                 ///< --solver passes|soft
-  Integrator integrator = WorldSettings{}.integrator;  ///< --integrator semi-implicit-euler|uniform-acceleration
-  SoftStepParams soft_step{};                          ///< --substeps, --contact-cycles, --damping-ratio, --relax
-  bool continuous_collision = WorldSettings{}.continuous_collision;  ///< --ccd on|off
-  bool rotation = WorldSettings{}.rotation;                          ///< --rotation on|off
-  bool sleep = WorldSettings{}.sleep;                                ///< --sleep on|off
+  /// The world's settings but threads (the field above): the command line's flags (--reorder,
+  /// --pairs, --warm-start, --resting, --tile, --solver, --integrator, the soft step's, --ccd,
+  /// --rotation, --sleep) write them here.
+  WorldSettings settings{};
   /// --set NAME=VALUE: any setting of the settings table by its name, applied after the fields
   /// above (scenes/setting_text.h).
   std::vector<std::string> set{};
 };
 
-/// The WorldSettings the command-line parameters ask for (the rest at their defaults).
+/// The WorldSettings the command-line parameters ask for: p.settings with p.threads, then the
+/// --set assignments.
 inline WorldSettings world_settings(const SceneParams& p) {
-  WorldSettings s;
+  WorldSettings s = p.settings;
   s.threads = p.threads;
-  s.reorder_interval = p.reorder_interval;
-  s.pair_search = p.pair_search;
-  s.warm_start = p.warm_start;
-  s.warm_start_factor = p.warm_start_factor;
-  s.resting_iterations = p.resting_iterations;
-  s.solver_tile_spheres = p.solver_tile_spheres;
-  s.solver = p.solver;
-  s.integrator = p.integrator;
-  s.soft_step = p.soft_step;
-  s.continuous_collision = p.continuous_collision;
-  s.rotation = p.rotation;
-  s.sleep = p.sleep;
   set_settings(s, p.set);
   return s;
 }

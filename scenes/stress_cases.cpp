@@ -426,7 +426,7 @@ StressResult add_and_remove() {
 StressResult dense_pile() {
   SceneParams p;
   p.spheres = 10000;
-  p.solver = battery_solver;
+  p.settings.solver = battery_solver;
   Scene scene = build_bowl_pile(p);
   World& w = *scene.world;
   StressResult r =

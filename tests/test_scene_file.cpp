@@ -101,10 +101,10 @@ TEST_CASE("scene files: command-line values override the file's", "[scene_file]"
   params.spheres = 1000;
   params.threads = 1;
   params.dt = 1.0f / 120.0f;
-  params.reorder_interval = 4;
-  params.pair_search = hail::PairSearch::Grid;
-  params.warm_start_factor = 0.8f;
-  params.resting_iterations = 5;
+  params.settings.reorder_interval = 4;
+  params.settings.pair_search = hail::PairSearch::Grid;
+  params.settings.warm_start_factor = 0.8f;
+  params.settings.resting_iterations = 5;
   const SceneOverrides overrides{.spheres = 1000,
                                  .threads = 1,
                                  .steps = 77,

@@ -76,7 +76,7 @@ TEST_CASE("Built-in scenes and scene files take --set after their own settings",
   bench::SceneParams params;
   params.spheres = 50;
   params.threads = 1;
-  params.resting_iterations = 3;
+  params.settings.resting_iterations = 3;
   params.set = {"resting_iterations=5", "sleep_time=2", "resting_iterations=6"};  // the last wins
   bench::Scene built = bench::find_scene("terrain-rain").build(params);
   CHECK(built.world->settings().resting_iterations == 6);

@@ -50,7 +50,7 @@ class LiveSource final : public Source {
   LiveSource(const ViewOptions& o, std::string title)
       : sim_(scene_factory(o), {.threads = o.params.threads}), title_(std::move(title)) {
     controls_.threads = sim_.thread_count();
-    controls_.sleep = o.sleep.value_or(o.params.sleep);
+    controls_.sleep = o.sleep.value_or(o.params.settings.sleep);
     controls_.draw = o.draw;
     if (o.draw.bvh_depth >= 0) controls_.bvh_depth = o.draw.bvh_depth;
     sim_.set_capture(capture_for(o.colour, o.draw));

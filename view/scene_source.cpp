@@ -22,14 +22,15 @@ SceneFactory scene_factory(const ViewOptions& options) {
           return bench::load_scene_file(path, overrides);
         };
   bench::SceneParams built_in = options.params;
-  built_in.continuous_collision = options.continuous_collision.value_or(built_in.continuous_collision);
-  built_in.sleep = options.sleep.value_or(built_in.sleep);
+  built_in.settings.continuous_collision =
+      options.continuous_collision.value_or(built_in.settings.continuous_collision);
+  built_in.settings.sleep = options.sleep.value_or(built_in.settings.sleep);
   return [name = options.scene, params = built_in](const SceneChoice& c) {
     bench::SceneParams p = params;
     p.threads = c.threads;
     p.spheres = c.spheres.value_or(p.spheres);
-    p.pair_search = c.pair_search.value_or(p.pair_search);
-    p.sleep = c.sleep.value_or(p.sleep);
+    p.settings.pair_search = c.pair_search.value_or(p.settings.pair_search);
+    p.settings.sleep = c.sleep.value_or(p.settings.sleep);
     return bench::find_scene(name).build(p);
   };
 }

@@ -42,7 +42,7 @@ SceneFactory rain(std::size_t spheres) {
     bench::SceneParams p;
     p.spheres = c.spheres.value_or(spheres);
     p.threads = c.threads;
-    p.pair_search = c.pair_search.value_or(p.pair_search);
+    p.settings.pair_search = c.pair_search.value_or(p.settings.pair_search);
     return bench::find_scene("terrain-rain").build(p);
   };
 }
