@@ -49,22 +49,29 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--threads")) v.threads = o.params.threads;
   if (given("--steps")) v.steps = o.steps;
   if (given("--dt")) v.dt = o.params.dt;
-  if (given("--reorder")) v.reorder_interval = o.params.settings.reorder_interval;
-  if (given("--resting")) v.resting_iterations = o.params.settings.resting_iterations;
-  if (given("--tile")) v.solver_tile_spheres = o.params.settings.solver_tile_spheres;
-  if (given("--solver")) v.solver = o.params.settings.solver;
-  if (given("--integrator")) v.integrator = o.params.settings.integrator;
-  for (const char* flag : {"--substeps", "--contact-cycles", "--damping-ratio", "--relax"})
-    if (given(flag)) v.soft_step = o.params.settings.soft_step;
-  if (given("--pairs")) v.pair_search = o.params.settings.pair_search;
-  if (given("--ccd")) v.continuous_collision = o.params.settings.continuous_collision;
-  if (given("--rotation")) v.rotation = o.params.settings.rotation;
-  if (given("--sleep")) v.sleep = o.params.settings.sleep;
-  v.set = o.params.set;
-  if (given("--warm-start")) {  // as for the built-in scenes: on = factor 1, FACTOR = on with that factor
-    v.warm_start = o.params.settings.warm_start;
-    if (o.params.settings.warm_start) v.warm_start_factor = o.params.settings.warm_start_factor;
-  }
+  // Each setting flag given becomes an assignment by the setting's table name, in the order of
+  // this list, then the --set ones: the scene file reads them as it reads --set.
+  static const std::pair<const char*, std::vector<const char*>> kFlagSettings[] = {
+      {"--reorder", {"reorder_interval"}},
+      {"--resting", {"resting_iterations"}},
+      {"--tile", {"solver_tile_spheres"}},
+      {"--solver", {"solver"}},
+      {"--integrator", {"integrator"}},
+      {"--substeps", {"soft_step.substeps"}},
+      {"--contact-cycles", {"soft_step.contact_cycles"}},
+      {"--damping-ratio", {"soft_step.damping_ratio"}},
+      {"--relax", {"soft_step.relax_iterations"}},
+      {"--depenetration-max", {"soft_step.depenetration_iterations_max"}},
+      {"--pairs", {"pair_search"}},
+      {"--ccd", {"continuous_collision"}},
+      {"--rotation", {"rotation"}},
+      {"--sleep", {"sleep"}},
+      {"--warm-start", {"warm_start", "warm_start_factor"}},  // on: factor 1; FACTOR: on, that factor
+  };
+  for (const auto& [flag, names] : kFlagSettings)
+    if (given(flag))
+      for (const char* name : names) v.set.push_back(std::string(name) + "=" + setting_text(o.params.settings, name));
+  v.set.insert(v.set.end(), o.params.set.begin(), o.params.set.end());
   return v;
 }
 
@@ -593,7 +600,7 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     // The solver's flags too (they were left out, and --solver passes with --scene ran the file's solver).
     for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
                              "--ccd", "--rotation", "--warm-start", "--sleep", "--solver", "--substeps",
-                             "--contact-cycles", "--damping-ratio", "--relax", "--integrator"})
+                             "--contact-cycles", "--damping-ratio", "--relax", "--depenetration-max", "--integrator"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
     o.scene_named = app.count("scene") > 0;
     if (o.dump_every > 0 && o.dump_state_path.empty())

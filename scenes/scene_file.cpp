@@ -1204,18 +1204,6 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   if (overrides.threads) settings.threads = *overrides.threads;
   if (overrides.steps) scene.default_steps = *overrides.steps;
   if (overrides.dt) scene.dt = *overrides.dt;
-  if (overrides.reorder_interval) settings.reorder_interval = *overrides.reorder_interval;
-  if (overrides.resting_iterations) settings.resting_iterations = *overrides.resting_iterations;
-  if (overrides.solver) settings.solver = *overrides.solver;
-  if (overrides.integrator) settings.integrator = *overrides.integrator;
-  if (overrides.soft_step) settings.soft_step = *overrides.soft_step;
-  if (overrides.solver_tile_spheres) settings.solver_tile_spheres = *overrides.solver_tile_spheres;
-  if (overrides.pair_search) settings.pair_search = *overrides.pair_search;
-  if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
-  if (overrides.warm_start_factor) settings.warm_start_factor = *overrides.warm_start_factor;
-  if (overrides.continuous_collision) settings.continuous_collision = *overrides.continuous_collision;
-  if (overrides.rotation) settings.rotation = *overrides.rotation;
-  if (overrides.sleep) settings.sleep = *overrides.sleep;
   try {
     set_settings(settings, overrides.set);
   } catch (const std::invalid_argument& e) {

@@ -28,19 +28,8 @@ struct SceneOverrides {
   std::optional<int> threads = std::nullopt;
   std::optional<int> steps = std::nullopt;
   std::optional<float> dt = std::nullopt;
-  std::optional<int> reorder_interval = std::nullopt;
-  std::optional<int> resting_iterations = std::nullopt;
-  std::optional<Solver> solver = std::nullopt;
-  std::optional<Integrator> integrator = std::nullopt;
-  std::optional<SoftStepParams> soft_step = std::nullopt;  ///< all the soft step's knobs, when any flag gave one
-  std::optional<std::size_t> solver_tile_spheres = std::nullopt;
-  std::optional<PairSearch> pair_search = std::nullopt;
-  std::optional<bool> warm_start = std::nullopt;
-  std::optional<float> warm_start_factor = std::nullopt;
-  std::optional<bool> continuous_collision = std::nullopt;
-  std::optional<bool> rotation = std::nullopt;
-  std::optional<bool> sleep = std::nullopt;
-  /// --set NAME=VALUE (scenes/setting_text.h): applied after the file's settings and the above.
+  /// Settings by their table name, "NAME=VALUE" (scenes/setting_text.h: hail-bench run's setting
+  /// flags and --set), applied in order after the file's own settings.
   std::vector<std::string> set{};
   /// `--memory-limit`: a file whose text, parsed document, spheres or terrain would need more
   /// (kBytesPerSphereGuide a sphere, kTerrainBytesPerCellGuide a terrain cell) is refused before

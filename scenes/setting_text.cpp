@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <type_traits>
@@ -95,6 +96,36 @@ void set_setting(WorldSettings& s, std::string_view assignment) {
 
 void set_settings(WorldSettings& s, const std::vector<std::string>& assignments) {
   for (const std::string& a : assignments) set_setting(s, a);
+}
+
+std::string setting_text(const WorldSettings& s, std::string_view name) {
+  std::string text;
+  bool found = false;
+  auto number = [](double v, const char* format) {
+    char out[40];
+    std::snprintf(out, sizeof out, format, v);
+    return std::string(out);
+  };
+  for_each_setting(s, [&](const auto& field, const SettingSpec& spec) {
+    if (spec.name != name) return;
+    found = true;
+    using T = std::remove_cvref_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, bool>) {
+      text = field ? "on" : "off";
+    } else if constexpr (std::is_enum_v<T>) {
+      std::string_view rest = spec.values;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(field); ++k) rest.remove_prefix(rest.find('|') + 1);
+      text = std::string(rest.substr(0, rest.find('|')));
+    } else if constexpr (std::is_same_v<T, Vec3>) {
+      text = number(field.x(), "%.9g") + "," + number(field.y(), "%.9g") + "," + number(field.z(), "%.9g");
+    } else if constexpr (std::is_integral_v<T>) {
+      text = std::to_string(field);
+    } else {
+      text = number(field, "%.9g");
+    }
+  });
+  if (!found) throw std::invalid_argument("no setting '" + std::string(name) + "'");
+  return text;
 }
 
 std::string setting_names() {

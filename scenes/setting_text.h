@@ -23,6 +23,10 @@ void set_setting(WorldSettings& s, std::string_view assignment);
 /// set_setting for each assignment, in order (a later one wins).
 void set_settings(WorldSettings& s, const std::vector<std::string>& assignments);
 
+/// The setting `name` of `s` as set_setting reads it back exactly (floats with 9 digits);
+/// std::invalid_argument for an unknown name.
+[[nodiscard]] std::string setting_text(const WorldSettings& s, std::string_view name);
+
 /// The names set_setting takes, comma-separated, for help texts and messages.
 [[nodiscard]] std::string setting_names();
 

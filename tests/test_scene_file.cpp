@@ -109,11 +109,8 @@ TEST_CASE("scene files: command-line values override the file's", "[scene_file]"
                                  .threads = 1,
                                  .steps = 77,
                                  .dt = 1.0f / 120.0f,
-                                 .reorder_interval = 4,
-                                 .resting_iterations = 5,
-                                 .pair_search = hail::PairSearch::Grid,
-                                 .warm_start = true,
-                                 .warm_start_factor = 0.8f};
+                                 .set = {"reorder_interval=4", "resting_iterations=5", "pair_search=grid",
+                                         "warm_start=on", "warm_start_factor=0.8"}};
   Scene from_file = hail::bench::load_scene_file(kScenes + "terrain-rain.json", overrides);
   const hail::WorldSettings& s = from_file.world->settings();
   CHECK(s.threads == 1);
@@ -261,11 +258,11 @@ TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][sof
   CHECK(s.soft_step.depenetration_iterations_max == 9);
   // --solver passes on the command line has the last word.
   const Scene overridden =
-      parse_scene_text(scene_text(R"("settings": {"solver": "soft"})"), "scene.json", {.solver = hail::Solver::Passes});
+      parse_scene_text(scene_text(R"("settings": {"solver": "soft"})"), "scene.json", {.set = {"solver=passes"}});
   CHECK(overridden.world->settings().solver == hail::Solver::Passes);
   // --integrator too, over the file's.
   const Scene integrated = parse_scene_text(scene_text(R"("settings": {"integrator": "semi-implicit-euler"})"),
-                                            "scene.json", {.integrator = hail::Integrator::UniformAcceleration});
+                                            "scene.json", {.set = {"integrator=uniform-acceleration"}});
   CHECK(integrated.world->settings().integrator == hail::Integrator::UniformAcceleration);
 }
 

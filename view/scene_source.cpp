@@ -5,6 +5,7 @@
 #include "hail/snapshot.h"
 #include "scenes/scene_file.h"
 #include "scenes/scene_run.h"
+#include "scenes/setting_text.h"
 
 namespace hail::view {
 
@@ -15,10 +16,15 @@ SceneFactory scene_factory(const ViewOptions& options) {
           bench::SceneOverrides overrides;
           overrides.threads = c.threads;
           overrides.spheres = c.spheres;
-          overrides.pair_search = c.pair_search;
-          // The panel's choice, else --sleep on|off; without either the file's own setting stands.
-          overrides.sleep = c.sleep ? c.sleep : sleep;
-          overrides.continuous_collision = ccd;
+          // By the settings' table names (scenes/setting_text.h); what is not given, the file's own
+          // setting stands. Sleep: the panel's choice, else --sleep on|off.
+          WorldSettings chosen;
+          auto choose = [&](const char* name) {
+            overrides.set.push_back(std::string(name) + "=" + bench::setting_text(chosen, name));
+          };
+          if (c.pair_search) chosen.pair_search = *c.pair_search, choose("pair_search");
+          if (const std::optional<bool> asleep = c.sleep ? c.sleep : sleep) chosen.sleep = *asleep, choose("sleep");
+          if (ccd) chosen.continuous_collision = *ccd, choose("continuous_collision");
           return bench::load_scene_file(path, overrides);
         };
   bench::SceneParams built_in = options.params;
