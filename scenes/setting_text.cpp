@@ -59,7 +59,7 @@ void set_value(T& field, const SettingSpec& spec, std::string_view text) {
   } else if constexpr (std::is_integral_v<T>) {
     long long v = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (error != std::errc() || end != text.data() + text.size() || v < 0 && std::is_unsigned_v<T>)
+    if (error != std::errc() || end != text.data() + text.size() || (v < 0 && std::is_unsigned_v<T>))
       refuse(spec.name, text, "a whole number");
     if (double(v) < spec.min - 1 || double(v) > spec.max + 1)  // keeps the cast below in range; World names the range
       refuse(spec.name, text,

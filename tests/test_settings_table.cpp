@@ -42,20 +42,21 @@ std::string value_name(const SettingSpec& spec, std::size_t index) {
   return name;
 }
 
+// Strings start as std::string, not "literal" + string: GCC 12 warns, wrongly, on the latter here.
 template <class T>
 std::string default_text(const T& value, const SettingSpec& spec) {
   if constexpr (std::is_same_v<T, bool>)
     return value ? "on" : "off";
   else if constexpr (std::is_same_v<T, Vec3>)
-    return "(" + number(value.x()) + ", " + number(value.y()) + ", " + number(value.z()) + ")";
+    return std::string("(") + number(value.x()) + ", " + number(value.y()) + ", " + number(value.z()) + ")";
   else if constexpr (std::is_enum_v<T>)
-    return "`" + value_name(spec, static_cast<std::size_t>(value)) + "`";
+    return std::string("`") + value_name(spec, static_cast<std::size_t>(value)) + "`";
   else
     return number(static_cast<double>(value));
 }
 
 std::string range_text(const SettingSpec& spec, bool is_number) {
-  if (spec.values) return "`" + std::string(spec.values) + "`";
+  if (spec.values) return std::string("`") + spec.values + "`";
   if (!is_number) return spec.name == std::string("gravity") ? "finite" : "on / off";
   auto end = [](double v) { return v >= 3.4e38 ? std::string("inf") : number(v); };
   const bool open_top = spec.max_open || spec.max >= 3.4e38;
