@@ -332,13 +332,6 @@ std::vector<std::string> setting_keys(std::string_view group) {
   return keys;
 }
 
-/// "[0, 1]", "(0, inf)": a range as the settings table gives it.
-std::string range_text(const SettingSpec& spec) {
-  auto end = [](double v) { return v >= std::numeric_limits<float>::max() ? std::string("inf") : number_text(v); };
-  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) +
-         (spec.max_open || spec.max >= std::numeric_limits<float>::max() ? ")" : "]");
-}
-
 /// One setting's value from `o[key]`, by its type and the table's range, into `field`.
 template <class T>
 void read_setting(const Object& o, std::string_view key, T& field, const SettingSpec& spec) {
@@ -347,19 +340,14 @@ void read_setting(const Object& o, std::string_view key, T& field, const Setting
     field = o.boolean(key, field);
   } else if constexpr (std::is_enum_v<T>) {
     const std::optional<std::string> name = o.opt_string(key);
-    std::string list;
-    std::size_t index = 0;
-    for (std::string_view rest = spec.values;; ++index) {
-      const std::size_t bar = rest.find('|');
-      const std::string_view value = rest.substr(0, bar);
-      if (*name == value) {
-        field = static_cast<T>(index);
-        return;
-      }
-      list += std::string(list.empty() ? "" : ", ") + "\"" + std::string(value) + "\"";
-      if (bar == rest.npos) break;
-      rest.remove_prefix(bar + 1);
+    const std::size_t index = setting_value_index(spec, *name);
+    if (index < setting_value_count(spec)) {
+      field = static_cast<T>(index);
+      return;
     }
+    std::string list;
+    for (std::size_t k = 0; k < setting_value_count(spec); ++k)
+      list += std::string(list.empty() ? "" : ", ") + "\"" + std::string(setting_value_name(spec, k)) + "\"";
     o.at(key).fail("must be one of " + list + ", got \"" + *name + "\"");
   } else if constexpr (std::is_same_v<T, Vec3>) {
     field = o.vec3(key, field);  // no table key holds one (gravity is a top-level key)
@@ -371,7 +359,7 @@ void read_setting(const Object& o, std::string_view key, T& field, const Setting
     const float v = o.number(key, field);  // finite, within float range
     const bool above = spec.min_open ? v > spec.min : v >= spec.min;
     const bool below = spec.max_open ? v < spec.max : v <= spec.max;
-    if (!(above && below)) o.at(key).fail("must be in " + range_text(spec) + ", got " + got(o[key]));
+    if (!(above && below)) o.at(key).fail("must be in " + setting_range_text(spec) + ", got " + got(o[key]));
     field = v;
   }
 }

@@ -35,15 +35,10 @@ void set_value(T& field, const SettingSpec& spec, std::string_view text) {
     else
       refuse(spec.name, text, "on, off, true or false");
   } else if constexpr (std::is_enum_v<T>) {
-    std::string_view rest = spec.values;
-    for (int index = 0;; ++index) {
-      const std::size_t bar = rest.find('|');
-      if (rest.substr(0, bar) == text) {
-        field = static_cast<T>(index);
-        return;
-      }
-      if (bar == std::string_view::npos) break;
-      rest.remove_prefix(bar + 1);
+    const std::size_t index = setting_value_index(spec, text);
+    if (index < setting_value_count(spec)) {
+      field = static_cast<T>(index);
+      return;
     }
     refuse(spec.name, text, std::string("one of ") + spec.values);
   } else if constexpr (std::is_same_v<T, Vec3>) {
@@ -113,9 +108,7 @@ std::string setting_text(const WorldSettings& s, std::string_view name) {
     if constexpr (std::is_same_v<T, bool>) {
       text = field ? "on" : "off";
     } else if constexpr (std::is_enum_v<T>) {
-      std::string_view rest = spec.values;
-      for (std::size_t k = 0; k < static_cast<std::size_t>(field); ++k) rest.remove_prefix(rest.find('|') + 1);
-      text = std::string(rest.substr(0, rest.find('|')));
+      text = std::string(setting_value_name(spec, static_cast<std::size_t>(field)));
     } else if constexpr (std::is_same_v<T, Vec3>) {
       text = number(field.x(), "%.9g") + "," + number(field.y(), "%.9g") + "," + number(field.z(), "%.9g");
     } else if constexpr (std::is_integral_v<T>) {

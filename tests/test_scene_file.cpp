@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "catch.h"
+#include "file_faults.h"
 #include "hail/settings_table.h"
 #include "scenes/scene_file.h"
 #include "scenes/scene_run.h"
@@ -916,42 +917,23 @@ std::string scene_of_many_spheres(std::size_t count) {
 /// ended within `limit`. A regression that blocks (opening a FIFO) or reads without end
 /// (/dev/zero) then fails the test instead of hanging it; the thread is left behind.
 std::string load_error_within(const std::string& path, std::chrono::seconds limit) {
-  auto message = std::make_shared<std::promise<std::string>>();
-  std::future<std::string> result = message->get_future();
-  std::thread([path, message] {
-    try {
-      (void)hail::bench::load_scene_file(path);
-      message->set_value("(no error)");
-    } catch (const std::exception& e) {
-      message->set_value(e.what());
-    }
-  }).detach();
-  if (result.wait_for(limit) != std::future_status::ready) return "(timed out)";
-  return result.get();
+  return hail::testing::thrown_within<std::invalid_argument>(limit,
+                                                             [path] { (void)hail::bench::load_scene_file(path); })
+      .value_or("(timed out)");
 }
 
 }  // namespace
 
-TEST_CASE("scene files: a long list of objects parses in linear time", "[scene_file]") {
-  // nlohmann's callback parser looked through the whole parent array after every element
-  // (quadratic): 100,000 objects took 5.8 s and 400,000 took 79 s on a loaded 2-core machine, where
-  // plain json::parse of the same text takes about 0.1 s and the reader about 0.2 s for 200,000.
-  // The bound is relative to json::parse timed here, so that a slow build (sanitizers, -O0) or
-  // a loaded machine moves both, with a second of slack against a pause in one of them.
+TEST_CASE("scene files: a long list of objects is read whole before its refusal", "[scene_file]") {
+  // A list of 200,000 objects parses to the end, to the unknown key after it. How long that
+  // takes, against plain json::parse, is measured in hail-micro (scene_file/reader: linear,
+  // where nlohmann's callback parser took 79 s for 400,000), never asserted here.
   const std::string text = scene_of_many_spheres(200'000);
-  using Clock = std::chrono::steady_clock;
-  auto start = Clock::now();
   const auto document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  const double plain = std::chrono::duration<double>(Clock::now() - start).count();
   REQUIRE(document["spheres"][0]["list"].size() == 200'000);
-  start = Clock::now();
-  const std::string message = error_of(text);
-  const double reader = std::chrono::duration<double>(Clock::now() - start).count();
-  CHECK(message ==
+  CHECK(error_of(text) ==
         "scene.json: unknown key \"refused_after_the_parse\" at top level (known: format, version, "
         "description, gravity, dt, steps, threads, settings, terrain, planes, material, spheres)");
-  INFO("json::parse " << plain << " s, the reader " << reader << " s");
-  CHECK(reader < 5.0 * plain + 1.0);
 }
 
 TEST_CASE("scene files: only a regular file is read, and no more than its size", "[scene_file]") {

@@ -34,14 +34,6 @@ std::string cell(const std::string& text) {
   return out;
 }
 
-/// The enum value's name: the index-th of spec.values.
-std::string value_name(const SettingSpec& spec, std::size_t index) {
-  std::string names = spec.values, name;
-  std::istringstream in(names);
-  for (std::size_t k = 0; k <= index && std::getline(in, name, '|');) ++k;
-  return name;
-}
-
 // Strings start as std::string, not "literal" + string: GCC 12 warns, wrongly, on the latter here.
 template <class T>
 std::string default_text(const T& value, const SettingSpec& spec) {
@@ -50,7 +42,7 @@ std::string default_text(const T& value, const SettingSpec& spec) {
   else if constexpr (std::is_same_v<T, Vec3>)
     return std::string("(") + number(value.x()) + ", " + number(value.y()) + ", " + number(value.z()) + ")";
   else if constexpr (std::is_enum_v<T>)
-    return std::string("`") + value_name(spec, static_cast<std::size_t>(value)) + "`";
+    return std::string("`") + std::string(setting_value_name(spec, static_cast<std::size_t>(value))) + "`";
   else
     return number(static_cast<double>(value));
 }
@@ -58,10 +50,7 @@ std::string default_text(const T& value, const SettingSpec& spec) {
 std::string range_text(const SettingSpec& spec, bool is_number) {
   if (spec.values) return std::string("`") + spec.values + "`";
   if (!is_number) return spec.name == std::string("gravity") ? "finite" : "on / off";
-  auto end = [](double v) { return v >= 3.4e38 ? std::string("inf") : number(v); };
-  const bool open_top = spec.max_open || spec.max >= 3.4e38;
-  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) + (open_top ? ")" : "]") +
-         (spec.infinity ? " or inf" : "");
+  return setting_range_text(spec) + (spec.infinity ? " or inf" : "");
 }
 
 /// The markdown table docs/embedding.md holds between its two marker lines.

@@ -14,8 +14,12 @@
 
 #include <cfloat>
 #include <climits>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <string>
+#include <string_view>
 
 #include "hail/world_settings.h"
 
@@ -165,6 +169,34 @@ constexpr std::size_t setting_value_count(const SettingSpec& spec) {
   std::size_t count = 1;
   for (const char* c = spec.values; *c; ++c) count += *c == '|' ? 1 : 0;
   return count;
+}
+
+/// The name of an enum setting's value number `index` (< setting_value_count): "soft" for
+/// solver 1.
+constexpr std::string_view setting_value_name(const SettingSpec& spec, std::size_t index) {
+  std::string_view rest = spec.values;
+  for (; index > 0; --index) rest.remove_prefix(rest.find('|') + 1);
+  return rest.substr(0, rest.find('|'));
+}
+
+/// The number of an enum setting's value called `name`, or setting_value_count(spec) if none is.
+constexpr std::size_t setting_value_index(const SettingSpec& spec, std::string_view name) {
+  std::size_t index = 0;
+  while (index < setting_value_count(spec) && setting_value_name(spec, index) != name) ++index;
+  return index;
+}
+
+/// A number's range as the messages and docs write it: "[0, 1000]", "(0, 0.25]", "[0, inf)";
+/// whole numbers in full ("2147483647"), others as printf's %g.
+inline std::string setting_range_text(const SettingSpec& spec) {
+  auto end = [](double v) {
+    if (v >= settings_detail::kFloatMax) return std::string("inf");
+    char text[32];
+    std::snprintf(text, sizeof text, v == std::floor(v) && std::fabs(v) < 1e15 ? "%.0f" : "%g", v);
+    return std::string(text);
+  };
+  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) +
+         (spec.max_open || spec.max >= settings_detail::kFloatMax ? ")" : "]");
 }
 
 }  // namespace hail

@@ -20,19 +20,6 @@ using namespace checks;  // kernel/world/world_checks.h
 
 namespace {
 
-/// "[min, max]" with the table's open ends and the limits' names where they have one.
-std::string range_text(const SettingSpec& spec) {
-  auto end = [](double v) {
-    if (v == double(kMaxIterations)) return "kMaxIterations = " + number(v);
-    if (v == double(kMaxSubstepsCap)) return "kMaxSubstepsCap = " + number(v);
-    if (v == double(kMinStep)) return "kMinStep = " + number(v);
-    if (v >= settings_detail::kFloatMax) return std::string("inf");
-    return number(v);
-  };
-  return std::string(spec.min_open ? "(" : "[") + end(spec.min) + ", " + end(spec.max) +
-         (spec.max_open || spec.max >= settings_detail::kFloatMax ? ")" : "]");
-}
-
 /// One setting against its range in the table (include/hail/settings_table.h).
 template <class T>
 void require_in_table_range(const T& value, const SettingSpec& spec) {
@@ -54,7 +41,7 @@ void require_in_table_range(const T& value, const SettingSpec& spec) {
         (spec.infinity && v > 0.0 && !std::isfinite(v)) || (spec.max_open ? v < spec.max : v <= spec.max);
     require(finite_or_allowed && above && below, [&] {
       return std::string("WorldSettings::") + spec.name + " must be " +
-             (std::is_floating_point_v<T> ? "finite and " : "") + "in " + range_text(spec) +
+             (std::is_floating_point_v<T> ? "finite and " : "") + "in " + setting_range_text(spec) +
              (spec.infinity ? " or infinity" : "") + " (include/hail/settings_table.h), got " + number(v);
     });
   }
