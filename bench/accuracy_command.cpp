@@ -17,7 +17,7 @@
 #include "scenes/metrics.h"
 #include "scenes/output_file.h"
 #include "scenes/scenes.h"
-#include "solver_options.h"
+#include "setting_flags.h"
 
 namespace hail::bench {
 namespace {
@@ -50,7 +50,7 @@ std::vector<Variant> variants(const AccuracyOptions& o) {
                hail_with([](WorldSettings& s) { s.collision_iterations = 4, s.resting_iterations = 2; }), 1});
   // The soft step (Solver::SoftStep) with the knobs given, then with fewer and more substeps,
   // and with semi-implicit Euler.
-  const SoftStepParams soft = o.soft;
+  const SoftStepParams soft = o.settings.soft_step;
   auto soft_with = [&](int substeps, Integrator integrator) {
     return hail_with([soft, substeps, integrator](WorldSettings& s) {
       s.solver = Solver::SoftStep, s.soft_step = soft, s.integrator = integrator;
@@ -316,7 +316,7 @@ void add_accuracy_options(CLI::App& app, AccuracyOptions& o) {
   app.add_flag("--no-plot", o.no_plot, "no gnuplot SVGs");
   app.add_flag("--no-scenes", o.no_scenes, "the known-answer cases only");
   app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
-  add_soft_step_options(app, o.soft);
+  add_setting_flags(app, o.settings, {"soft_step."});  // --substeps, --contact-cycles, ...
   app.add_option("--variants", o.only, "only these engines / knobs (as the table names them), comma-separated")
       ->delimiter(',')
       ->type_name("LIST");

@@ -22,9 +22,9 @@ struct AccuracyOptions {
   int repeats = 3;
   std::string out_dir = "hail-out/accuracy";
   bool no_plot = false, no_scenes = false, quiet = false;
-  /// The soft step's knobs of the hail-soft variant (--substeps, --contact-cycles, ...); the
-  /// hail-soft-N-substeps variants differ from it in the substeps alone.
-  SoftStepParams soft{};
+  /// settings.soft_step: the soft step's knobs of the hail-soft variant (--substeps,
+  /// --contact-cycles, ...); the hail-soft-N-substeps variants differ from it in the substeps alone.
+  WorldSettings settings{};
   /// --variants: only these engines / knobs (names as the table prints them); empty: all.
   std::vector<std::string> only;
 };

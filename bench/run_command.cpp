@@ -21,22 +21,12 @@
 #include "scenes/scene_inputs.h"
 #include "scenes/scene_run.h"
 #include "scenes/setting_text.h"
-#include "solver_options.h"
+#include "setting_flags.h"
 
 namespace hail::bench {
 namespace {
 
 [[noreturn]] void usage_error(const std::string& message) { throw std::invalid_argument(message); }
-
-/// The sphere-pair searches by their names on the command line.
-const std::map<std::string, PairSearch>& pair_search_names() {
-  static const std::map<std::string, PairSearch> names{{"auto", PairSearch::Automatic},
-                                                       {"brute", PairSearch::BruteForce},
-                                                       {"grid", PairSearch::Grid},
-                                                       {"sweep", PairSearch::SweepAndPrune},
-                                                       {"bvh", PairSearch::Bvh}};
-  return names;
-}
 
 using CommandOptions = RunCommandOptions;
 
@@ -49,28 +39,8 @@ SceneOverrides file_overrides(const CommandOptions& o) {
   if (given("--threads")) v.threads = o.params.threads;
   if (given("--steps")) v.steps = o.steps;
   if (given("--dt")) v.dt = o.params.dt;
-  // Each setting flag given becomes an assignment by the setting's table name, in the order of
-  // this list, then the --set ones: the scene file reads them as it reads --set.
-  static const std::pair<const char*, std::vector<const char*>> kFlagSettings[] = {
-      {"--reorder", {"reorder_interval"}},
-      {"--resting", {"resting_iterations"}},
-      {"--tile", {"solver_tile_spheres"}},
-      {"--solver", {"solver"}},
-      {"--integrator", {"integrator"}},
-      {"--substeps", {"soft_step.substeps"}},
-      {"--contact-cycles", {"soft_step.contact_cycles"}},
-      {"--damping-ratio", {"soft_step.damping_ratio"}},
-      {"--relax", {"soft_step.relax_iterations"}},
-      {"--depenetration-max", {"soft_step.depenetration_iterations_max"}},
-      {"--pairs", {"pair_search"}},
-      {"--ccd", {"continuous_collision"}},
-      {"--rotation", {"rotation"}},
-      {"--sleep", {"sleep"}},
-      {"--warm-start", {"warm_start", "warm_start_factor"}},  // on: factor 1; FACTOR: on, that factor
-  };
-  for (const auto& [flag, names] : kFlagSettings)
-    if (given(flag))
-      for (const char* name : names) v.set.push_back(std::string(name) + "=" + setting_text(o.params.settings, name));
+  // The setting flags given, then the --set ones: the scene file reads them as it reads --set.
+  v.set = o.given_settings;
   v.set.insert(v.set.end(), o.params.set.begin(), o.params.set.end());
   return v;
 }
@@ -253,20 +223,20 @@ std::string summary_line(const RunResult& r) {
 
 namespace {
 
-/// --ccd both: runs with continuous collision on and off, alternating in ABBA order so that a
+/// --ccd-both: runs with continuous collision on and off, alternating in ABBA order so that a
 /// drift in machine speed falls on both alike.
 void run_both(const CommandOptions& o, RunCommandResult& result) {
   const int repeat = o.repeat > 0 ? o.repeat : 3;
   for (int k = 0; k < 2 * repeat; ++k) {
     const bool ccd = (k % 4 == 0 || k % 4 == 3);
     SceneParams params = o.params;
-    params.settings.continuous_collision = ccd;
+    params.set.push_back(ccd ? "continuous_collision=on" : "continuous_collision=off");  // last: a scene file's too
     if (!o.quiet) std::fprintf(stderr, "  run %d/%d: continuous collision %s\n", k + 1, 2 * repeat, ccd ? "on" : "off");
     (ccd ? result.ccd_on : result.ccd_off).push_back(run_once(o, params, k + 2 >= 2 * repeat, o.filters));
   }
 }
 
-/// --ccd both's table, with the ratio of the medians, and its JSON.
+/// --ccd-both's table, with the ratio of the medians, and its JSON.
 int report_both(const CommandOptions& o, const RunCommandResult& result) {
   const std::vector<RunResult>& on = result.ccd_on;
   const std::vector<RunResult>& off = result.ccd_off;
@@ -278,7 +248,7 @@ int report_both(const CommandOptions& o, const RunCommandResult& result) {
   };
   const RunResult& a = on.back();
   const RunResult& b = off.back();
-  std::printf("hail-bench run %s --ccd both  (%s)\n", a.scene.c_str(), a.description.c_str());
+  std::printf("hail-bench run %s --ccd-both  (%s)\n", a.scene.c_str(), a.description.c_str());
   std::printf("  machine   %s, %d threads, SIMD %s; %zu spheres, %d steps of dt = %.6g s; %d runs each, ABBA order\n",
               cpu_model().c_str(), a.threads, simd_description().c_str(), a.spheres, a.steps, a.dt, repeat);
   std::printf("  %-4s %10s %10s %9s %9s %10s %10s %9s %9s %9s %5s  %s\n", "ccd", "ms/step", "(runs)", "swept",
@@ -470,70 +440,11 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   add_count(app, "--steps", o.steps, 1, 100'000'000, "steps (default -1: the scene's)");
   add_count(app, "--threads", p.threads, 0, 4096, "worker threads (0: all)");
   add_number(app, "--dt", p.dt, 0.0, 10.0, "time step, s", /*exclude_min=*/true);
-  add_count(app, "--reorder", p.settings.reorder_interval, 0, 1'000'000'000,
-            "steps between Morton re-sorts (0: never)");
-  add_count(app, "--resting", p.settings.resting_iterations, 0, kMaxIterations, "resting-contact passes per step");
-  add_solver_options(app, p.settings.solver, p.settings.soft_step);
-  app.add_option_function<std::string>(
-         "--integrator",
-         [&p](const std::string& v) {
-           p.settings.integrator =
-               v == "uniform-acceleration" ? Integrator::UniformAcceleration : Integrator::SemiImplicitEuler;
-         },
-         "how positions follow velocities (WorldSettings::integrator)")
-      ->check(CLI::IsMember({"semi-implicit-euler", "uniform-acceleration"}));
-  add_count(app, "--tile", p.settings.solver_tile_spheres, 0, 100'000'000,
-            "spheres per solver tile: 0 (no tiles) or at least " + std::to_string(kMinSolverTileSpheres))
-      ->check(CLI::Validator(
-          [](std::string& v) {
-            const long long n = std::stoll(v);  // whole_number_in ran first
-            return n != 0 && n < static_cast<long long>(kMinSolverTileSpheres)
-                       ? "must be 0 (no solver tiles) or a whole number in [" + std::to_string(kMinSolverTileSpheres) +
-                             ", 100000000], got '" + v + "'"
-                       : std::string();
-          },
-          ""));
-  app.add_option_function<std::string>(
-         "--warm-start",
-         [&p](const std::string& v) {
-           if (v == "on" || v == "off")
-             p.settings.warm_start = v == "on";
-           else
-             p.settings.warm_start_factor = static_cast<float>(std::stod(v));
-         },
-         "warm starting; a factor in [0, 1] turns it on with that factor")
-      ->check(CLI::Validator(
-          [](std::string& v) {
-            std::string factor = v;
-            return v == "on" || v == "off" || number_in(0.0, 1.0)(factor).empty()
-                       ? std::string()
-                       : "must be on, off or a factor in [0, 1], got '" + v + "'";
-          },
-          "on|off|FACTOR"))
-      ->type_name("on|off|FACTOR");
-  app.add_option_function<std::string>(
-         "--pairs", [&p](const std::string& v) { p.settings.pair_search = pair_search_names().at(v); },
-         "the sphere-pair search")
-      ->check(CLI::IsMember({"auto", "brute", "grid", "sweep", "bvh"}));
-  app.add_option_function<std::string>(
-         "--ccd",
-         [&](const std::string& v) {
-           p.settings.continuous_collision = v != "off";
-           o.ccd_both = v == "both";
-         },
-         "continuous collision; both: alternate runs with it on and off, one table")
-      ->check(CLI::IsMember({"on", "off", "both"}));
-  app.add_option_function<std::string>(
-         "--rotation", [&p](const std::string& v) { p.settings.rotation = v == "on"; },
-         "off: spheres never spin (WorldSettings::rotation)")
-      ->check(CLI::IsMember({"on", "off"}));
-  app.add_option_function<std::string>(
-         "--sleep", [&p](const std::string& v) { p.settings.sleep = v == "on"; },
-         "on: islands at rest sleep and cost nothing until woken (WorldSettings::sleep)")
-      ->check(CLI::IsMember({"on", "off"}));
+  add_setting_flags(app, p.settings);  // --resting, --solver, ...: the settings table's flags
+  app.add_flag("--ccd-both", o.ccd_both, "alternate runs with continuous collision on and off (ABBA), one table");
   app.add_option("--set", p.set,
                  "NAME=VALUE: any setting of the settings table by its name (include/hail/settings_table.h, "
-                 "docs/embedding.md#settings), after the flags above; repeatable, the last of one name wins")
+                 "docs/embedding.md#settings), after the setting flags; repeatable, the last of one name wins")
       ->type_name("NAME=VALUE")
       ->check(CLI::Validator(
           [](std::string& v) {
@@ -550,7 +461,7 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
   add_count(app, "--home-after", o.home_after, 1, 100'000'000,
             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
-  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd both or --filters compare)");
+  add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd-both or --filters compare)");
   app.add_option("--filters", o.filters,
                  "collision filters given to every sphere: accept-all (filtered, nothing rejected), teams (two "
                  "teams that pass through each other); compare: runs none, accept-all and teams in turn, one table")
@@ -592,22 +503,21 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   app.add_flag("--velocities", o.record_velocities, "with --record: frames carry velocities too");
   app.add_flag("--quiet", o.quiet,
                "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
-               "progress lines on stderr; with --ccd both, the table");
+               "progress lines on stderr; with --ccd-both, the table");
   // The checks between flags, once every flag is read.
   app.callback([&app, &o] {
     if (o.home_after > 0 && o.origin == 0.0)
       usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
-    // The solver's flags too (they were left out, and --solver passes with --scene ran the file's solver).
-    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt", "--reorder", "--resting", "--tile", "--pairs",
-                             "--ccd", "--rotation", "--warm-start", "--sleep", "--solver", "--substeps",
-                             "--contact-cycles", "--damping-ratio", "--relax", "--depenetration-max", "--integrator"})
+    for (const char* flag : {"--spheres", "--threads", "--steps", "--dt"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
+    o.given_settings = given_setting_flags(app, o.params.settings);
     o.scene_named = app.count("scene") > 0;
     if (o.dump_every > 0 && o.dump_state_path.empty())
       usage_error("--dump-every " + std::to_string(o.dump_every) +
                   " needs --dump-state FILE.csv (the files are named after it)");
+    if (o.ccd_both && app.count("--ccd") > 0) usage_error("--ccd-both runs with --ccd on and off: give one of them");
     if (o.ccd_both && (o.save_at > 0 || !o.restore_path.empty() || !o.expect_hash.empty() || !o.record_path.empty()))
-      usage_error("--save-at, --restore, --expect-hash and --record take one world: not with --ccd both");
+      usage_error("--save-at, --restore, --expect-hash and --record take one world: not with --ccd-both");
     if (o.record_path.empty() && (app.count("--every") > 0 || o.record_velocities))
       usage_error("--every and --velocities need --record FILE");
     if (!o.record_path.empty() && o.filters == "compare")
@@ -618,9 +528,9 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     // filter bits: these flags would be overwritten by it, so a run would report one thing and
     // step another. They belong to the run that saves it.
     if (!o.restore_path.empty()) {
-      for (const char* flag : {"--reorder", "--resting", "--tile", "--pairs", "--ccd", "--rotation", "--warm-start",
-                               "--sleep", "--solver", "--substeps", "--contact-cycles", "--damping-ratio", "--relax",
-                               "--depenetration-max", "--integrator", "--set"})
+      std::vector<std::string> flags = setting_flags();
+      flags.emplace_back("--set");
+      for (const std::string& flag : flags)
         if (app.count(flag) > 0)
           usage_error(std::string("--restore takes the world's settings from the snapshot: ") + flag +
                       " would be ignored (give it to the run that saves the snapshot)");

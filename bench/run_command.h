@@ -24,9 +24,10 @@ struct RunCommandOptions {
   std::string dump_state_path;  // --dump-state FILE.csv
   int dump_every = 0;           // --dump-every K (0: the final state only)
   bool scene_named = false;
-  std::vector<std::string> given;  // every flag given, so a scene file's values yield only to these
-  bool ccd_both = false;           // --ccd both: alternate runs with continuous collision on and off
-  int repeat = 0;                  // --repeat N (0: 1, or 3 with --ccd both)
+  std::vector<std::string> given;  // --spheres, --threads, --steps, --dt if given: a scene file yields to these
+  std::vector<std::string> given_settings;  // the setting flags given, as NAME=VALUE (bench/setting_flags.h)
+  bool ccd_both = false;                    // --ccd-both: alternate runs with continuous collision on and off
+  int repeat = 0;                           // --repeat N (0: 1, or 3 with --ccd-both)
   double memory_limit_gb = -1.0;   // --memory-limit GB (< 0: 80% of the memory available; 0: none)
   double origin = 0.0;             // --origin D: the scene moved by (D, 0, D) m (scenes/scene_origin.cpp)
   int home_after = 0;              // --home-after K: after step K, shift the scene back by (D, 0, D)
@@ -51,7 +52,7 @@ std::string summary_line(const RunResult& r);
 /// Every run `hail-bench run` made, in order.
 struct RunCommandResult {
   std::vector<RunResult> runs;                     ///< --repeat R runs (one by default)
-  std::vector<RunResult> ccd_on, ccd_off;          ///< --ccd both: the runs with continuous collision on, and off
+  std::vector<RunResult> ccd_on, ccd_off;          ///< --ccd-both: the runs with continuous collision on, and off
   std::vector<std::vector<RunResult>> by_filters;  ///< --filters compare: the runs of each scene_filter_names() entry
 };
 
@@ -60,7 +61,7 @@ struct RunCommandResult {
 int run_command(const RunCommandOptions& o);
 /// Builds and steps the scene as often as `o` asks (progress on stderr unless --quiet).
 RunCommandResult run_runs(const RunCommandOptions& o);
-/// Prints the report (or with --quiet the summary line, with --ccd both the table) and writes
+/// Prints the report (or with --quiet the summary line, with --ccd-both the table) and writes
 /// --json; the process exit status (3 if a run ended with NaN).
 int report_runs(const RunCommandOptions& o, const RunCommandResult& result);
 /// parse_command("run", add_run_options, args), then run_command; 0 after --help.

@@ -8,7 +8,9 @@
 #include "cli.h"
 #include "scenes/machine_info.h"
 #include "scenes/output_file.h"
+#include "scenes/setting_text.h"
 #include "scenes/stress_cases.h"
+#include "setting_flags.h"
 
 namespace hail::bench {
 
@@ -17,9 +19,9 @@ int stress_command(const StressOptions& o) {
   const bool quick = o.quick;
   const std::string& json_path = o.json_path;
   check_output_paths({json_path});
-  const std::vector<StressCase> cases = stress_cases(o.solver);
+  const std::vector<StressCase> cases = stress_cases(o.settings.solver);
   std::printf("hail-bench stress: the stability battery (%s, %s), solver %s\n", cpu_model().c_str(),
-              simd_path().c_str(), o.solver == Solver::SoftStep ? "soft" : "passes");
+              simd_path().c_str(), setting_text(o.settings, "solver").c_str());
   std::printf(
       "  bounds unless a case says otherwise: penetration 5%% of the (smaller) radius, mechanical energy gain 1%%,\n"
       "  no NaN, no centre below the terrain surface; worst values over every step\n\n");
@@ -70,10 +72,7 @@ void add_stress_options(CLI::App& app, StressOptions& o) {
   // A misspelt case name is refused before the header, naming the cases there are.
   app.add_option("--case", o.only, "run this case alone")->check(CLI::IsMember(names))->type_name("NAME");
   app.add_flag("--quick", o.quick, "skip the slow cases");
-  app.add_option_function<std::string>(
-         "--solver", [&o](const std::string& v) { o.solver = v == "soft" ? Solver::SoftStep : Solver::Passes; },
-         "the contact solver every case runs: passes (the default) or soft (the soft step)")
-      ->check(CLI::IsMember({"passes", "soft"}));
+  add_setting_flags(app, o.settings, {"solver"});
   app.add_option("--json", o.json_path, "every case's worst values as JSON")->type_name("FILE");
 }
 

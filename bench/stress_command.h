@@ -15,8 +15,8 @@ namespace hail::bench {
 
 /// Every flag of `hail-bench stress`.
 struct StressOptions {
-  Solver solver = Solver::Passes;  ///< --solver passes|soft
-  std::string only;                ///< --case NAME: this case alone
+  WorldSettings settings;  ///< --solver passes|soft: the solver every case runs (settings.solver)
+  std::string only;        ///< --case NAME: this case alone
   bool quick = false;
   std::string json_path;
 };

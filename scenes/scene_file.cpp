@@ -312,9 +312,6 @@ SphereDesc sphere(const Vec3& position, const Vec3& velocity, const Vec3& angula
 
 // ---- settings --------------------------------------------------------------------------------
 
-/// Settings a scene file gives at its top level ("gravity", "threads"), not in "settings".
-bool top_level_setting(std::string_view name) { return name == "gravity" || name == "threads"; }
-
 /// The keys of the "settings" object (`group` empty) or of one of its groups ("soft_step"):
 /// the settings table's names (include/hail/settings_table.h) below it, each once, and the
 /// groups' own names at the top.
@@ -322,8 +319,8 @@ std::vector<std::string> setting_keys(std::string_view group) {
   std::vector<std::string> keys;
   const WorldSettings defaults;
   for_each_setting(defaults, [&](const auto&, const SettingSpec& spec) {
+    if (spec.scene_top_level) return;
     const std::string_view name = spec.name;
-    if (top_level_setting(name)) return;
     const std::size_t dot = name.find('.');
     const std::string_view head = name.substr(0, dot), tail = dot == name.npos ? "" : name.substr(dot + 1);
     const std::string key(group.empty() ? head : (head == group ? tail : std::string_view()));
@@ -379,8 +376,8 @@ void read_settings(const json& j, const Where& at, WorldSettings& s) {
     groups.back().second.reject_unknown_keys();
   }
   for_each_setting(s, [&](auto& field, const SettingSpec& spec) {
+    if (spec.scene_top_level) return;  // read with the scene's own keys
     const std::string_view name = spec.name;
-    if (top_level_setting(name)) return;
     const std::size_t dot = name.find('.');
     if (dot == name.npos) return read_setting(o, name, field, spec);
     for (const auto& [group, object] : groups)

@@ -589,15 +589,14 @@ StressResult wide_mix_rain() {
   StressBounds b;
   b.energy_growth = 0.01;
   b.sphere_penetration = -1.0;  // reported: a 5 cm sphere under a 5 m one is judged by the ground
-  // 6% of the radius, not 5%: from commit 7f7037e the uniform-acceleration integrator moved a
-  // sphere pushed sideways up to |g| dt^2 / 2 (1.4 mm at 60 Hz, 2.7% of the smallest radius
-  // here) short of its solved velocity, which the contacts' gap limits do not see (worst 5.02%;
-  // 4.02% under semi-implicit Euler). Since commit 83b2a4a its acceleration stays within what
-  // gravity gives on a frictionless support (uniform_step_acceleration) and the passes' worst is
-  // 4.62%. The soft step's worst is one sphere in one step and moves with any change of
-  // rounding (its spheres in contact end where its substeps put them, whatever that
-  // acceleration): 4.02-5.17% in four runs with the old rule's acceleration perturbed in its
-  // last bits, 5.38% and 6.44% with the new rule computed in two orders.
+  // 6% of the radius, not 5%: the uniform-acceleration integrator may move a sphere pushed
+  // sideways up to |g| dt^2 / 2 (1.4 mm at 60 Hz, 2.7% of the smallest radius here) short of its
+  // solved velocity, which the contacts' gap limits do not see; its acceleration is kept within
+  // what gravity gives on a frictionless support (uniform_step_acceleration), and the passes'
+  // worst is 4.62% (4.02% under semi-implicit Euler). The soft step's worst is one sphere in one
+  // step and moves with any change of rounding (its spheres in contact end where its substeps
+  // put them, whatever that acceleration): 4.02-6.44% in six runs with the acceleration
+  // perturbed in its last bits or computed in another order.
   b.ground_penetration = 0.06;
   return watch(w, "wide-mix-rain", "578 spheres, radii 0.05-5 m log-uniform at 1000 kg/m^3 (mass ratio 1e6), 10 s", 600,
                1.0f / 60.0f, b, 1e6);

@@ -182,7 +182,7 @@ TEST_CASE("A failed write of any hail-bench output ends in an error naming the p
   }
   CHECK(contains(
       message_of<std::runtime_error>([&] {
-        bench::run_command({"--scene", scene, "--quiet", "--ccd", "both", "--repeat", "1", "--json", "/dev/full"});
+        bench::run_command({"--scene", scene, "--quiet", "--ccd-both", "--repeat", "1", "--json", "/dev/full"});
       }),
       "cannot write /dev/full"));
   CHECK(contains(message_of<std::runtime_error>([&] {

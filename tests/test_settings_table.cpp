@@ -55,13 +55,14 @@ std::string range_text(const SettingSpec& spec, bool is_number) {
 
 /// The markdown table docs/embedding.md holds between its two marker lines.
 std::string settings_markdown() {
-  std::string table = "| setting | default | range | what it does |\n|---|---|---|---|\n";
+  std::string table = "| setting | default | range | hail-bench flag | what it does |\n|---|---|---|---|---|\n";
   const WorldSettings defaults;
   for_each_setting(defaults, [&](const auto& value, const SettingSpec& spec) {
     using T = std::remove_cvref_t<decltype(value)>;
     const bool is_number = !std::is_same_v<T, bool> && !std::is_same_v<T, Vec3> && !std::is_enum_v<T>;
     table += "| `" + std::string(spec.name) + "` | " + cell(default_text(value, spec)) + " | " +
-             cell(range_text(spec, is_number)) + " | " + cell(spec.doc) + (spec.snapshot ? "" : " (not in snapshots)") +
+             cell(range_text(spec, is_number)) + " | " +
+             (spec.flag ? "`--" + std::string(spec.flag) + "`" : std::string()) + " | " + cell(spec.doc) + (spec.snapshot ? "" : " (not in snapshots)") +
              " |\n";
   });
   return table;

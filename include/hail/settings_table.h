@@ -1,9 +1,13 @@
 #pragma once
 // Every WorldSettings field, declared once: its name (also its scene-file key, "soft_step.substeps"
-// inside the "settings" object), its valid range, one line of documentation, and whether a
-// snapshot carries it. From this one list:
+// inside the "settings" object), its valid range, one line of documentation, and where it
+// travels: a snapshot, a scene file (inside "settings", or at the top level), hail-bench's
+// command line. From this one list:
 // - World::validate checks every range (InvalidArgument naming the field and its range);
 // - snapshots save and read the fields it marks, in its order (kernel/world/snapshot_format.h);
+// - scene files read their keys (scenes/scene_file.cpp);
+// - hail-bench makes its setting flags (--resting, --solver, ...) and --set NAME=VALUE
+//   (bench/setting_flags.cpp, scenes/setting_text.cpp);
 // - the settings table of docs/embedding.md is written (tests/test_settings_table.cpp checks
 //   that the page matches it);
 // and any program (an engine's settings UI, bindings) can walk it: for_each_setting.
@@ -39,6 +43,12 @@ struct SettingSpec {
   const char* values = nullptr;
   /// Saved in snapshots (all but threads: a restored World keeps its own threads or arena).
   bool snapshot = true;
+  /// A scene file gives it at its top level ("gravity": [0, -9.81, 0]) rather than inside its
+  /// "settings" object.
+  bool scene_top_level = false;
+  /// hail-bench's flag for it, without the dashes ("resting" is --resting N), or none: every
+  /// setting also takes --set NAME=VALUE.
+  const char* flag = nullptr;
   const char* doc = "";
 };
 
@@ -56,6 +66,7 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   // A field added to WorldSettings changes its size (mostly): list it here.
   static_assert(sizeof(WorldSettings) == 160, "a WorldSettings field was added: list it in for_each_setting");
   f(s.gravity, SettingSpec{.name = "gravity",
+                           .scene_top_level = true,
                            .doc = "m/s^2; |g| times the longest step (max_substeps * max_substep) at most "
                                   "kMaxSphereSpeed"});
   f(s.time_scale, SettingSpec{.name = "time_scale", .max = kFloatMax, .doc = "simulated seconds per second; 0 pauses"});
@@ -69,22 +80,29 @@ constexpr void for_each_setting(Settings& s, F&& f) {
                                 .doc = "most substeps one step may take; a step needing more is refused"});
   f(s.integrator, SettingSpec{.name = "integrator",
                               .values = "semi-implicit-euler|uniform-acceleration",
+                              .flag = "integrator",
                               .doc = "how positions follow velocities"});
-  f(s.solver, SettingSpec{.name = "solver", .values = "passes|soft", .doc = "the contact solver"});
-  f(s.soft_step.substeps,
-    SettingSpec{.name = "soft_step.substeps", .min = 1, .max = kMaxIterations, .doc = "soft step: substeps per step"});
+  f(s.solver, SettingSpec{.name = "solver", .values = "passes|soft", .flag = "solver", .doc = "the contact solver"});
+  f(s.soft_step.substeps, SettingSpec{.name = "soft_step.substeps",
+                                      .min = 1,
+                                      .max = kMaxIterations,
+                                      .flag = "substeps",
+                                      .doc = "soft step: substeps per step"});
   f(s.soft_step.contact_cycles, SettingSpec{.name = "soft_step.contact_cycles",
                                             .min = 0,
                                             .max = 0.25,
                                             .min_open = true,
+                                            .flag = "contact-cycles",
                                             .doc = "soft step: contact stiffness, cycles per substep"});
   f(s.soft_step.damping_ratio, SettingSpec{.name = "soft_step.damping_ratio",
                                            .min = 0,
                                            .max = kFloatMax,
                                            .min_open = true,
+                                           .flag = "damping-ratio",
                                            .doc = "soft step: contact damping ratio"});
   f(s.soft_step.relax_iterations, SettingSpec{.name = "soft_step.relax_iterations",
                                               .max = kMaxIterations,
+                                              .flag = "relax",
                                               .doc = "soft step: rigid iterations after each soft one"});
   f(s.soft_step.max_push_speed, SettingSpec{.name = "soft_step.max_push_speed",
                                             .min = 0,
@@ -94,17 +112,20 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   f(s.soft_step.depenetration_iterations_max,
     SettingSpec{.name = "soft_step.depenetration_iterations_max",
                 .max = kMaxIterations,
+                .flag = "depenetration-max",
                 .doc = "soft step: most depenetration passes for small spheres"});
   f(s.collision_iterations,
     SettingSpec{.name = "collision_iterations", .max = kMaxIterations, .doc = "passes that bounce closing contacts"});
-  f(s.resting_iterations,
-    SettingSpec{
-        .name = "resting_iterations", .max = kMaxIterations, .doc = "sequential-impulse passes for resting contacts"});
+  f(s.resting_iterations, SettingSpec{.name = "resting_iterations",
+                                      .max = kMaxIterations,
+                                      .flag = "resting",
+                                      .doc = "sequential-impulse passes for resting contacts"});
   f(s.depenetration_iterations, SettingSpec{.name = "depenetration_iterations",
                                             .max = kMaxIterations,
                                             .doc = "position-correction passes after integration"});
   f(s.solver_tile_spheres, SettingSpec{.name = "solver_tile_spheres",
                                        .max = 100'000'000,
+                                       .flag = "tile",
                                        .doc = "spheres per solver tile: 0 (no tiles) or at least "
                                               "kMinSolverTileSpheres"});
   f(s.depenetration.fraction,
@@ -118,6 +139,7 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   f(s.sphere_collisions, SettingSpec{.name = "sphere_collisions", .doc = "spheres meet each other"});
   f(s.pair_search, SettingSpec{.name = "pair_search",
                                .values = "auto|brute|grid|sweep|bvh",
+                               .flag = "pairs",
                                .doc = "how sphere pairs are found (speed only: every search finds the same pairs)"});
   f(s.speculative_radii, SettingSpec{.name = "speculative_radii",
                                      .max = kFloatMax,
@@ -129,14 +151,17 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   f(s.pair_margin_travel, SettingSpec{.name = "pair_margin_travel",
                                       .max = kFloatMax,
                                       .doc = "a pair's own margin, in distances its spheres close per step"});
-  f(s.reorder_interval,
-    SettingSpec{
-        .name = "reorder_interval", .max = kIntMax, .doc = "steps between Morton re-sorts of the slots; 0 never"});
-  f(s.warm_start, SettingSpec{.name = "warm_start", .doc = "contacts start from last step's impulses"});
+  f(s.reorder_interval, SettingSpec{.name = "reorder_interval",
+                                    .max = kIntMax,
+                                    .flag = "reorder",
+                                    .doc = "steps between Morton re-sorts of the slots; 0 never"});
+  f(s.warm_start,
+    SettingSpec{.name = "warm_start", .flag = "warm-start", .doc = "contacts start from last step's impulses"});
   f(s.warm_start_factor,
     SettingSpec{.name = "warm_start_factor", .max = 1, .doc = "share of last step's impulses a contact starts with"});
   f(s.continuous_collision,
-    SettingSpec{.name = "continuous_collision", .doc = "fast spheres move impact by impact (no tunnelling)"});
+    SettingSpec{
+        .name = "continuous_collision", .flag = "ccd", .doc = "fast spheres move impact by impact (no tunnelling)"});
   f(s.fast_travel_fraction, SettingSpec{.name = "fast_travel_fraction",
                                         .min = 0,
                                         .max = 1,
@@ -150,8 +175,9 @@ constexpr void for_each_setting(Settings& s, F&& f) {
                                     .max = kFloatMax,
                                     .infinity = true,
                                     .doc = "mass ratio from which shock propagation runs; infinity never"});
-  f(s.rotation, SettingSpec{.name = "rotation", .doc = "spheres spin and roll (off: no angular work)"});
-  f(s.sleep, SettingSpec{.name = "sleep", .doc = "islands at rest sleep until woken"});
+  f(s.rotation,
+    SettingSpec{.name = "rotation", .flag = "rotation", .doc = "spheres spin and roll (off: no angular work)"});
+  f(s.sleep, SettingSpec{.name = "sleep", .flag = "sleep", .doc = "islands at rest sleep until woken"});
   f(s.sleep_linear_speed,
     SettingSpec{.name = "sleep_linear_speed", .max = kFloatMax, .doc = "m/s below which a sphere may sleep"});
   f(s.sleep_angular_speed,
@@ -160,6 +186,7 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   f(s.threads, SettingSpec{.name = "threads",
                            .max = 4096,
                            .snapshot = false,
+                           .scene_top_level = true,
                            .doc = "worker threads; 0 all hardware threads (ignored with the caller's arena)"});
 }
 

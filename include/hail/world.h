@@ -468,8 +468,12 @@ class World {
   /// How many times the query BVH over the spheres has been built (diagnostics, tests).
   [[nodiscard]] std::uint64_t query_cache_builds() const;
 
- private:
+  /// Checks `settings` as the constructor and restore do: InvalidArgument naming the first
+  /// field out of its range (include/hail/settings_table.h) or a rule between fields. A settings
+  /// UI or a command line can refuse a value this way before it builds a World.
   static void validate(const WorldSettings& settings);
+
+ private:
   /// One pass of the step pipeline over `scaled` (time-scaled) seconds.
   void substep(float scaled);
   std::size_t require_slot(SphereId id) const;
