@@ -27,7 +27,7 @@ struct GoldenRun {
 // spheres meet each other and the ground (terrain-rain's first layer falls from 13 m: it lands by step 100).
 constexpr GoldenRun kGoldenRuns[] = {
     {"terrain-rain", 600, 150, 0xd75286f773973c42ull}, {"terrain-rain-dem", 300, 150, 0x10254ff7ab3d5c20ull},
-    {"bowl-pile", 400, 60, 0x590435f2ab34e5f5ull},     {"bullets", 64, 30, 0x4002c0978bd54051ull},
+    {"bowl-pile", 400, 60, 0x590435f2ab34e5f5ull},     {"bullets", 64, 30, 0x1fe8517022760593ull},
     {"implosion", 512, 60, 0xbe76f97523ced33aull},
 };
 

@@ -39,7 +39,7 @@ TEST_CASE("Shock propagation levels count contacts from the ground up", "[shock]
   const std::vector<Contact> contacts = {sphere_contact(1, 2), sphere_contact(5, 6), sphere_contact(0, 1), ground,
                                          sphere_contact(3, 4)};
   ShockPropagation shock;
-  shock.plan(contacts, bodies);
+  shock.plan(contacts, bodies, Vec3(0.0f, 1.0f, 0.0f));
   CHECK(shock.level(0) == 1);
   CHECK(shock.level(1) == 2);
   CHECK(shock.level(2) == 3);
@@ -62,7 +62,7 @@ TEST_CASE("Shock propagation stops a falling stack in one pass, moving only uppe
   // Normals point from a to b: a is the lower sphere, so +y.
   const std::vector<Contact> contacts = {sphere_contact(1, 2), sphere_contact(0, 1), ground};
   ShockPropagation shock;
-  shock.plan(contacts, bodies);
+  shock.plan(contacts, bodies, Vec3(0.0f, 1.0f, 0.0f));
   shock.solve(contacts, bodies, 60.0f);
   for (int k = 0; k < 3; ++k) CHECK(bodies[k].v[1] == 0.0f);
 }

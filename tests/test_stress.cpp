@@ -65,6 +65,9 @@ TEST_CASE("Stress: time scale 300 and 750 stable, 1e4 refused", "[stress]") {
   run_stress_case("time-scale-300-and-750");
 }
 TEST_CASE("Stress: radius 1e-4 and 1e4 spheres", "[stress]") { run_stress_case("radius-1e-4-and-1e4"); }
+TEST_CASE("Stress: small spheres under big ones stay above the ground", "[stress]") {
+  run_stress_case("small-under-big-rain");
+}
 TEST_CASE("Stress: 1,000 spheres at one point", "[stress]") { run_stress_case("coincident-1000"); }
 TEST_CASE("Stress: spheres starting inside the terrain", "[stress]") { run_stress_case("start-inside-terrain"); }
 TEST_CASE("Stress: spheres in a box of planes", "[stress]") { run_stress_case("plane-box"); }

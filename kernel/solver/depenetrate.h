@@ -35,17 +35,18 @@ inline float current_gap(const SphereSoA& s, const Contact& c) {
          s.radius[b];
 }
 
-/// Moves the contact's spheres apart if they overlap beyond the slop; true if it moved them.
-/// `deep` is set when it moved them from an overlap beyond twice the slop (the excess over the
-/// slop larger than the slop itself) and the smaller radius is below `deep_radius`: the soft
-/// step's depenetration goes on while a pass finds one (SoftStepParams::depenetration_iterations_max).
-inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p, float deep_radius, bool& deep) {
+/// Moves the contact's spheres apart if they overlap beyond the slop, shared by the inverse
+/// masses `ima` and `imb` (0: that body holds still); true if it moved them. `deep` is set when
+/// it moved them from an overlap beyond twice the slop (the excess over the slop larger than
+/// the slop itself) and the smaller radius is below `deep_radius`: the soft step's
+/// depenetration goes on while a pass finds one (SoftStepParams::depenetration_iterations_max).
+inline bool push_apart_weighted(SphereSoA& s, const Contact& c, const DepenetrationParams& p, float ima, float imb,
+                                float deep_radius, bool& deep) {
   const std::uint32_t a = c.a;
   const bool dynamic_b = c.b != kStaticBody;
   const float rmin = dynamic_b && s.radius[c.b] < s.radius[a] ? s.radius[c.b] : s.radius[a];
   const float excess = -current_gap(s, c) - p.slop_fraction * rmin;
   if (excess <= 0.0f) return false;
-  const float ima = s.inv_mass[a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
   const float w = ima + imb;
   if (w <= 0.0f) return false;
   if (excess > p.slop_fraction * rmin && rmin < deep_radius) deep = true;
@@ -60,6 +61,12 @@ inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams
     s.pz[b] += c.nz * move * imb;
   }
   return true;
+}
+
+/// push_apart_weighted by the spheres' own inverse masses (the static body's is 0).
+inline bool push_apart(SphereSoA& s, const Contact& c, const DepenetrationParams& p, float deep_radius, bool& deep) {
+  return push_apart_weighted(s, c, p, s.inv_mass[c.a], c.b != kStaticBody ? s.inv_mass[c.b] : 0.0f, deep_radius,
+                             deep);
 }
 
 /// push_apart without the deep flag.

@@ -13,7 +13,8 @@ constexpr std::uint32_t kNone = ShockPropagation::kNoLevel;
 bool immovable(const SolverBody& b) { return b.inv_mass <= 0.0f; }
 }  // namespace
 
-void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const SolverBody> bodies) {
+void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const SolverBody> bodies, const Vec3& up) {
+  up_ = up;
   const std::size_t n = bodies.size() - 1;  // the last body is the static one
   assign_geometric(level_, n, kNone);
   assign_geometric(first_edge_, n + 1, std::uint32_t{0});
@@ -59,17 +60,28 @@ void ShockPropagation::plan(std::span<const Contact> contacts, std::span<const S
     if (const std::uint32_t l = key(contacts[k]); l != kNone) order_[level_count_[l]++] = k;
 }
 
+ShockPropagation::Holder ShockPropagation::holder(const Contact& c) const {
+  if (c.b == kStaticBody) return Holder::B;
+  const std::uint32_t la = level_[c.a], lb = level_[c.b];
+  if (la != lb) return la < lb ? Holder::A : Holder::B;
+  // The normal points from a to b: b sits on a where it points up.
+  constexpr float kCos60 = 0.5f;
+  const float rise = c.nx * up_.x() + c.ny * up_.y() + c.nz * up_.z();
+  return rise > kCos60 ? Holder::A : (rise < -kCos60 ? Holder::B : Holder::None);
+}
+
 namespace {
 
-void shock_pass(std::span<const std::uint32_t> order, std::span<const std::uint32_t> level,
-                std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) {
-  for (const std::uint32_t index : order) {
+void shock_pass(const ShockPropagation& shock, std::span<const Contact> contacts, std::span<SolverBody> bodies,
+                float inv_dt) {
+  for (const std::uint32_t index : shock.order()) {
     const Contact& c = contacts[index];
     ContactBodies k = gather_bodies<kLinearFriction>(bodies, c);
     if (c.b != kStaticBody) {
       // The lower body holds still: it was settled earlier in this pass, or is the ground.
-      if (level[c.a] < level[c.b]) k.ima = 0.0f, k.iia = 0.0f;
-      if (level[c.b] < level[c.a]) k.imb = 0.0f, k.iib = 0.0f;
+      const ShockPropagation::Holder holder = shock.holder(c);
+      if (holder == ShockPropagation::Holder::A) k.ima = 0.0f, k.iia = 0.0f;
+      if (holder == ShockPropagation::Holder::B) k.imb = 0.0f, k.iib = 0.0f;
     }
     const float kn = normal_mass_denominator(k);
     if (kn <= 0.0f) continue;
@@ -86,7 +98,7 @@ void shock_pass(std::span<const std::uint32_t> order, std::span<const std::uint3
 }  // namespace
 
 void ShockPropagation::solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) const {
-  shock_pass(order_, level_, contacts, bodies, inv_dt);
+  shock_pass(*this, contacts, bodies, inv_dt);
 }
 
 }  // namespace hail

@@ -59,16 +59,23 @@ struct ContactReduction {
   }
 };
 
+/// The reach of a swept fast sphere's terrain contacts, as a fraction of its radius: what it
+/// touches, or all but touches. A light sphere pressed against the ground by a heavy one is
+/// fast by the heavy one's speed and rests a rounding above the ground, where the guard put it;
+/// without its ground contact it took the heavy sphere's whole push and ended inside it.
+inline constexpr float kSweptTouchFraction = 0.02f;
+
 /// How far beyond its surface sphere i meets terrain this step: its travel |v| dt, capped for
 /// fast spheres (is_fast): a reach of hundreds of metres would gather hundreds of triangles the
 /// sphere is not heading for, and bounce it from the nearest one at once. With `sweep_fast`
-/// a fast sphere gets only what it touches already; the sweep meets the rest at its time.
+/// a fast sphere gets only what it touches (kSweptTouchFraction); the sweep meets the rest at
+/// its time.
 [[nodiscard]] inline float terrain_contact_reach(const SphereSoA& s, std::size_t i, float dt, float fast_fraction,
                                                  bool sweep_fast) {
   const float speed2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
   const float speed = std::sqrt(speed2);
   const bool fast = s.inv_mass[i] > 0.0f && is_fast(speed2, dt, s.radius[i], fast_fraction);
-  return fast ? (sweep_fast ? 0.0f : fast_fraction * s.radius[i]) : speed * dt;
+  return fast ? (sweep_fast ? kSweptTouchFraction : fast_fraction) * s.radius[i] : speed * dt;
 }
 
 /// Sphere i's contact `st` with terrain triangle k (BVH order) as a Contact, into `reduction`.

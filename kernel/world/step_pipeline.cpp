@@ -242,6 +242,37 @@ struct StepPipeline {
     w.stats.pushed_out += pushed.load();
   }
 
+  /// The unit vector against gravity, zero without gravity: it orders two spheres of one level
+  /// in the shock passes (ShockPropagation::holder).
+  [[nodiscard]] Vec3 up() const {
+    const float g = w.settings.gravity.norm();
+    return g > 0.0f ? Vec3(-w.settings.gravity / g) : Vec3(Vec3::Zero());
+  }
+
+  /// Shock propagation for positions, in steps of very different masses, after the guards: one
+  /// pass of depenetration over the contacts from the ground up in which the holding body
+  /// (ShockPropagation::holder) stays put and the other takes the whole correction. A light
+  /// sphere on the ground under a heavy one otherwise took their pair's correction into the
+  /// ground, was pushed back out by the guard, and ended inside the heavy sphere (two of its
+  /// radii deep: hail-bench stress, small-under-big-rain). Serial, as the velocity pass: its
+  /// order is its point. A sleeper holds still.
+  void shock_push_out() {
+    ScopedTraceRecord record(w.trace, Phase::Depenetrate);
+    SphereSoA& s = w.spheres;
+    DepenetrationParams whole = w.settings.depenetration;
+    whole.fraction = 1.0f;  // one pass: settle each contact as the velocity pass does
+    bool deep = false;      // unused: this pass is one pass
+    for (const std::uint32_t index : st.shock.order()) {
+      const Contact& c = st.contacts[index];
+      const bool dynamic_b = c.b != kStaticBody;
+      float ima = s.inv_mass[c.a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
+      const ShockPropagation::Holder holder = st.shock.holder(c);
+      if (holder == ShockPropagation::Holder::A || (sleeping && sphere_sleeps(s, c.a))) ima = 0.0f;
+      if (holder == ShockPropagation::Holder::B || (dynamic_b && sleeping && sphere_sleeps(s, c.b))) imb = 0.0f;
+      push_apart_weighted(s, c, whole, ima, imb, 0.0f, deep);
+    }
+  }
+
   /// Terrain guard, part 2: a sphere that ended the step further from where it started than
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
   /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
@@ -288,13 +319,15 @@ struct StepPipeline {
       for (std::size_t i = first; i < last; ++i)
         if (beyond[i - first]) flagged[flagged_count++] = static_cast<std::uint32_t>(i);
       // One moved right through the ground (pushed by a crowd) ends too deep for push_out's
-      // query to find a triangle: it is lifted above the surface first. Not one that is fast
-      // by its own speed: with continuous collision off, tunnelling is what the discrete step
-      // does with those (WorldSettings::continuous_collision), and with it on none is flagged.
+      // query to find a triangle: it is lifted above the surface first. With continuous
+      // collision off, not one that is fast by its own speed: tunnelling is what the discrete
+      // step does with those (WorldSettings::continuous_collision). With it on, a fast sphere
+      // is flagged only by the mixed-mass rules above: a light sphere a heavy one drove into
+      // the ground after its sweep, which would otherwise fall through it.
       for (std::size_t k = 0; k < flagged_count; ++k) {
         const std::uint32_t i = flagged[k];
         const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-        if (!is_fast(v2, params.dt, s.radius[i], fast_fraction))
+        if (sweeping || !is_fast(v2, params.dt, s.radius[i], fast_fraction))
           w.terrain->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
       }
       const std::size_t count = w.terrain->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
@@ -843,7 +876,7 @@ struct StepPipeline {
       // ones over the contacts, gravity and positions over the bodies.
       const std::size_t contact_passes = 2 + static_cast<std::size_t>(substeps) *
                                                  (2 + static_cast<std::size_t>(w.settings.soft_step.relax_iterations));
-      if (shock) st.shock.plan(st.contacts, bodies);
+      if (shock) st.shock.plan(st.contacts, bodies, up());
       st.crew.run(contact_passes * stages_per_pass + 2 * static_cast<std::size_t>(substeps),
                   [&](StageCrew& crew) { soft_step(crew, bodies, work, h); });
     } else {
@@ -852,7 +885,7 @@ struct StepPipeline {
     if (shock && !soft) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      st.shock.plan(st.contacts, bodies);
+      st.shock.plan(st.contacts, bodies, up());
       st.shock.solve(st.contacts, bodies, inv_dt);
     }
     for_each_block(batches.batch_count(), kBatchChunk * 4, [&](std::size_t, std::size_t first, std::size_t last) {
@@ -1194,6 +1227,7 @@ struct StepPipeline {
       ScopedPhaseTimer timer(t.depenetrate);
       ScopedTraceRecord record(w.trace, Phase::Depenetrate);
       if (ran.depenetrate) depenetrate();
+      if (ran.depenetrate && shock) shock_push_out();
       if (guarding) guard_terrain();
       if (ran.depenetrate && !w.planes.empty()) guard_planes();
     }
