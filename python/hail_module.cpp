@@ -41,9 +41,9 @@ void bind_vtk(py::module_& m) {
       .def(
           "write", [](bench::VtkFrames& f, PyWorld& w, double time) { return f.write(w.get(), time); }, arg("world"),
           arg("time"), "Writes the world's spheres as the next frame at this time (s); returns its path.")
-      .def_property_readonly("frame_count", &bench::VtkFrames::frame_count)
+      .def_property_readonly("frame_count", &bench::VtkFrames::frame_count, "frames written")
       .def_property_readonly("index_path", &bench::VtkFrames::index_path, "the .pvd file")
-      .def_property_readonly("directory", &bench::VtkFrames::dir);
+      .def_property_readonly("directory", &bench::VtkFrames::dir, "the folder of the frames");
 }
 
 }  // namespace

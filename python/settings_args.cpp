@@ -5,6 +5,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <type_traits>
 
@@ -184,8 +185,15 @@ std::string settings_doc() {
   for_each_setting(defaults, [&](const auto& field, const SettingSpec& spec) {
     using T = std::decay_t<decltype(field)>;
     std::string line = "    " + python_name(spec.name) + " (" + kind_of<T>() + ", default ";
+    auto short_number = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.6g", v);
+      return std::string(text);
+    };
     if constexpr (std::is_same_v<T, Vec3>) {
-      line += "(" + bench::setting_text(defaults, spec.name) + ")";
+      line += "(" + short_number(field.x()) + ", " + short_number(field.y()) + ", " + short_number(field.z()) + ")";
+    } else if constexpr (std::is_floating_point_v<T>) {
+      line += short_number(field);
     } else if constexpr (std::is_same_v<T, bool>) {
       line += field ? "True" : "False";
     } else if constexpr (std::is_enum_v<T>) {

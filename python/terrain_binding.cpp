@@ -43,7 +43,8 @@ void bind_terrain(py::module_& m, py::class_<PyWorld>& world) {
           },
           "(min_x, max_x, min_z, max_z), m")
       .def_property_readonly(
-          "triangle_count", [](const PyTerrain& t) { return t.terrain->triangle_count(); })
+          "triangle_count", [](const PyTerrain& t) { return t.terrain->triangle_count(); },
+          "triangles, two per cell")
       .def("surface_height",
            [](const PyTerrain& t, const py::object& x, const py::object& z) -> py::object {
              // numpy broadcasts x against z; a pair of scalars gives a float.

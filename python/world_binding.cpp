@@ -267,11 +267,11 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
 
   // Per-sphere reads and control calls: a stale handle raises hail.InvalidArgument.
   c.def(
-      "position", [](Self self, SphereId id) { return self.get().position(id); }, arg("handle"));
+      "position", [](Self self, SphereId id) { return self.get().position(id); }, arg("handle"), "Centre of a sphere, m (hail.InvalidArgument for a stale handle).");
   c.def(
-      "velocity", [](Self self, SphereId id) { return self.get().velocity(id); }, arg("handle"));
+      "velocity", [](Self self, SphereId id) { return self.get().velocity(id); }, arg("handle"), "Velocity of a sphere, m/s.");
   c.def(
-      "angular_velocity", [](Self self, SphereId id) { return self.get().angular_velocity(id); }, arg("handle"));
+      "angular_velocity", [](Self self, SphereId id) { return self.get().angular_velocity(id); }, arg("handle"), "Angular velocity of a sphere, rad/s.");
   c.def(
       "slot_of", [](Self self, SphereId id) { return self.get().slot_of(id); }, arg("handle"),
       "Dense slot of a handle (its index in the array views), or -1 for a stale one.");
@@ -286,9 +286,9 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       },
       arg("slot"), "Handle of the sphere in a dense slot.");
   c.def(
-      "contains", [](Self self, SphereId id) { return self.get().slot_of(id) >= 0; }, arg("handle"));
+      "contains", [](Self self, SphereId id) { return self.get().slot_of(id) >= 0; }, arg("handle"), "Whether the handle names a live sphere.");
   c.def(
-      "user_data", [](Self self, SphereId id) { return self.get().user_data(id); }, arg("handle"));
+      "user_data", [](Self self, SphereId id) { return self.get().user_data(id); }, arg("handle"), "The game's 64-bit value for a sphere (set_user_data; 0 until set).");
   c.def(
       "collision_filter",
       [](Self self, SphereId id) {
@@ -297,19 +297,19 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       },
       arg("handle"), "(category, mask) of a sphere.");
   c.def(
-      "is_kinematic", [](Self self, SphereId id) { return self.get().is_kinematic(id); }, arg("handle"));
+      "is_kinematic", [](Self self, SphereId id) { return self.get().is_kinematic(id); }, arg("handle"), "Whether the sphere is kinematic (moved by its velocity alone).");
   c.def(
-      "is_sleeping", [](Self self, SphereId id) { return self.get().is_sleeping(id); }, arg("handle"));
+      "is_sleeping", [](Self self, SphereId id) { return self.get().is_sleeping(id); }, arg("handle"), "Whether the sphere sleeps (always False with sleep off).");
 
   c.def(
       "set_position", [](Self self, SphereId id, const Vec3& v) { self.get().set_position(id, v); }, arg("handle"),
       arg("position"), "Teleports a sphere (its velocity kept, its warm-start impulses dropped).");
   c.def(
       "set_velocity", [](Self self, SphereId id, const Vec3& v) { self.get().set_velocity(id, v); }, arg("handle"),
-      arg("velocity"));
+      arg("velocity"), "Sets a dynamic or kinematic sphere's velocity, m/s.");
   c.def(
       "set_angular_velocity", [](Self self, SphereId id, const Vec3& v) { self.get().set_angular_velocity(id, v); },
-      arg("handle"), arg("angular_velocity"));
+      arg("handle"), arg("angular_velocity"), "Sets a sphere's spin, rad/s (zero only, with rotation off).");
   c.def(
       "apply_impulse", [](Self self, SphereId id, const Vec3& v) { self.get().apply_impulse(id, v); }, arg("handle"),
       arg("impulse"), "v += impulse / m (N s, at the centre).");
@@ -325,21 +325,21 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       arg("torque"), "Adds a torque (N m) that the next step applies, then clears.");
   c.def(
       "set_restitution", [](Self self, SphereId id, float v) { self.get().set_restitution(id, v); }, arg("handle"),
-      arg("restitution"));
+      arg("restitution"), "Restitution in [0, 1].");
   c.def(
       "set_friction", [](Self self, SphereId id, float v) { self.get().set_friction(id, v); }, arg("handle"),
-      arg("friction"));
+      arg("friction"), "Coulomb friction coefficient, >= 0.");
   c.def(
-      "set_mass", [](Self self, SphereId id, float v) { self.get().set_mass(id, v); }, arg("handle"), arg("mass"));
+      "set_mass", [](Self self, SphereId id, float v) { self.get().set_mass(id, v); }, arg("handle"), arg("mass"), "Mass of a dynamic sphere, kg (the inertia follows; velocities kept).");
   c.def(
       "set_radius", [](Self self, SphereId id, float v) { self.get().set_radius(id, v); }, arg("handle"),
-      arg("radius"));
+      arg("radius"), "Radius, m (the inertia follows; an overlap it makes is pushed apart by the next steps).");
   c.def(
       "set_gravity_scale", [](Self self, SphereId id, float v) { self.get().set_gravity_scale(id, v); },
-      arg("handle"), arg("scale"));
+      arg("handle"), arg("scale"), "The sphere's gravity becomes gravity * scale (0 floats, -1 rises).");
   c.def(
       "set_user_data", [](Self self, SphereId id, std::uint64_t v) { self.get().set_user_data(id, v); },
-      arg("handle"), arg("value"));
+      arg("handle"), arg("value"), "Stores the game's 64-bit value for a sphere (hail never reads it).");
   c.def(
       "set_collision_filter",
       [](Self self, SphereId id, std::uint32_t category, std::uint32_t mask) {
@@ -348,10 +348,10 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       arg("handle"), arg("category") = kDefaultCategory, arg("mask") = kAllCategories,
       "Category and mask bits: two things collide when each one's category is in the other's mask.");
   c.def(
-      "set_kinematic", [](Self self, SphereId id) { self.get().set_kinematic(id); }, arg("handle"));
+      "set_kinematic", [](Self self, SphereId id) { self.get().set_kinematic(id); }, arg("handle"), "Makes a sphere kinematic: infinite mass, moved by its velocity alone.");
   c.def(
       "set_dynamic", [](Self self, SphereId id, float mass) { self.get().set_dynamic(id, mass); }, arg("handle"),
-      arg("mass"));
+      arg("mass"), "Makes a kinematic or static sphere dynamic with this mass, kg.");
   c.def(
       "move_kinematic",
       [](Self self, SphereId id, const Vec3& target, float dt) { self.get().move_kinematic(id, target, dt); },
