@@ -21,6 +21,7 @@
 #include "scenes/scene_inputs.h"
 #include "scenes/scene_run.h"
 #include "scenes/setting_text.h"
+#include "scenes/vtk_frames.h"
 #include "setting_flags.h"
 
 namespace hail::bench {
@@ -105,10 +106,14 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
   const bool save = last && o.save_at > 0;
   const bool record = last && !o.record_path.empty();
   Recorder recorder;
-  if (o.home_after > 0 || save || record)
+  // --vtk: ParaView frames (scenes/vtk_frames.h) of the last run, untimed, as --record's.
+  std::optional<VtkFrames> vtk;
+  if (last && !o.vtk_dir.empty()) vtk.emplace(o.vtk_dir);
+  if (o.home_after > 0 || save || record || vtk)
     run_options.after_step = [&](Scene& scene, int step) {
       if (step == o.home_after) move_scene(scene, Vec3(-d, 0.0f, -d));
       if (record && step % o.record_every == 0) recorder.write(scene, step);
+      if (vtk && step % o.vtk_every == 0) vtk->write(*scene.world, double(step) * double(scene.dt));
       if (save && step == o.save_at) {
         const auto start = std::chrono::steady_clock::now();
         scene.world->save_file(o.save_path);
@@ -122,6 +127,7 @@ RunResult run_once(const CommandOptions& o, const SceneParams& params, bool last
     give_filters(scene, filter_mode);
     if (!o.restore_path.empty()) restore_scene(scene, o.restore_path);
     if (record) recorder.begin(o, o.scene_file.empty() ? o.scene : o.scene_file, scene);
+    if (vtk) vtk->write(*scene.world, 0.0);
     return scene;
   };
   RunResult result;
@@ -501,6 +507,11 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
       ->type_name("FILE");
   add_count(app, "--every", o.record_every, 1, 100'000'000, "with --record: steps between frames");
   app.add_flag("--velocities", o.record_velocities, "with --record: frames carry velocities too");
+  app.add_option("--vtk", o.vtk_dir,
+                 "write ParaView frames of the (last) run into DIR: DIR/frame_000000.vtp at step 0 and every "
+                 "--vtk-every K steps, and DIR/frame.pvd, their time index (docs/python.md); untimed")
+      ->type_name("DIR");
+  add_count(app, "--vtk-every", o.vtk_every, 1, 100'000'000, "with --vtk: steps between frames");
   app.add_flag("--quiet", o.quiet,
                "one summary line (scene, spheres, steps, ms/step, worst penetration, tunnelled, NaN, hash) and no "
                "progress lines on stderr; with --ccd-both, the table");

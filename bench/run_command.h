@@ -39,6 +39,8 @@ struct RunCommandOptions {
   std::string record_path;         // --record FILE: positions every --every K steps (hail/recording.h)
   int record_every = 1;            // --every K
   bool record_velocities = false;  // --velocities: frames carry velocities too
+  std::string vtk_dir;             // --vtk DIR: ParaView frames at step 0 and every --vtk-every K steps
+  int vtk_every = 1;
 };
 
 /// Declares run's flags on `app`, writing `o`; the checks between flags run once `app` is parsed.

@@ -15,10 +15,13 @@
 #   simd       kernel/simd/: the per-path SIMD kernels of all the layers above
 #   world      kernel/world/, include/hail/world.h and hail.h: World and its step pipeline
 #
-# examples/ may include the public headers only. Included from the top-level CMakeLists.txt, it
-# adds the check to every build (target hail_layers: a wrong include fails the build) and, in
-# script mode, checks the tree at -DHAIL_LAYER_ROOT=<dir> (tests/CMakeLists.txt also runs it on
-# tests/layering/, a tree with an upward include, which it must refuse).
+# examples/ may include the public headers only. python/ (the Python module) is a top layer, as
+# bench/ and view/ are: it may include the public headers and scenes/, never soa/, jobs/ or
+# kernel/ (an embedder's view of hail: the bindings use only what the API promises). Included
+# from the top-level CMakeLists.txt, it adds the check to every build (target hail_layers: a
+# wrong include fails the build) and, in script mode, checks the tree at -DHAIL_LAYER_ROOT=<dir>
+# (tests/CMakeLists.txt also runs it on tests/layering/, a tree with an upward include, which it
+# must refuse).
 
 set(hail_layer_names public jobs files dispatch geometry bvh broadphase terrain solver ccd simd world)
 
@@ -39,11 +42,12 @@ endfunction()
 
 function(hail_check_layers root)
   file(GLOB_RECURSE files RELATIVE ${root} ${root}/include/hail/*.h ${root}/soa/*.h ${root}/soa/*.cpp
-       ${root}/jobs/*.h ${root}/kernel/*.h ${root}/kernel/*.cpp ${root}/examples/*.cpp ${root}/examples/*.h)
+       ${root}/jobs/*.h ${root}/kernel/*.h ${root}/kernel/*.cpp ${root}/examples/*.cpp ${root}/examples/*.h
+       ${root}/python/*.cpp ${root}/python/*.h)
   set(errors "")
   foreach(file IN LISTS files)
     hail_layer_of(${file} layer)
-    if(layer EQUAL -1 AND NOT file MATCHES "^examples/")
+    if(layer EQUAL -1 AND NOT file MATCHES "^(examples|python)/")
       string(APPEND errors "  ${file}: in no layer (add its folder to cmake/HailCheckLayers.cmake)\n")
       continue()
     endif()
@@ -59,10 +63,10 @@ function(hail_check_layers root)
         continue()  # a standard or third-party header
       endif()
       hail_layer_of(${target} target_layer)
-      if(file MATCHES "^(include/hail|examples)/" AND NOT target MATCHES "^include/hail/")
+      if(file MATCHES "^(include/hail|examples|python)/" AND NOT target MATCHES "^include/hail/")
         string(APPEND errors "  ${file}: includes ${target}, not a public header (include/hail/)\n")
-      elseif(file MATCHES "^examples/")
-        continue()  # a program using the API: any public header
+      elseif(file MATCHES "^(examples|python)/")
+        continue()  # a program using the API: any public header (scenes/ is not checked here)
       elseif(target_layer EQUAL -1)
         string(APPEND errors "  ${file}: includes ${target}, which is in no layer\n")
       elseif(target_layer GREATER layer)
@@ -82,7 +86,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
 else()
   file(GLOB_RECURSE hail_layered_files CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/include/hail/*.h
        ${PROJECT_SOURCE_DIR}/soa/* ${PROJECT_SOURCE_DIR}/jobs/* ${PROJECT_SOURCE_DIR}/kernel/*.h
-       ${PROJECT_SOURCE_DIR}/kernel/*.cpp ${PROJECT_SOURCE_DIR}/examples/*.cpp)
+       ${PROJECT_SOURCE_DIR}/kernel/*.cpp ${PROJECT_SOURCE_DIR}/examples/*.cpp ${PROJECT_SOURCE_DIR}/python/*.cpp
+       ${PROJECT_SOURCE_DIR}/python/*.h)
   add_custom_command(OUTPUT ${PROJECT_BINARY_DIR}/hail_layers.stamp
     COMMAND ${CMAKE_COMMAND} -DHAIL_LAYER_ROOT=${PROJECT_SOURCE_DIR} -P ${CMAKE_CURRENT_LIST_FILE}
     COMMAND ${CMAKE_COMMAND} -E touch ${PROJECT_BINARY_DIR}/hail_layers.stamp

@@ -44,7 +44,7 @@ mkdir -p build
 cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined,float-cast-overflow" \
-  -DHAIL_BUILD_FUZZERS=ON -DHAIL_BUILD_TESTS=OFF -DHAIL_WITH_BULLET=OFF \
+  -DHAIL_BUILD_FUZZERS=ON -DHAIL_BUILD_TESTS=OFF -DHAIL_WITH_BULLET=OFF -DHAIL_PYTHON=OFF \
   -DHAIL_SIMD_PATHS="$(scripts/host_simd_paths.sh)" > build/fuzz-configure.log  # the paths this machine runs
 cmake --build build/fuzz -j "${HAIL_JOBS:-$(nproc 2>/dev/null || echo 2)}" --target fuzz-heightmap fuzz-scene-file fuzz-snapshot fuzz-recording
 echo "fuzz.sh: build took $((SECONDS - t0)) s"

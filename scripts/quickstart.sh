@@ -16,6 +16,10 @@ packages=(build-essential cmake libtbb-dev libxsimd-dev libeigen3-dev catch2 nlo
 # hail-view (view/) and its headless picture test: GLFW, Dear ImGui (its GLFW and OpenGL3
 # backends ship in the package), libepoxy, and Xvfb with xauth and Mesa's software OpenGL.
 packages+=(libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth libgl1-mesa-dri)
+# The Python module (python/, docs/python.md) and its tests: Debian's pybind11, numpy and pytest
+# for /usr/bin/python3; meshio reads the ParaView frames back, matplotlib draws the example's plot.
+packages+=(pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev)
+if [ "$mode" = test ]; then packages+=(python3-meshio python3-matplotlib); fi
 # The benchmark side also wants the peers and tools it compares with; the tests never need them.
 if [ "$mode" = bench ]; then packages+=(libbullet-dev libbenchmark-dev gnuplot-nox); fi
 missing=()
