@@ -66,7 +66,7 @@ SceneOverrides file_overrides(const CommandOptions& o) {
       {"--ccd", {"continuous_collision"}},
       {"--rotation", {"rotation"}},
       {"--sleep", {"sleep"}},
-      {"--warm-start", {"warm_start", "warm_start_factor"}},  // on: factor 1; FACTOR: on, that factor
+      {"--warm-start", {"warm_start_factor"}},
   };
   for (const auto& [flag, names] : kFlagSettings)
     if (given(flag))
@@ -496,12 +496,9 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
   app.add_option_function<std::string>(
          "--warm-start",
          [&p](const std::string& v) {
-           if (v == "on" || v == "off")
-             p.settings.warm_start = v == "on";
-           else
-             p.settings.warm_start_factor = static_cast<float>(std::stod(v));
+           p.settings.warm_start_factor = v == "on" ? 1.0f : v == "off" ? 0.0f : static_cast<float>(std::stod(v));
          },
-         "warm starting; a factor in [0, 1] turns it on with that factor")
+         "warm starting: the factor in [0, 1] of last step's impulses a contact starts with (on: 1, off: 0)")
       ->check(CLI::Validator(
           [](std::string& v) {
             std::string factor = v;

@@ -132,9 +132,10 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   f(s.reorder_interval,
     SettingSpec{
         .name = "reorder_interval", .max = kIntMax, .doc = "steps between Morton re-sorts of the slots; 0 never"});
-  f(s.warm_start, SettingSpec{.name = "warm_start", .doc = "contacts start from last step's impulses"});
-  f(s.warm_start_factor,
-    SettingSpec{.name = "warm_start_factor", .max = 1, .doc = "share of last step's impulses a contact starts with"});
+  f(s.warm_start_factor, SettingSpec{.name = "warm_start_factor",
+                                     .max = 1,
+                                     .doc = "share of last step's impulses a contact starts with; 0 turns warm "
+                                            "starting off"});
   f(s.continuous_collision,
     SettingSpec{.name = "continuous_collision", .doc = "fast spheres move impact by impact (no tunnelling)"});
   f(s.fast_travel_fraction, SettingSpec{.name = "fast_travel_fraction",

@@ -481,7 +481,7 @@ struct StepPipeline {
       offset[static_blocks + b + 1] = offset[static_blocks + b] + st.pair_blocks[b].size();
     resize_geometric(st.contacts, offset.back());
     const std::size_t static_count = offset[static_blocks];
-    const bool warm = w.settings.warm_start;
+    const bool warm = w.settings.warm_start_factor > 0.0f;
     std::atomic<bool> friction{false};    // an OR: the order of stores cannot change the result
     std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
     if (warm) st.contact_cache.begin_layout(s);
@@ -526,7 +526,7 @@ struct StepPipeline {
   /// Keeps this step's impulses for the next step's warm start: each contact (now in colour
   /// order) into the cache at its detection-order index, where the merge noted the ranges.
   void remember_impulses() {
-    if (!w.settings.warm_start) return;
+    if (!(w.settings.warm_start_factor > 0.0f)) return;
     ContactImpulseCache& cache = st.contact_cache;
     cache.begin_store(st.contacts.size(), sleeping ? &w.spheres : nullptr);  // sleepers keep theirs
     const std::uint32_t* order = st.colouring.order.data();
@@ -701,7 +701,7 @@ struct StepPipeline {
       // longer fits the pile pushes neighbours into each other faster than the restitution
       // threshold, and the collision passes bounce them: the pile keeps jittering (bowl-pile's
       // energy: docs/benchmarks.md, "Figures behind the code's choices").
-      if (w.settings.warm_start && w.stats.warm_started > 0)
+      if (w.settings.warm_start_factor > 0.0f && w.stats.warm_started > 0)
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.warm_start(first, last, bodies, work);
           warm_start_run_scalar(scalar, bodies, work);
@@ -1169,9 +1169,9 @@ struct StepPipeline {
       w.stats.collision_passes = 0;
       // Nothing touched: nothing to carry over, but what sleepers carry (the merge laid out
       // every slot's empty range, as begin_store needs).
-      if (w.settings.warm_start && sleeping)
+      if (w.settings.warm_start_factor > 0.0f && sleeping)
         st.contact_cache.begin_store(0, &w.spheres);
-      else if (w.settings.warm_start)
+      else if (w.settings.warm_start_factor > 0.0f)
         st.contact_cache.clear();
     }
     ran.friction = ran.solve && friction_needed_;
