@@ -28,7 +28,7 @@ struct IntegrationParams {
   float dt = 0.0f;                     ///< time-scaled step
   float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
   /// Integrator::UniformAcceleration: each sphere's velocity at the start of the (sub)step,
-  /// before forces and gravity (StepState::start_vx..vz); unused (null) otherwise.
+  /// before forces and gravity (StepScratch::start_vx..vz); unused (null) otherwise.
   const float* start_vx = nullptr;
   const float* start_vy = nullptr;
   const float* start_vz = nullptr;

@@ -9,8 +9,9 @@
 #include "hail/world.h"
 #include "kernel/files/regular_file.h"
 #include "kernel/world/snapshot_format.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 namespace {
@@ -313,12 +314,12 @@ void World::restore(std::span<const std::byte> bytes) {
   ground_filter_ = p.ground_filter;
   uses_stale_ = true;                  // which filters and gravity scales the step must honour: recounted next step
   gravity_scaled_ = filtered_ = true;  // until then, the general loops (exact either way)
-  step_->sphere_queries.invalidate();
-  std::swap(step_->contact_cache, p.cache);
-  std::swap(step_->events, p.events);
-  step_->contacts.clear();
-  step_->impacts.clear();
-  step_->sleep.clear_events();
+  services_->sphere_queries.invalidate();
+  std::swap(scratch_->contact_cache, p.cache);
+  std::swap(services_->events, p.events);
+  scratch_->contacts.clear();
+  scratch_->impacts.clear();
+  services_->sleep.clear_events();
   stats_ = {};
   times_ = {};
 }

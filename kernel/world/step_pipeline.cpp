@@ -44,7 +44,8 @@
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/sleep_islands.h"
 #include "kernel/world/step_heuristics.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
+#include "kernel/world/world_services.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -84,7 +85,8 @@ struct StepWorld {
 
 struct StepPipeline {
   StepWorld w;
-  StepState& st;             // w's scratch (kernel/world/step_state.h)
+  StepScratch& st;           // w's scratch (kernel/world/step_scratch.h)
+  WorldServices& services;   // w's events, sleeping islands and queries (kernel/world/world_services.h)
   const StepModes& modes;    // what this substep does (kernel/solver/step_modes.h), decided by World::substep
   IntegrationParams params;  // with a copy of the modes, for the integrator
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
@@ -453,7 +455,7 @@ struct StepPipeline {
     });
     ccd.resolve(s, scene, params.restitution_threshold, w.settings.max_sweep_events);
     ccd.finish(s);
-    if (modes.sleeping) st.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
+    if (modes.sleeping) services.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
@@ -1089,7 +1091,7 @@ struct StepPipeline {
     ScopedPhaseTimer timer(w.times.predict);
     SphereSoA& s = w.spheres;
     float max_speed = 0.0f;
-    for (const std::uint32_t i : st.sleep.woken_slots()) {
+    for (const std::uint32_t i : services.sleep.woken_slots()) {
       if (modes.forces) apply_forces(s, i, i + 1, params.dt, modes.rotation);
       max_speed = std::max(max_speed, predict_velocities(s, i, i + 1, params, w.settings.fast_travel_fraction));
       if (modes.terrain_guard) remember_reach(i, i + 1);
@@ -1101,7 +1103,7 @@ struct StepPipeline {
   bool wake_touched() {
     ScopedPhaseTimer timer(w.times.islands);
     ScopedTraceRecord record(w.trace, Phase::Islands);
-    return st.sleep.wake_touched(w.spheres, st.contacts);
+    return services.sleep.wake_touched(w.spheres, st.contacts);
   }
 
   /// Sphere-ground contacts and sphere pairs (both at once when both run), merged.
@@ -1145,9 +1147,9 @@ struct StepPipeline {
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      if (st.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
+      if (services.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
         const std::array<float, 3> g_dt = gravity_dt();
-        st.events.remember_solve_start(w.spheres, modes.uniform_acceleration() ? g_dt.data() : nullptr);
+        services.events.remember_solve_start(w.spheres, modes.uniform_acceleration() ? g_dt.data() : nullptr);
       }
       solve();
     } else {
@@ -1186,7 +1188,7 @@ struct StepPipeline {
     if (modes.sleeping) {
       ScopedPhaseTimer timer(t.islands);
       ScopedTraceRecord record(w.trace, Phase::Islands);
-      st.sleep.update(w.spheres, st.contacts, params.dt, w.settings);
+      services.sleep.update(w.spheres, st.contacts, params.dt, w.settings);
     }
   }
 
@@ -1206,12 +1208,12 @@ struct StepPipeline {
 void World::step(float dt) {
   // Before anything changes: a refused step leaves the world as it was.
   const int substeps = static_cast<int>(check_step(settings_, dt));  // <= max_substeps, an int
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
-  ContactEventTracker& events = step_->events;
-  SleepIslands& sleep = step_->sleep;
+  ContactEventTracker& events = services_->events;
+  SleepIslands& sleep = services_->sleep;
   // Frozen (time_scale 0) or empty; or every movable sphere asleep and nothing else moving,
   // when a step would change nothing: it costs one pass over the flags.
   const bool all_asleep = settings_.sleep && !SleepIslands::anything_moves(spheres_);
@@ -1219,8 +1221,8 @@ void World::step(float dt) {
     clear_forces();
     if (events.on()) events.finish_idle_step(spheres_);
     if (all_asleep) {
-      step_->contacts.clear();
-      step_->impacts.clear();
+      scratch_->contacts.clear();
+      scratch_->impacts.clear();
       stats_ = {};
       stats_.sleeping = SleepIslands::count_sleeping(spheres_);
       steps_taken_ += static_cast<std::uint64_t>(substeps);  // the re-sort's phase goes on
@@ -1266,7 +1268,8 @@ void World::substep(float scaled) {
   StepPipeline pipeline{
       {settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_, stats_, times_, trace_,
        steps_taken_},
-      *step_,
+      *scratch_,
+      *services_,
       modes,
       {.modes = modes,
        .gravity = {settings_.gravity.x(), settings_.gravity.y(), settings_.gravity.z()},
@@ -1274,9 +1277,9 @@ void World::substep(float scaled) {
        // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
        .restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled)}};
   arena_->execute([&] { pipeline.run(); });
-  if (step_->events.on())
-    step_->events.collect_substep(spheres_, step_->contacts, step_->impacts,
-                                  {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
+  if (services_->events.on())
+    services_->events.collect_substep(spheres_, scratch_->contacts, scratch_->impacts,
+                                      {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;
 }
