@@ -2,7 +2,7 @@
 // StepModes: what one (sub)step does and how, decided once per substep from the settings and
 // the world's state (World::substep) and read by every phase that branches on it: the step's
 // pipeline (kernel/world/step_pipeline.cpp), the integrator (IntegrationParams::modes) and the
-// sweep (SweepScene). One place decides each mode, so two phases never disagree about one.
+// sweep (SweepScene::modes). One place decides each mode, so two phases never disagree about one.
 
 #include "hail/collision_filter.h"
 #include "hail/world_settings.h"

@@ -446,9 +446,8 @@ struct StepPipeline {
     ccd.begin(s, st.fast, params.dt, w.settings.fast_travel_fraction, SweepCandidates::Automatic,
               w.settings.reorder_interval > 0);
     if (st.fast.empty()) return;
-    const SweepScene scene{
-        w.terrain,      w.terrain_restitution, w.terrain_friction, w.planes, w.settings.sphere_collisions,
-        modes.rotation, modes.filtering,       modes.ground};
+    const SweepScene scene{w.terrain, w.terrain_restitution,        w.terrain_friction,
+                           w.planes,  w.settings.sphere_collisions, modes};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
