@@ -193,9 +193,9 @@ int compare_command(const CompareOptions& o) {
       "  scene     %zu spheres, %d steps of dt = %.6g s, timed steps %d..%d; runs each: %d, alternating ABBA\n"
       "  at start  kinetic energy %.6g J, |momentum| %.3g kg m/s\n",
       peer.spheres.size(), steps, dt, warmup, steps - 1, o.repeat, start_energy, start.momentum);
-  std::printf("  hail      threads: %d; continuous collision %s, %d collision + %d resting passes, warm start %s\n",
+  std::printf("  hail      threads: %d; continuous collision %s, %d collision + %d resting passes, warm start %g\n",
               hail_threads, hail_settings.continuous_collision ? "on" : "off", hail_settings.collision_iterations,
-              hail_settings.resting_iterations, hail_settings.warm_start ? "on" : "off");
+              hail_settings.resting_iterations, double(hail_settings.warm_start_factor));
   if (with_bullet) {
     std::printf(
         "  Bullet    %s, single-threaded (btDiscreteDynamicsWorld): btDbvtBroadphase, "

@@ -361,10 +361,15 @@ void read_setting(const Object& o, std::string_view key, T& field, const Setting
   }
 }
 
+/// A key older scene files have that is no longer a setting: "warm_start": false is read as
+/// "warm_start_factor": 0 (warm starting off), and true leaves the factor as it is.
+constexpr std::string_view kWarmStartAlias = "warm_start";
+
 /// The "settings" object: every key the settings table names, with its range (the World's own),
-/// so that a setting added to the table is a scene-file key at once.
+/// so that a setting added to the table is a scene-file key at once; and kWarmStartAlias.
 void read_settings(const json& j, const Where& at, WorldSettings& s) {
-  const std::vector<std::string> keys = setting_keys("");
+  std::vector<std::string> keys = setting_keys("");
+  keys.emplace_back(kWarmStartAlias);
   const Object o(j, at, std::vector<std::string_view>(keys.begin(), keys.end()));
   o.reject_unknown_keys();
   std::list<std::vector<std::string>> group_keys;  // the groups' Objects keep views of these
@@ -383,6 +388,7 @@ void read_settings(const json& j, const Where& at, WorldSettings& s) {
     for (const auto& [group, object] : groups)
       if (group == name.substr(0, dot)) read_setting(object, name.substr(dot + 1), field, spec);
   });
+  if (!o.boolean(kWarmStartAlias, true)) s.warm_start_factor = 0.0f;
 }
 
 // ---- terrain ---------------------------------------------------------------------------------

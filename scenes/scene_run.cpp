@@ -180,7 +180,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.warmup = r.steps > 120 ? 60 : 0;  // the scenes' definition: report steps 60..599
   r.dt = scene.dt;
   r.reorder_interval = world.settings().reorder_interval;
-  r.warm_start = world.settings().warm_start;
+  r.warm_start_factor = world.settings().warm_start_factor;
   r.continuous_collision = world.settings().continuous_collision;
   if (const WorldSettings& ws = world.settings(); ws.solver == Solver::SoftStep) {
     char text[128];
@@ -351,7 +351,7 @@ nlohmann::json to_json(const RunResult& r) {
          for (const auto& [part, steps] : part_list(r.parts_ran)) parts[part] = steps;
          return parts;
        }()},
-      {"warm_start", r.warm_start},
+      {"warm_start_factor", r.warm_start_factor},
       {"solver_per_step",
        {{"static_contacts", r.static_contacts},
         {"sphere_contacts", r.sphere_contacts},

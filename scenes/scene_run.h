@@ -15,7 +15,7 @@ struct RunResult {
   std::string scene, description;
   std::size_t spheres = 0;
   int threads = 0, steps = 0, warmup = 0, reorder_interval = 0;
-  bool warm_start = true;
+  float warm_start_factor = 1.0f;
   float dt = 0;
   double mean_ms = 0, median_ms = 0, total_s = 0, setup_s = 0;
   PhaseTimes phase_ms;  ///< mean per timed step

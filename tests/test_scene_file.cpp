@@ -106,12 +106,12 @@ TEST_CASE("scene files: command-line values override the file's", "[scene_file]"
   params.settings.pair_search = hail::PairSearch::Grid;
   params.settings.warm_start_factor = 0.8f;
   params.settings.resting_iterations = 5;
-  const SceneOverrides overrides{.spheres = 1000,
-                                 .threads = 1,
-                                 .steps = 77,
-                                 .dt = 1.0f / 120.0f,
-                                 .set = {"reorder_interval=4", "resting_iterations=5", "pair_search=grid",
-                                         "warm_start=on", "warm_start_factor=0.8"}};
+  const SceneOverrides overrides{
+      .spheres = 1000,
+      .threads = 1,
+      .steps = 77,
+      .dt = 1.0f / 120.0f,
+      .set = {"reorder_interval=4", "resting_iterations=5", "pair_search=grid", "warm_start_factor=0.8"}};
   Scene from_file = hail::bench::load_scene_file(kScenes + "terrain-rain.json", overrides);
   const hail::WorldSettings& s = from_file.world->settings();
   CHECK(s.threads == 1);
@@ -137,7 +137,7 @@ TEST_CASE("scene files: a file with every kind of entry parses to what it says",
       "resting_iterations": 2, "depenetration_iterations": 1,
       "depenetration": {"fraction": 0.5, "slop_fraction": 0.02},
       "restitution_threshold": 0.1, "sphere_collisions": false, "pair_search": "sweep",
-      "speculative_radii": 0.5, "reorder_interval": 0, "warm_start": false, "warm_start_factor": 0.25,
+      "speculative_radii": 0.5, "reorder_interval": 0, "warm_start_factor": 0.25,
       "continuous_collision": false, "fast_travel_fraction": 0.5, "max_sweep_events": 4
     },
     "terrain": null,
@@ -172,7 +172,6 @@ TEST_CASE("scene files: a file with every kind of entry parses to what it says",
   CHECK(s.pair_search == hail::PairSearch::SweepAndPrune);
   CHECK(s.speculative_radii == 0.5f);
   CHECK(s.reorder_interval == 0);
-  CHECK_FALSE(s.warm_start);
   CHECK(s.warm_start_factor == 0.25f);
   CHECK_FALSE(s.continuous_collision);
   CHECK(s.fast_travel_fraction == 0.5f);
@@ -265,6 +264,18 @@ TEST_CASE("scene files: the solver and the soft step's knobs", "[scene_file][sof
   const Scene integrated = parse_scene_text(scene_text(R"("settings": {"integrator": "semi-implicit-euler"})"),
                                             "scene.json", {.set = {"integrator=uniform-acceleration"}});
   CHECK(integrated.world->settings().integrator == hail::Integrator::UniformAcceleration);
+}
+
+TEST_CASE("scene files: an old file's warm_start is read as warm_start_factor", "[scene_file]") {
+  auto factor = [](const std::string& settings) {
+    return parse_scene_text(scene_text(R"("settings": )" + settings), "old.json").world->settings().warm_start_factor;
+  };
+  CHECK(factor(R"({"warm_start": false})") == 0.0f);
+  CHECK(factor(R"({"warm_start": false, "warm_start_factor": 0.25})") == 0.0f);  // off, whatever the factor
+  CHECK(factor(R"({"warm_start": true})") == 1.0f);
+  CHECK(factor(R"({"warm_start": true, "warm_start_factor": 0.25})") == 0.25f);
+  CHECK(factor(R"({"warm_start_factor": 0})") == 0.0f);
+  CHECK(factor("{}") == 1.0f);
 }
 
 TEST_CASE("scene files: every kind of bad input names the file and the field", "[scene_file]") {
@@ -1090,5 +1101,5 @@ TEST_CASE("scene files: every setting of the settings table is a key, read with 
     }
     ++keys;
   });
-  CHECK(keys >= 35);
+  CHECK(keys >= 34);
 }

@@ -20,6 +20,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "catch.h"
@@ -390,6 +391,81 @@ TEST_CASE("A version 4 snapshot (the old checksum basis) still restores, and sav
   world->restore(legacy);
   const auto seeds = corpus_seeds();
   CHECK(saved(*world) == seeds.back().second);  // terrain-6, saved by this hail
+}
+
+namespace {
+
+/// Where warm_start_factor lies in a snapshot: past the header, WRLD's section header and the
+/// settings before it in the table, each as many bytes as the snapshot gives it. Versions 4 and
+/// 5 have their warm_start byte there, and the factor after it.
+std::size_t warm_start_factor_at() {
+  const WorldSettings s;
+  std::size_t at = 0;
+  bool reached = false;
+  snapshot::for_each_setting(s, [&](const auto& field, const SettingSpec&) {
+    using T = std::remove_cvref_t<decltype(field)>;
+    reached = reached || static_cast<const void*>(&field) == &s.warm_start_factor;
+    if (!reached) at += std::is_same_v<T, bool> ? 1 : std::is_enum_v<T> ? 4 : sizeof(T);
+  });
+  return snapshot::kHeaderBytes + snapshot::kSectionHeaderBytes + at;
+}
+
+/// A snapshot of this version as version 5 wrote the same world: its warm_start byte before
+/// warm_start_factor, and the lengths and checksum to match.
+Bytes as_version5(const Bytes& bytes, bool warm_start) {
+  Bytes old = bytes;
+  old.insert(old.begin() + static_cast<std::ptrdiff_t>(warm_start_factor_at()), std::byte{warm_start});
+  const std::uint32_t version = 5;
+  std::memcpy(old.data() + 8, &version, sizeof version);
+  // The payload's length and WRLD's.
+  for (std::size_t at : {snapshot::kPayloadBytesAt, snapshot::kHeaderBytes + 8}) {
+    std::uint64_t length = 0;
+    std::memcpy(&length, old.data() + at, sizeof length);
+    ++length;
+    std::memcpy(old.data() + at, &length, sizeof length);
+  }
+  rechecksum(old);
+  return old;
+}
+
+/// `bytes` with warm_start_factor set to `factor` (this version's layout).
+Bytes with_warm_start_factor(const Bytes& bytes, float factor) {
+  Bytes edited = bytes;
+  std::memcpy(edited.data() + warm_start_factor_at(), &factor, sizeof factor);
+  rechecksum(edited);
+  return edited;
+}
+
+}  // namespace
+
+TEST_CASE("A version 4 or 5 snapshot saved with warm starting off restores with warm_start_factor 0", "[snapshot]") {
+  SECTION("version 5, warm starting on and off") {
+    std::unique_ptr<World> source = busy_world(1);
+    const Bytes now = saved(*source);
+    REQUIRE(source->settings().warm_start_factor == 1.0f);
+    std::unique_ptr<World> world = busy_world(1);
+    world->restore(as_version5(now, true));
+    CHECK(world->settings().warm_start_factor == 1.0f);
+    CHECK(saved(*world) == now);
+    world->restore(as_version5(now, false));
+    CHECK(world->settings().warm_start_factor == 0.0f);
+    CHECK(saved(*world) == with_warm_start_factor(now, 0.0f));  // the same world, as this version saves it
+  }
+  SECTION("version 4: the file of tests/data with its warm_start byte cleared") {
+    Bytes legacy = read_bytes(std::filesystem::path(HAIL_SOURCE_DIR) / "tests/data/snapshot-v4-terrain-6.snap");
+    const std::size_t at = warm_start_factor_at();
+    REQUIRE(legacy.size() > at + 5);
+    REQUIRE(legacy[at] == std::byte{1});  // saved with warm starting on
+    legacy[at] = std::byte{0};
+    const std::uint64_t sum =
+        snapshot::fnv1a(std::span<const std::byte>(legacy).subspan(snapshot::kHeaderBytes), kLegacyFnvOffsetBasis);
+    std::memcpy(legacy.data() + snapshot::kChecksumAt, &sum, sizeof sum);
+    std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
+    world->restore(legacy);
+    CHECK(world->settings().warm_start_factor == 0.0f);
+    const auto seeds = corpus_seeds();
+    CHECK(saved(*world) == with_warm_start_factor(seeds.back().second, 0.0f));
+  }
 }
 
 TEST_CASE("FNV-1a 64 gives the published test vectors", "[snapshot][hash]") {

@@ -21,10 +21,10 @@ Contact pair(std::uint32_t a, std::uint32_t b, float impulse) {
 }
 
 /// Deepest overlap with the floor (y = 0) after `steps` of a column of `count` spheres.
-float column_sinking(bool warm_start, int count, int steps) {
+float column_sinking(float warm_start_factor, int count, int steps) {
   WorldSettings settings;
   settings.threads = 1;
-  settings.warm_start = warm_start;
+  settings.warm_start_factor = warm_start_factor;
   World world(settings);
   world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.0f, .friction = 0.5f});
   for (int k = 0; k < count; ++k)
@@ -87,9 +87,24 @@ TEST_CASE("The contact cache finds last step's impulses by sphere and feature, a
   CHECK(cache.load(now, 2, 0, now.size(), s) == 0);
 }
 
+TEST_CASE("A warm-start factor of 0 is warm starting off: no impulse is looked up or remembered", "[warmstart]") {
+  for (const float factor : {0.0f, 0.5f}) {
+    World world(WorldSettings{.threads = 1, .warm_start_factor = factor});
+    world.add_plane({.normal = {0, 1, 0}, .offset = 0});
+    for (int k = 0; k < 4; ++k) world.add_sphere({.position = {0, 0.5f + 1.0f * float(k), 0}, .radius = 0.5f});
+    std::size_t warm_started = 0;
+    for (int k = 0; k < 30; ++k) {
+      world.step(1.0f / 60.0f);
+      warm_started += world.last_step_stats().warm_started;
+    }
+    INFO("factor " << factor);
+    CHECK((warm_started > 0) == (factor > 0.0f));
+  }
+}
+
 TEST_CASE("A tall column sinks far less into the floor with warm starting", "[warmstart]") {
-  const float without = column_sinking(false, 12, 240);
-  const float with = column_sinking(true, 12, 240);
+  const float without = column_sinking(0.0f, 12, 240);  // factor 0: warm starting off
+  const float with = column_sinking(1.0f, 12, 240);
   INFO("deepest floor overlap without " << without << " m, with " << with << " m");
   CHECK(with < 0.02f);           // under 4% of the radius
   CHECK(with < 0.5f * without);  // and at most half of what it is without

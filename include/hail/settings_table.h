@@ -155,10 +155,11 @@ constexpr void for_each_setting(Settings& s, F&& f) {
                                     .max = kIntMax,
                                     .flag = "reorder",
                                     .doc = "steps between Morton re-sorts of the slots; 0 never"});
-  f(s.warm_start,
-    SettingSpec{.name = "warm_start", .flag = "warm-start", .doc = "contacts start from last step's impulses"});
-  f(s.warm_start_factor,
-    SettingSpec{.name = "warm_start_factor", .max = 1, .doc = "share of last step's impulses a contact starts with"});
+  f(s.warm_start_factor, SettingSpec{.name = "warm_start_factor",
+                                     .max = 1,
+                                     .flag = "warm-start",
+                                     .doc = "share of last step's impulses a contact starts with; 0 turns warm "
+                                            "starting off"});
   f(s.continuous_collision,
     SettingSpec{
         .name = "continuous_collision", .flag = "ccd", .doc = "fast spheres move impact by impact (no tunnelling)"});

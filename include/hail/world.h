@@ -49,7 +49,8 @@
 
 namespace hail {
 
-struct StepState;  // kernel/world/step_state.h
+struct StepScratch;    // kernel/world/step_scratch.h
+struct WorldServices;  // kernel/world/world_services.h
 
 /// How many substeps World::step(dt) splits a step into under `settings`:
 /// ceil(time_scale * dt / max_substep), at least 1; 0 when time_scale is 0 (nothing moves).
@@ -506,11 +507,14 @@ class World {
   /// the terrain set): lift_out_of_terrain checks them at the start of the next step.
   std::size_t unchecked_from_ = 0;
 
-  /// Per-step scratch (pair blocks, contact lists, colourings, solver bodies and batches, the
-  /// sweep, reorder keys, the solver's threads: kernel/world/step_state.h), reused so that a
-  /// steady-state step does not allocate. Behind a pointer so that this header needs none of the
+  /// The step's scratch (pair blocks, contact lists, colourings, solver bodies and batches, the
+  /// warm-start cache, the sweep, reorder keys, the solver's threads: kernel/world/step_scratch.h),
+  /// reused so that a steady-state step does not allocate; and the services the World keeps
+  /// between steps (events, sleeping islands, the queries' cache, apply_impulses' undo:
+  /// kernel/world/world_services.h). Behind pointers so that this header needs none of the
   /// kernel's internal headers.
-  std::unique_ptr<StepState> step_;
+  std::unique_ptr<StepScratch> scratch_;
+  std::unique_ptr<WorldServices> services_;
   std::uint64_t steps_taken_ = 0;
   /// apply_force / apply_torque filled an accumulator since the last step: the step applies
   /// them and re-sorts them (when false they are all zero, and both are skipped).

@@ -186,12 +186,11 @@ struct WorldSettings {
   /// neighbours sit together in memory and terrain queries run in coherent packets. 0 never
   /// re-sorts. The sort costs about one step's integrate phase; see docs/benchmarks.md for what it buys.
   int reorder_interval = 16;
-  /// Start each contact with the impulses it ended the last step with (kernel/solver/contact_cache.h),
-  /// so that piles hold their weight from the first resting pass. Off: every step starts from
-  /// zero and deep piles sink into the ground.
-  bool warm_start = true;
-  /// Fraction of last step's impulses a contact starts with, in [0, 1]. Below 1 piles sag
-  /// more into the ground (measured in docs/accuracy.md, the warm-start table).
+  /// Warm starting: each contact starts with this fraction, in [0, 1], of the impulses it ended
+  /// the last step with (kernel/solver/contact_cache.h), so that piles hold their weight from the
+  /// first resting pass. Below 1 piles sag more into the ground (measured in docs/accuracy.md,
+  /// the warm-start table). 0 turns warm starting off: no impulse is remembered or looked up, and
+  /// every step starts from zero (deep piles sink into the ground).
   float warm_start_factor = 1.0f;
   /// Continuous collision (kernel/ccd/continuous_collision.h): spheres that travel more than
   /// fast_travel_fraction of their radius in a step are moved along their path impact by impact,

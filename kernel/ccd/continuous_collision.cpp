@@ -154,7 +154,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
     hi[d] = std::max(c[d], c[d] + v[d] * t_left) + r;
   }
   const float pad = box_padding(lo, hi);
-  const bool meets_the_ground = !scene.filtering || meets_ground(s, slot, scene.ground);
+  const bool meets_the_ground = !scene.modes.filtering || meets_ground(s, slot, scene.modes.ground);
 
   if (scene.terrain && meets_the_ground) {
     // The path walks the BVH as a ray whose node boxes are grown by the radius, pruned by the
@@ -186,7 +186,7 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
   // events already taken and moved j back in time; and the grid, which lists a changed path
   // from its start on, could miss what the scan (every path over mo.t0..dt) found.
   auto try_sphere = [&](std::uint32_t j) {
-    if (scene.filtering && !pair_collides(s, slot, j)) return;
+    if (scene.modes.filtering && !pair_collides(s, slot, j)) return;
     const double start = std::max(mo.t0, path_start(j));
     double ci[3], cj[3], vj[3];
     centre_at(s, j, start, cj, vj);
@@ -282,7 +282,7 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     }
     contact.nx = static_cast<float>(n[0]), contact.ny = static_cast<float>(n[1]), contact.nz = static_cast<float>(n[2]);
     // Without rotation the impulse acts on linear velocities alone and w is not touched.
-    const bool spin = scene.rotation;
+    const bool spin = scene.modes.rotation;
     ContactBodies bodies = spin ? gather_bodies<kWithFriction>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
     for (int d = 0; d < 3; ++d) bodies.va[d] = static_cast<float>(motions_[ma].v[d]);
     if (mb != ma)

@@ -46,6 +46,7 @@
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/ccd/changed_path_grid.h"
 #include "kernel/geometry/fast_motion.h"
+#include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
 
@@ -66,11 +67,10 @@ struct SweepScene {
   float terrain_restitution = 0.5f, terrain_friction = 0.5f;
   std::span<const Plane> planes;
   bool sphere_collisions = true;
-  bool rotation = true;  ///< impacts' friction turns spheres (WorldSettings::rotation); off: linear only
-  /// Some collision filter is not the default: filtered sphere pairs are not tried, and a
-  /// sphere whose filter rejects `ground` passes through the terrain and planes.
-  bool filtering = false;
-  CollisionFilter ground{};
+  /// The substep's modes: rotation (impacts' friction turns spheres; off: linear only) and the
+  /// filters (with modes.filtering, filtered sphere pairs are not tried, and a sphere whose
+  /// filter rejects modes.ground passes through the terrain and planes).
+  StepModes modes{};
 };
 
 class ContinuousCollision {

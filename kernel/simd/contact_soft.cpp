@@ -1,7 +1,8 @@
 // The soft step's contact passes (Solver::SoftStep) over staged contact batches, a batch of
 // contacts per instruction. Compiled once per SIMD path (kernel/dispatch/simd_arch.h). Each lane
 // performs the float operations of kernel/solver/soft_contact.h in their order (the scalar
-// reference, soft_run_scalar), so every path gives its bits (tests/test_soft_step.cpp).
+// reference, soft_run_scalar; the impulses by the same templates, kernel/solver/impulse_rules.h),
+// so every path gives its bits (tests/test_soft_step.cpp).
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
@@ -36,7 +37,7 @@ void prepare_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
     const Lanes<false> L(c, k, o, bodies, body_count, Lanes<false>::kDeferAngular);
-    L.normal_velocity().store_aligned(c.bounce_impulse + o);
+    impulse::normal_relative_velocity(L, L.n).store_aligned(c.bounce_impulse + o);
     // prepare_soft: a contact whose push is saturated starts from no impulse (soft_push_saturated)
     const lane_mask ground = (L.ima == zero) | (L.imb == zero);
     const batch bias_rate = xsimd::select(ground, batch(p.ground.bias_rate), batch(p.contact.bias_rate));
@@ -84,34 +85,23 @@ void iteration_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     } else {
       bias = xsimd::select(speculative, bias, zero);
     }
-    const batch vn = L.normal_velocity();
+    const batch vn = impulse::normal_relative_velocity(L, L.n);
     const batch kn = L.ima + L.imb;
-    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch normal_impulse = batch::load_aligned(c.normal_impulse + o);
     batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o),
                             batch::load_aligned(c.tz + o)};
-    const lane_mask idle = (impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
+    const lane_mask idle = (normal_impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
                            (accumulated[2] == zero) & (vn + bias >= zero);
     const lane_mask active = !(kn <= zero) & !idle;
     if (lane_bits(active) == 0) continue;
     L.load_angular();
-    batch vt[3];
-    if constexpr (has_friction(kWork)) L.tangential_slip(vt);
-    const batch change = -((vn + bias) * (one / kn)) * mass_scale - impulse_scale * impulse;
-    const batch total = impulse + change;
-    const batch clamped = xsimd::select(total > zero, total, zero);
-    const batch dj = clamped - impulse;
-    const batch new_impulse = xsimd::select(active, clamped, impulse);
-    new_impulse.store_aligned(c.normal_impulse + o);
-    if constexpr (has_friction(kWork)) {
-      batch delta[3];
-      L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
-      L.apply_contact_impulse(dj, delta, active);
+    const batch change = -((vn + bias) * (one / kn)) * mass_scale - impulse_scale * normal_impulse;
+    impulse::apply_clamped_impulse<kWork>(L, L.n, normal_impulse, normal_impulse + change,
+                                          batch::load_aligned(c.friction + o), accumulated, active)
+        .store_aligned(c.normal_impulse + o);
+    if constexpr (has_friction(kWork))
       accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o),
           accumulated[2].store_aligned(c.tz + o);
-    } else {
-      const batch p3[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
-      L.apply_linear_impulse(p3, active);
-    }
     L.scatter();
   }
 }
@@ -124,27 +114,27 @@ void restitution_pass(const ContactBatchArrays& c, std::size_t first, std::size_
     const std::size_t o = k * W;
     const batch approach = batch::load_aligned(c.bounce_impulse + o);
     const batch restitution = batch::load_aligned(c.restitution + o);
-    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch normal_impulse = batch::load_aligned(c.normal_impulse + o);
     for (float* t : {c.tx, c.ty, c.tz}) (batch::load_aligned(t + o) * f).store_aligned(t + o);
-    const lane_mask bouncing = (!(restitution == zero)) & (-approach > batch(threshold)) & (!(impulse == zero));
+    const lane_mask bouncing = (!(restitution == zero)) & (-approach > batch(threshold)) & (!(normal_impulse == zero));
     if (lane_bits(bouncing) == 0) {
       zero.store_aligned(c.bounce_impulse + o);
-      (impulse * f).store_aligned(c.normal_impulse + o);
+      (normal_impulse * f).store_aligned(c.normal_impulse + o);
       continue;
     }
     Lanes<false> L(c, k, o, bodies, body_count, Lanes<false>::kDeferAngular);
     const batch kn = L.ima + L.imb;
     const lane_mask active = bouncing & (kn > zero);
-    const batch vn = L.normal_velocity();
+    const batch vn = impulse::normal_relative_velocity(L, L.n);
     const batch change = -(vn + restitution * approach) * (one / kn);
-    const batch total = impulse + change;
+    const batch total = normal_impulse + change;
     const batch clamped = xsimd::select(total > zero, total, zero);
-    const batch applied = xsimd::select(active, clamped - impulse, zero);
+    const batch applied = xsimd::select(active, clamped - normal_impulse, zero);
     const batch p3[3] = {applied * L.n[0], applied * L.n[1], applied * L.n[2]};
-    L.apply_linear_impulse(p3, active);
+    impulse::apply_linear_impulse(L, p3, active);
     L.scatter();
     applied.store_aligned(c.bounce_impulse + o);
-    (xsimd::select(active, clamped, impulse) * f).store_aligned(c.normal_impulse + o);
+    (xsimd::select(active, clamped, normal_impulse) * f).store_aligned(c.normal_impulse + o);
   }
 }
 

@@ -1,7 +1,8 @@
 // The SIMD collision, warm-start and resting passes over staged contact batches
 // (kernel/solver/contact_solve_simd.h), a batch of contacts per instruction. Compiled once per SIMD
 // path (kernel/dispatch/simd_arch.h). Each lane performs the float operations of the scalar rules of
-// kernel/solver/contact_impulse.h in their order, so every path gives their bits.
+// kernel/solver/contact_impulse.h in their order (the impulses themselves by the same templates,
+// kernel/solver/impulse_rules.h), so every path gives their bits.
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
@@ -33,7 +34,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
       if (!xsimd::any((sa >= changed_since) | (sb >= changed_since))) continue;
     }
     Lanes<kFriction> L(c, k, o, bodies, body_count, Lanes<kFriction>::kDeferAngular);
-    const batch closing = -L.normal_velocity();
+    const batch closing = -impulse::normal_relative_velocity(L, L.n);
     const batch gap = batch::load_aligned(c.gap + o);
     const batch kn = L.ima + L.imb;
     // solve_collision's gravity_closing (uniform-acceleration integrator), else zero: then
@@ -58,15 +59,7 @@ bool collision_pass(const ContactBatchArrays& c, std::size_t first, std::size_t 
     const batch j = ((one + restitution) * closing - restitution * gravity_closing) * (one / kn);
     const batch bounce = batch::load_aligned(c.bounce_impulse + o);
     xsimd::select(active, bounce + j, bounce).store_aligned(c.bounce_impulse + o);
-    if constexpr (has_friction(kWork)) {
-      batch vt[3], fresh[3] = {zero, zero, zero}, delta[3];
-      L.tangential_slip(vt);
-      L.friction_impulse(vt, batch::load_aligned(c.friction + o) * j, fresh, active, delta);
-      L.apply_contact_impulse(j, delta, active);
-    } else {
-      const batch p[3] = {j * L.n[0], j * L.n[1], j * L.n[2]};
-      L.apply_linear_impulse(p, active);
-    }
+    impulse::apply_impact_impulse<kWork>(L, L.n, j, batch::load_aligned(c.friction + o), active);
     L.scatter();
     for (std::uint32_t rest = lanes; rest != 0; rest &= rest - 1) {
       const std::size_t l = lowest_lane(rest);
@@ -85,37 +78,27 @@ void resting_pass(const ContactBatchArrays& c, std::size_t first, std::size_t la
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
     Lanes<kFriction> L(c, k, o, bodies, body_count, Lanes<kFriction>::kDeferAngular);
-    const batch vn = L.normal_velocity();
+    const batch vn = impulse::normal_relative_velocity(L, L.n);
     const batch gap = batch::load_aligned(c.gap + o);
     const batch allowed_closing = xsimd::select(gap > zero, gap * batch(inv_dt), zero);
     const batch kn = L.ima + L.imb;
-    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch normal_impulse = batch::load_aligned(c.normal_impulse + o);
     batch accumulated[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o),
                             batch::load_aligned(c.tz + o)};
-    const lane_mask idle = (impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
+    const lane_mask idle = (normal_impulse == zero) & (accumulated[0] == zero) & (accumulated[1] == zero) &
                            (accumulated[2] == zero) & (vn + allowed_closing >= zero);  // resting_idle
     const lane_mask active = !(kn <= zero) & !idle;
     // A batch of idle contacts (the staging groups the speculative ones, kernel/solver/contact_colouring.h)
     // changes nothing: no angular loads, no friction, no stores.
     if (lane_bits(active) == 0) continue;
     L.load_angular();
-    batch vt[3];  // first: the normal impulse does not change it, and its chain runs beside the normal one
-    if constexpr (has_friction(kWork)) L.tangential_slip(vt);
-    const batch lambda = impulse - (vn + allowed_closing) * (batch(1.0f) / kn);  // solve_resting's reciprocal
-    const batch clamped = xsimd::select(lambda > zero, lambda, zero);
-    const batch dj = clamped - impulse;
-    const batch new_impulse = xsimd::select(active, clamped, impulse);
-    new_impulse.store_aligned(c.normal_impulse + o);
-    if constexpr (has_friction(kWork)) {
-      batch delta[3];
-      L.friction_impulse(vt, batch::load_aligned(c.friction + o) * new_impulse, accumulated, active, delta);
-      L.apply_contact_impulse(dj, delta, active);
+    const batch lambda = normal_impulse - (vn + allowed_closing) * (batch(1.0f) / kn);  // solve_resting's reciprocal
+    impulse::apply_clamped_impulse<kWork>(L, L.n, normal_impulse, lambda, batch::load_aligned(c.friction + o),
+                                          accumulated, active)
+        .store_aligned(c.normal_impulse + o);
+    if constexpr (has_friction(kWork))
       accumulated[0].store_aligned(c.tx + o), accumulated[1].store_aligned(c.ty + o),
           accumulated[2].store_aligned(c.tz + o);
-    } else {
-      const batch p[3] = {dj * L.n[0], dj * L.n[1], dj * L.n[2]};
-      L.apply_linear_impulse(p, active);
-    }
     L.scatter();
   }
 }
@@ -127,20 +110,18 @@ void warm_start_pass(const ContactBatchArrays& c, std::size_t first, std::size_t
   const batch zero(0.0f);
   for (std::size_t k = first; k < last; ++k) {
     const std::size_t o = k * W;
-    const batch impulse = batch::load_aligned(c.normal_impulse + o);
+    const batch normal_impulse = batch::load_aligned(c.normal_impulse + o);
     const batch t[3] = {batch::load_aligned(c.tx + o), batch::load_aligned(c.ty + o), batch::load_aligned(c.tz + o)};
     // apply_warm_start leaves out contacts with no impulse: a batch of them loads no body.
-    const lane_mask holds = !((impulse == zero) & (t[0] == zero) & (t[1] == zero) & (t[2] == zero));
+    const lane_mask holds = !((normal_impulse == zero) & (t[0] == zero) & (t[1] == zero) & (t[2] == zero));
     if (lane_bits(holds) == 0) continue;
     Lanes<kFriction> L(c, k, o, bodies, body_count);
     const lane_mask active = (!((L.ima + L.imb) <= zero)) & holds;
     if constexpr (has_friction(kWork)) {
-      const batch p[3] = {impulse * L.n[0] + t[0], impulse * L.n[1] + t[1], impulse * L.n[2] + t[2]};
-      L.apply_linear_impulse(p, active);
-      if constexpr (kFriction) L.apply_angular_impulse(t, active);  // apply_warm_start's
+      impulse::apply_contact_impulse<kWork>(L, L.n, normal_impulse, t, active);  // apply_warm_start's
     } else {
-      const batch p[3] = {impulse * L.n[0], impulse * L.n[1], impulse * L.n[2]};
-      L.apply_linear_impulse(p, active);
+      const batch p[3] = {normal_impulse * L.n[0], normal_impulse * L.n[1], normal_impulse * L.n[2]};
+      impulse::apply_linear_impulse(L, p, active);
     }
     L.scatter();
   }

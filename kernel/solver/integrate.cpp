@@ -43,8 +43,8 @@ float add_gravity(SphereSoA& s, std::size_t first, std::size_t last, const Integ
 float predict_velocities(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
                          float fast_fraction, std::vector<std::uint32_t>* fast) {
   float fastest = -1.0f;  // fastest > 0: some sphere may be fast
-  float max_speed2 = p.gravity_scaled ? add_gravity<true>(s, first, last, p, fast_fraction, fastest)
-                                      : add_gravity<false>(s, first, last, p, fast_fraction, fastest);
+  float max_speed2 = p.modes.gravity_scaled ? add_gravity<true>(s, first, last, p, fast_fraction, fastest)
+                                            : add_gravity<false>(s, first, last, p, fast_fraction, fastest);
   if (!fast || !(fastest > 0.0f)) return std::sqrt(max_speed2);
   // Some sphere is fast: list the fast ones and take the largest speed of the others.
   max_speed2 = 0.0f;
@@ -143,7 +143,7 @@ double earliest_root(double d0, double vn, double an, double limit) {
     contact.restitution = combine_restitution(s.restitution[i], pl.restitution);
     contact.friction = combine_friction(s.friction[i], pl.friction);
     // Without rotation the impulse acts on the linear velocity alone and w is not touched.
-    const bool spin = p.rotation;
+    const bool spin = p.modes.rotation;
     ContactBodies bodies = spin ? gather_bodies<kWithFriction>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
     for (int d = 0; d < 3; ++d) bodies.va[d] = u[d];
     const float j = spin ? solve_impact<kWithFriction>(contact, bodies, p.restitution_threshold)
@@ -180,11 +180,11 @@ double earliest_root(double d0, double vn, double an, double limit) {
 }  // namespace
 
 namespace {
-/// integrate_positions' loop; `Filtered`: spheres whose filter rejects p.ground skip the planes.
+/// integrate_positions' loop; `Filtered`: spheres whose filter rejects p.modes.ground skip the planes.
 template <bool Filtered>
 void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
                      const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
-  const bool uniform = p.integrator == Integrator::UniformAcceleration;
+  const bool uniform = p.modes.uniform_acceleration();
   for (std::size_t i = first; i < last; ++i) {
     if (!skip.empty() && skip[i]) continue;
     float a[3] = {0.0f, 0.0f, 0.0f};
@@ -197,7 +197,7 @@ void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::spa
     // (semi-implicit Euler: a = 0, the end velocity itself).
     float u[3] = {s.vx[i] - a[0] * p.dt, s.vy[i] - a[1] * p.dt, s.vz[i] - a[2] * p.dt};
     float remaining = p.dt;
-    if (!planes.empty() && (!Filtered || meets_ground(s, i, p.ground)))
+    if (!planes.empty() && (!Filtered || meets_ground(s, i, p.modes.ground)))
       bounce_off_planes(s, i, planes, p, a, x, u, remaining, impacts);
     for (int d = 0; d < 3; ++d) x[d] += u[d] * remaining + 0.5f * a[d] * remaining * remaining;
     s.px[i] = x[0];
@@ -212,7 +212,7 @@ void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::spa
 
 void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
                          const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
-  p.ground_filtered ? integrate_range<true>(s, first, last, planes, p, skip, impacts)
+  p.modes.filtering ? integrate_range<true>(s, first, last, planes, p, skip, impacts)
                     : integrate_range<false>(s, first, last, planes, p, skip, impacts);
 }
 

@@ -12,31 +12,23 @@
 #include <span>
 #include <vector>
 
-#include "hail/collision_filter.h"
 #include "hail/sphere_soa.h"
 #include "hail/world_settings.h"
+#include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 
 namespace hail {
 
 struct IntegrationParams {
-  Integrator integrator = Integrator::SemiImplicitEuler;
+  /// The substep's modes: the integrator, rotation (plane impacts' friction turns spheres; off:
+  /// linear only), gravity scales, forces and the ground filter (spheres whose filter rejects
+  /// modes.ground pass through the planes).
+  StepModes modes{};
   float gravity[3] = {0.0f, -9.81f, 0.0f};
   float dt = 0.0f;                     ///< time-scaled step
   float restitution_threshold = 0.0f;  ///< closing speeds at or below this do not bounce
-  bool rotation = true;  ///< plane impacts' friction turns spheres (WorldSettings::rotation); off: linear only
-  /// Some sphere's gravity scale is not 1. When false the loops skip the multiply by it (the
-  /// same result: the scale is 1): World keeps the flag, so scenes without scales pay nothing.
-  bool gravity_scaled = true;
-  /// Some collision filter is not the default: spheres whose filter rejects `ground` (the
-  /// planes' filter, World::set_ground_filter) pass through the planes.
-  bool ground_filtered = false;
-  CollisionFilter ground{};
-  /// Some sphere has a force to apply (World::apply_force): the free-flight acceleration of
-  /// the uniform-acceleration integrator then includes F inv_mass (else the force arrays are zero).
-  bool forces = false;
   /// Integrator::UniformAcceleration: each sphere's velocity at the start of the (sub)step,
-  /// before forces and gravity (StepState::start_vx..vz); unused (null) otherwise.
+  /// before forces and gravity (StepScratch::start_vx..vz); unused (null) otherwise.
   const float* start_vx = nullptr;
   const float* start_vy = nullptr;
   const float* start_vz = nullptr;
@@ -60,9 +52,9 @@ struct IntegrationParams {
 /// the same off).
 inline void uniform_step_acceleration(const SphereSoA& s, std::size_t i, const IntegrationParams& p,
                                       const float v_end[3], float a[3]) {
-  const float movable = s.inv_mass[i] > 0.0f ? (p.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
+  const float movable = s.inv_mass[i] > 0.0f ? (p.modes.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
   float f[3] = {p.gravity[0] * movable, p.gravity[1] * movable, p.gravity[2] * movable};
-  if (p.forces)
+  if (p.modes.forces)
     f[0] += s.force_x[i] * s.inv_mass[i], f[1] += s.force_y[i] * s.inv_mass[i], f[2] += s.force_z[i] * s.inv_mass[i];
   const float ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
   if (!(ff > 0.0f)) {

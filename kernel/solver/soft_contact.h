@@ -10,9 +10,10 @@
 // close no faster than it reaches contact within the substep. Then rigid relax iterations
 // without that push (use_bias false), so that the push does not stay in the velocities.
 // Restitution is applied once after the last substep, from the approach speed the contact had
-// when the step began (soft_restitution). Friction is today's resting rule: the slip taken
+// when the step began (soft_restitution). Friction is the resting rule's: the slip taken
 // before the normal impulse, a Coulomb cone of mu times the contact's accumulated normal
-// impulse, the angular impulse making spheres roll (kernel/solver/contact_impulse.h).
+// impulse, the angular impulse making spheres roll (impulse::apply_clamped_impulse,
+// kernel/solver/impulse_rules.h).
 //
 // Impulses accumulate per substep (a resting sphere's is m g h): the prepare pass scales the
 // staged per-step impulses (Contact::normal_impulse and the friction impulse, as the warm
@@ -119,23 +120,8 @@ inline void solve_soft(Contact& c, ContactBodies& k, float separation, const Sof
   const SoftTarget t = soft_target(k, separation, p, use_bias);
   const float kn = normal_mass_denominator(k);
   if (kn <= 0.0f || (holds_no_impulse(c) && vn + t.bias >= 0.0f)) return;
-  const float impulse = -((vn + t.bias) * (1.0f / kn)) * t.mass_scale - t.impulse_scale * c.normal_impulse;
-  const float total = c.normal_impulse + impulse;
-  const float clamped = total > 0.0f ? total : 0.0f;
-  const float dj = clamped - c.normal_impulse;
-  c.normal_impulse = clamped;
-  if constexpr (has_friction(kFriction)) {
-    float vt[3], accumulated[3] = {c.tx, c.ty, c.tz}, delta[3];
-    tangential_slip<kFriction>(c, k, vt);
-    friction_impulse<kFriction>(k, vt, c.friction * c.normal_impulse, accumulated, delta);
-    apply_contact_impulse<kFriction>(c, k, dj, delta);
-    c.tx = accumulated[0];
-    c.ty = accumulated[1];
-    c.tz = accumulated[2];
-  } else {
-    const float p3[3] = {dj * c.nx, dj * c.ny, dj * c.nz};
-    apply_linear_impulse(k, p3);
-  }
+  const float change = -((vn + t.bias) * (1.0f / kn)) * t.mass_scale - t.impulse_scale * c.normal_impulse;
+  accumulate_clamped_impulse<kFriction>(c, k, c.normal_impulse + change);
 }
 
 /// Whether a contact's push is saturated at `separation`: it overlaps so deeply that the soft

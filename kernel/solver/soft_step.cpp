@@ -77,7 +77,7 @@ void soft_move(std::span<SolverBody> bodies, std::size_t first, std::size_t last
 
 void soft_store_bodies(std::span<const SolverBody> bodies, std::size_t first, std::size_t last, SphereSoA& s,
                        bool angular, const IntegrationParams& p) {
-  const bool uniform = p.integrator == Integrator::UniformAcceleration;
+  const bool uniform = p.modes.uniform_acceleration();
   const float dt = p.dt, half_dt2 = 0.5f * p.dt * p.dt;
   for (std::size_t i = first; i < last; ++i) {
     const SolverBody& b = bodies[i];

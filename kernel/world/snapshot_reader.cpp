@@ -9,15 +9,25 @@
 #include "hail/world.h"
 #include "kernel/files/regular_file.h"
 #include "kernel/world/snapshot_format.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 namespace {
 
 /// The snapshot version whose checksums and terrain hash start from kLegacyFnvOffsetBasis
-/// (kernel/world/fnv1a.h); its layout is this version's.
+/// (kernel/world/fnv1a.h); its layout is version 5's.
 constexpr std::uint32_t kLegacyChecksumVersion = 4;
+/// The last version with a warm_start bool among the settings, just before warm_start_factor
+/// (versions 4 and 5); since then a factor of 0 is warm starting off.
+constexpr std::uint32_t kLastWarmStartByteVersion = 5;
+
+/// What differs between the versions this hail reads.
+struct Layout {
+  std::uint64_t basis = kFnvOffsetBasis;  ///< of the checksum and the terrain hash
+  bool warm_start_byte = false;           ///< the settings hold warm_start before warm_start_factor
+};
 
 /// An InvalidArgument's message without its "hail: ", to be quoted inside another.
 std::string reason(const InvalidArgument& e) {
@@ -123,8 +133,15 @@ struct Parsed {
   ContactEventTracker events;
 };
 
-void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, std::uint64_t basis) {
-  snapshot::for_each_setting(p.settings, [&](auto& field, const SettingSpec& spec) { read_setting(r, field, spec); });
+void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, const Layout& layout) {
+  bool warm_start = true;
+  snapshot::for_each_setting(p.settings, [&](auto& field, const SettingSpec& spec) {
+    if (layout.warm_start_byte && static_cast<const void*>(&field) == &p.settings.warm_start_factor)
+      warm_start = r.flag("warm_start");
+    read_setting(r, field, spec);
+  });
+  // An older snapshot's warm starting off is the factor 0 that means it now.
+  if (!warm_start) p.settings.warm_start_factor = 0.0f;
   p.steps_taken = r.value<std::uint64_t>("steps taken");
   p.unchecked_from = r.value<std::uint64_t>("unchecked_from");
   p.forces_pending = r.flag("forces pending");
@@ -141,7 +158,7 @@ void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, std::uint
                          : "it was saved without a terrain and this World has one: restore into a World without one");
   if (!had_terrain && saved_hash != 0) r.refuse("a terrain hash without a terrain");
   if (terrain) {
-    const std::uint64_t hash = snapshot::terrain_hash(*terrain, basis);
+    const std::uint64_t hash = snapshot::terrain_hash(*terrain, layout.basis);
     if (hash != saved_hash)
       r.refuse("wrong terrain: it was saved with terrain content hash " + hex(saved_hash) +
                ", this World's terrain has " + hex(hash) + " (attach the terrain it was saved with)");
@@ -250,10 +267,11 @@ void World::restore(std::span<const std::byte> bytes) {
   if (version > kSnapshotVersion)
     header.refuse("format version " + std::to_string(version) + " is newer than this hail reads (" +
                   std::to_string(kSnapshotVersion) + "): restore it with the hail that saved it, or a newer one");
-  if (version != kSnapshotVersion && version != kLegacyChecksumVersion)
+  if (version < kLegacyChecksumVersion)
     header.refuse("format version " + std::to_string(version) + " is unknown (this hail reads " +
-                  std::to_string(kLegacyChecksumVersion) + " and " + std::to_string(kSnapshotVersion) + ")");
-  const std::uint64_t basis = version == kLegacyChecksumVersion ? kLegacyFnvOffsetBasis : kFnvOffsetBasis;
+                  std::to_string(kLegacyChecksumVersion) + " to " + std::to_string(kSnapshotVersion) + ")");
+  const Layout layout{.basis = version == kLegacyChecksumVersion ? kLegacyFnvOffsetBasis : kFnvOffsetBasis,
+                      .warm_start_byte = version <= kLastWarmStartByteVersion};
   if (header.value<std::uint32_t>("the reserved word") != 0) header.refuse("the reserved word is not 0");
   const auto length = header.value<std::uint64_t>("the payload length");
   const auto checksum = header.value<std::uint64_t>("the checksum");
@@ -262,13 +280,13 @@ void World::restore(std::span<const std::byte> bytes) {
                                                std::to_string(header.left()) + " present"
                                          : std::to_string(header.left() - length) + " bytes after the payload");
   const std::span<const std::byte> payload = bytes.subspan(snapshot::kHeaderBytes);
-  if (snapshot::fnv1a(payload, basis) != checksum)
+  if (snapshot::fnv1a(payload, layout.basis) != checksum)
     header.refuse("checksum mismatch (the bytes are corrupt): the header says " + hex(checksum) + ", the payload has " +
-                  hex(snapshot::fnv1a(payload, basis)));
+                  hex(snapshot::fnv1a(payload, layout.basis)));
 
   snapshot::Reader r(payload, "payload");
   Parsed p;
-  read_world(r.section(snapshot::kWorldTag), p, terrain_.get(), basis);
+  read_world(r.section(snapshot::kWorldTag), p, terrain_.get(), layout);
   try {
     validate(p.settings);
   } catch (const InvalidArgument& e) {
@@ -296,12 +314,12 @@ void World::restore(std::span<const std::byte> bytes) {
   ground_filter_ = p.ground_filter;
   uses_stale_ = true;                  // which filters and gravity scales the step must honour: recounted next step
   gravity_scaled_ = filtered_ = true;  // until then, the general loops (exact either way)
-  step_->sphere_queries.invalidate();
-  std::swap(step_->contact_cache, p.cache);
-  std::swap(step_->events, p.events);
-  step_->contacts.clear();
-  step_->impacts.clear();
-  step_->sleep.clear_events();
+  services_->sphere_queries.invalidate();
+  std::swap(scratch_->contact_cache, p.cache);
+  std::swap(services_->events, p.events);
+  scratch_->contacts.clear();
+  scratch_->impacts.clear();
+  services_->sleep.clear_events();
   stats_ = {};
   times_ = {};
 }

@@ -1,14 +1,15 @@
 // World::save: the snapshot layout of kernel/world/snapshot_format.h, written.
 //
-// What carries from one step to the next, and so is saved (the rest of StepState is scratch
+// What carries from one step to the next, and so is saved (the rest of StepScratch is scratch
 // that every step rebuilds before reading it: pair and contact blocks, colourings, solver
 // bodies and batches, the sweep, the terrain guard's start positions, the re-sort's keys):
 //   World      settings (but threads), planes, terrain material and (by hash) the terrain,
 //              steps_taken_ (the Morton re-sort's phase), unchecked_from_ (spheres not yet
 //              checked against the terrain), forces_pending_, ground_filter_
 //   SphereSoA  every array of for_each_array, the handles, generations and free list
-//   StepState  the warm-start cache (ContactImpulseCache::entries, ranges) and the touch-event
-//              state (ContactEventTracker::settings, touching_pairs, touching_ground)
+//   StepScratch    the warm-start cache (ContactImpulseCache::entries, ranges)
+//   WorldServices  the touch-event state (ContactEventTracker::settings, touching_pairs,
+//                  touching_ground)
 // Not saved: the last step's outputs (contacts, impacts, events, stats, phase times) and the
 // trace; restore empties them.
 
@@ -16,7 +17,8 @@
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/files/atomic_write.h"
 #include "kernel/world/snapshot_format.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 
@@ -91,7 +93,7 @@ void World::save(std::vector<std::byte>& out) const {
   w.end_section();
 
   w.begin_section(snapshot::kCacheTag);
-  const ContactImpulseCache& cache = step_->contact_cache;
+  const ContactImpulseCache& cache = scratch_->contact_cache;
   w.value(std::uint64_t{cache.entries().size()});
   for (const ContactImpulseCache::Entry& e : cache.entries())
     w.value(e.partner), w.value(e.normal_impulse), w.value(e.tx), w.value(e.ty), w.value(e.tz);
@@ -101,7 +103,7 @@ void World::save(std::vector<std::byte>& out) const {
   w.end_section();
 
   w.begin_section(snapshot::kEventsTag);
-  const ContactEventTracker& events = step_->events;
+  const ContactEventTracker& events = services_->events;
   w.value(std::uint8_t{events.settings().touch}), w.value(std::uint8_t{events.settings().hits});
   w.value(events.settings().hit_speed);
   for (std::span<const TouchKey> keys : {events.touching_pairs(), events.touching_ground()}) {

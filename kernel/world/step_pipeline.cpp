@@ -39,11 +39,13 @@
 #include "kernel/solver/integrate.h"
 #include "kernel/solver/soft_step.h"
 #include "kernel/solver/solver_body.h"
+#include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/sleep_islands.h"
 #include "kernel/world/step_heuristics.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
+#include "kernel/world/world_services.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -83,21 +85,13 @@ struct StepWorld {
 
 struct StepPipeline {
   StepWorld w;
-  StepState& st;  // w's scratch (kernel/world/step_state.h)
-  IntegrationParams params;
+  StepScratch& st;           // w's scratch (kernel/world/step_scratch.h)
+  WorldServices& services;   // w's events, sleeping islands and queries (kernel/world/world_services.h)
+  const StepModes& modes;    // what this substep does (kernel/solver/step_modes.h), decided by World::substep
+  IntegrationParams params;  // with a copy of the modes, for the integrator
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
-  float fast_fraction = 1.0f;                  // is_fast's threshold (WorldSettings::fast_travel_fraction)
-  bool sweeping = true;                        // continuous collision on: fast spheres are swept
   bool shock = false;                          // masses differ more than shock_mass_ratio: shock propagation
-  bool guarding = false;                       // terrain guard on (there is a terrain)
   bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
-  bool pair_margins = false;                   // pairs filtered by their own margin (pair_margin_travel > 0)
-  bool rotation = true;                        // spheres spin (WorldSettings::rotation)
-  bool forces = false;     // some sphere has a force or torque to apply (World::apply_force / apply_torque)
-  bool filtering = false;  // some collision filter is not the default (World::set_collision_filter, set_ground_filter)
-  CollisionFilter ground{};           // the terrain's and planes' filter (World::set_ground_filter)
-  bool sleeping = false;              // WorldSettings::sleep: sleepers are left out (kernel/world/sleep_islands.h)
-  bool uniform_acceleration = false;  // Integrator::UniformAcceleration: start velocities kept (predict)
 
   /// No sphere of slots [first, last) moves (all asleep, or immovable and still): a block of
   /// sleepers, which predict, static detection and integration skip whole.
@@ -124,16 +118,16 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       st.fast_blocks[b].clear();
-      const bool still = sleeping && block_still(first, last);
-      if (uniform_acceleration) remember_start_velocities(first, last);
-      if (!still && forces) apply_forces(s, first, last, params.dt, rotation);
-      st.block_max_speed[b] =
-          still ? 0.0f
-                : predict_velocities(s, first, last, params, fast_fraction, sweeping ? &st.fast_blocks[b] : nullptr);
-      if (sleeping && !still) keep_sleepers_still(first, last);
+      const bool still = modes.sleeping && block_still(first, last);
+      if (modes.uniform_acceleration()) remember_start_velocities(first, last);
+      if (!still && modes.forces) apply_forces(s, first, last, params.dt, modes.rotation);
+      st.block_max_speed[b] = still ? 0.0f
+                                    : predict_velocities(s, first, last, params, w.settings.fast_travel_fraction,
+                                                         modes.sweeping ? &st.fast_blocks[b] : nullptr);
+      if (modes.sleeping && !still) keep_sleepers_still(first, last);
       st.block_extremes[b] = block_extremes(first, last);
-      if (guarding) remember_reach(first, last);
-      if (pair_margins) remember_travel(first, last);
+      if (modes.terrain_guard) remember_reach(first, last);
+      if (modes.pair_margins) remember_travel(first, last);
     });
     float max_speed = 0.0f;
     for (float v : st.block_max_speed) max_speed = std::max(max_speed, v);
@@ -187,7 +181,7 @@ struct StepPipeline {
   void remember_reach(std::size_t first, std::size_t last) {
     const SphereSoA& s = w.spheres;
     const float slop = w.settings.depenetration.slop_fraction;
-    const float swept_reach = sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
+    const float swept_reach = modes.sweeping ? std::numeric_limits<float>::infinity() : 0.0f;
     // Selects, no branches, and unaliased pointers, so that it vectorises: it runs for every sphere.
     float* __restrict x0 = st.start_x.data();
     float* __restrict y0 = st.start_y.data();
@@ -203,8 +197,9 @@ struct StepPipeline {
     for (std::size_t i = first; i < last; ++i) {
       x0[i] = px[i], y0[i] = py[i], z0[i] = pz[i];
       const float v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
-      const bool fast = is_fast(v2, params.dt, radius[i], fast_fraction);
-      const float reach = (fast ? fast_fraction * radius[i] : std::sqrt(v2) * params.dt) + slop * radius[i];
+      const bool fast = is_fast(v2, params.dt, radius[i], w.settings.fast_travel_fraction);
+      const float reach =
+          (fast ? w.settings.fast_travel_fraction * radius[i] : std::sqrt(v2) * params.dt) + slop * radius[i];
       const float reach2 = reach * reach;
       reach2_out[i] = fast ? std::max(reach2, swept_reach) : reach2;
     }
@@ -225,8 +220,8 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Depenetrate);
       std::size_t count = 0;
       for (std::size_t i = first; i < last; ++i) {
-        if (moved[i] == 0 || !(s.inv_mass[i] > 0.0f) || (sleeping && sphere_sleeps(s, i))) continue;
-        if (filtering && !meets_ground(s, i, ground)) continue;  // it passes through the ground
+        if (moved[i] == 0 || !(s.inv_mass[i] > 0.0f) || (modes.sleeping && sphere_sleeps(s, i))) continue;
+        if (modes.filtering && !meets_ground(s, i, modes.ground)) continue;  // it passes through the ground
         bool moved = false;
         for (const Plane& p : w.planes) {
           const float centre = p.nx * s.px[i] + p.ny * s.py[i] + p.nz * s.pz[i] - p.offset;
@@ -267,8 +262,8 @@ struct StepPipeline {
       const bool dynamic_b = c.b != kStaticBody;
       float ima = s.inv_mass[c.a], imb = dynamic_b ? s.inv_mass[c.b] : 0.0f;
       const ShockPropagation::Holder holder = st.shock.holder(c);
-      if (holder == ShockPropagation::Holder::A || (sleeping && sphere_sleeps(s, c.a))) ima = 0.0f;
-      if (holder == ShockPropagation::Holder::B || (dynamic_b && sleeping && sphere_sleeps(s, c.b))) imb = 0.0f;
+      if (holder == ShockPropagation::Holder::A || (modes.sleeping && sphere_sleeps(s, c.a))) ima = 0.0f;
+      if (holder == ShockPropagation::Holder::B || (dynamic_b && modes.sleeping && sphere_sleeps(s, c.b))) imb = 0.0f;
       push_apart_weighted(s, c, whole, ima, imb, 0.0f, deep);
     }
   }
@@ -289,9 +284,9 @@ struct StepPipeline {
         beyond[i - first] = static_cast<std::uint8_t>(dx * dx + dy * dy + dz * dz > st.reach2[i]) &
                             static_cast<std::uint8_t>(s.inv_mass[i] > 0.0f);  // & on purpose: no branch
       }
-      if (filtering)  // a sphere that passes through the ground is not pushed out of it
+      if (modes.filtering)  // a sphere that passes through the ground is not pushed out of it
         for (std::size_t i = first; i < last; ++i)
-          if (!meets_ground(s, i, ground)) beyond[i - first] = 0;
+          if (!meets_ground(s, i, modes.ground)) beyond[i - first] = 0;
       // Where masses differ (shock propagation runs), a light sphere between a heavy one and
       // the ground takes nearly all of their pair's depenetration, and is pressed into the
       // ground a little more each step; one struck while it had no ground contact is driven
@@ -308,10 +303,10 @@ struct StepPipeline {
         for (std::size_t i = first; i < last; ++i)
           if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
               s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i] &&
-              (!filtering || meets_ground(s, i, this->ground)))
+              (!modes.filtering || meets_ground(s, i, modes.ground)))
             beyond[i - first] = 1;
       }
-      if (sleeping)  // a sleeper did not move, and is not pushed while it sleeps
+      if (modes.sleeping)  // a sleeper did not move, and is not pushed while it sleeps
         for (std::size_t i = first; i < last; ++i)
           if (sphere_sleeps(s, i)) beyond[i - first] = 0;
       std::uint32_t flagged[kSphereBlock];
@@ -327,7 +322,7 @@ struct StepPipeline {
       for (std::size_t k = 0; k < flagged_count; ++k) {
         const std::uint32_t i = flagged[k];
         const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-        if (sweeping || !is_fast(v2, params.dt, s.radius[i], fast_fraction))
+        if (modes.sweeping || !is_fast(v2, params.dt, s.radius[i], w.settings.fast_travel_fraction))
           w.terrain->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
       }
       const std::size_t count = w.terrain->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
@@ -344,14 +339,14 @@ struct StepPipeline {
     for_each_block(n, kSphereBlock, [&](std::size_t b, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::DetectTerrain);
       st.contact_blocks[b].clear();
-      if (sleeping && block_still(first, last)) return;  // sleepers' ground contacts are left out
+      if (modes.sleeping && block_still(first, last)) return;  // sleepers' ground contacts are left out
       find_plane_contacts(s, w.planes, first, last, st.contact_blocks[b]);
       if (w.terrain)
         w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
-                                 st.contact_blocks[b], fast_fraction, sweeping);
-      if (filtering)  // static contacts all have the sphere in a
-        std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, ground); });
-      if (sleeping) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
+                                 st.contact_blocks[b], w.settings.fast_travel_fraction, modes.sweeping);
+      if (modes.filtering)  // static contacts all have the sphere in a
+        std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, modes.ground); });
+      if (modes.sleeping) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
     });
   }
 
@@ -363,13 +358,13 @@ struct StepPipeline {
     grow_block_lists(st.pair_row_scratch, blocks);
     for (std::size_t b = 0; b < blocks; ++b) st.pair_blocks[b].clear();
     w.stats.sphere_contacts_capped = false;
-    if (!w.settings.sphere_collisions) return;
+    if (!modes.detect_pairs) return;
     PairSearch search = w.settings.pair_search;
     if (search == PairSearch::Automatic) search = automatic_pair_search(n, min_radius, max_radius);
     w.stats.pair_search = search;
     // The grid applies the per-pair margins itself (the same predicate, so the same pairs).
     const PairMargins own_margins =
-        pair_margins ? PairMargins{st.travel.data(), w.settings.pair_margin_travel} : PairMargins{};
+        modes.pair_margins ? PairMargins{st.travel.data(), w.settings.pair_margin_travel} : PairMargins{};
     if (search == PairSearch::Grid) st.grid.build(s, margin, own_margins);
     if (search == PairSearch::SweepAndPrune) st.sorted_axis.build(s, margin);
     if (search == PairSearch::Bvh) st.sphere_bvh.build(s, margin);
@@ -395,8 +390,8 @@ struct StepPipeline {
             find_sphere_pairs_simd(s, from, to, margin, out);
             break;
         }
-        if (filtering) drop_filtered_pairs(s, out, found_before);
-        if (sleeping)  // sleepers among themselves (and on still spheres) need no contact
+        if (modes.filtering) drop_filtered_pairs(s, out, found_before);
+        if (modes.sleeping)  // sleepers among themselves (and on still spheres) need no contact
           out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(found_before), out.end(),
                                    [&](const SpherePair& p) { return sleeping_contact(s, p.a, p.b); }),
                     out.end());
@@ -421,7 +416,7 @@ struct StepPipeline {
         }
       }
       if (!st.fast.empty()) drop_fast_speculative_pairs(out);
-      if (pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
+      if (modes.pair_margins && search != PairSearch::Grid) keep_pairs_within_their_margin(out, margin);
     });
     w.stats.sphere_contacts_capped = capped.load();
   }
@@ -481,23 +476,18 @@ struct StepPipeline {
   void sweep() {
     ContinuousCollision& ccd = st.ccd;
     SphereSoA& s = w.spheres;
-    ccd.begin(s, st.fast, params.dt, fast_fraction, SweepCandidates::Automatic, w.settings.reorder_interval > 0);
+    ccd.begin(s, st.fast, params.dt, w.settings.fast_travel_fraction, SweepCandidates::Automatic,
+              w.settings.reorder_interval > 0);
     if (st.fast.empty()) return;
-    const SweepScene scene{w.terrain,
-                           w.terrain_restitution,
-                           w.terrain_friction,
-                           w.planes,
-                           w.settings.sphere_collisions,
-                           rotation,
-                           filtering,
-                           ground};
+    const SweepScene scene{w.terrain, w.terrain_restitution,        w.terrain_friction,
+                           w.planes,  w.settings.sphere_collisions, modes};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
     });
     ccd.resolve(s, scene, params.restitution_threshold, w.settings.max_sweep_events);
     ccd.finish(s);
-    if (sleeping) st.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
+    if (modes.sleeping) services.sleep.wake_hit(s, ccd.impacts());  // a sleeper hit moves with its impulse now
   }
 
   /// All contacts in one array, in block order: static contacts, then sphere pairs. Block
@@ -514,7 +504,7 @@ struct StepPipeline {
       offset[static_blocks + b + 1] = offset[static_blocks + b] + st.pair_blocks[b].size();
     resize_geometric(st.contacts, offset.back());
     const std::size_t static_count = offset[static_blocks];
-    const bool warm = w.settings.warm_start;
+    const bool warm = modes.warm_start;
     std::atomic<bool> friction{false};    // an OR: the order of stores cannot change the result
     std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
     if (warm) st.contact_cache.begin_layout(s);
@@ -559,15 +549,15 @@ struct StepPipeline {
   /// Keeps this step's impulses for the next step's warm start: each contact (now in colour
   /// order) into the cache at its detection-order index, where the merge noted the ranges.
   void remember_impulses() {
-    if (!w.settings.warm_start) return;
+    if (!modes.warm_start) return;
     ContactImpulseCache& cache = st.contact_cache;
-    cache.begin_store(st.contacts.size(), sleeping ? &w.spheres : nullptr);  // sleepers keep theirs
+    cache.begin_store(st.contacts.size(), modes.sleeping ? &w.spheres : nullptr);  // sleepers keep theirs
     const std::uint32_t* order = st.colouring.order.data();
     const std::size_t static_count = w.stats.static_contacts;
     // The soft step passes on no impulse of a contact whose push was saturated when the step
     // began (soft_push_saturated): a deep overlap's push, not a weight carried. The contact
     // keeps it for World::last_contacts.
-    const bool soft = w.settings.solver == Solver::SoftStep;
+    const bool soft = modes.soft_step();
     const SoftPass saturation = soft_pass_settings();
     // No push saturates at a gap above half the stiffer ground spring's saturation depth (half:
     // clear of rounding at the bound): most contacts are decided without their spheres' masses.
@@ -706,7 +696,7 @@ struct StepPipeline {
     // Under the uniform-acceleration integrator restitution takes the approach speed, the
     // closing speed less what this step's gravity added (solve_collision's gravity_closing).
     const std::array<float, 3> g_dt = gravity_dt();
-    const float* approach = uniform_acceleration ? g_dt.data() : nullptr;
+    const float* approach = modes.uniform_acceleration() ? g_dt.data() : nullptr;
     st.crew.run(stages, [&](StageCrew& crew) {
       for (int pass = 0; pass < w.settings.collision_iterations; ++pass) {
         std::atomic<bool> any{false};  // an OR: the order of stores cannot change the result
@@ -734,7 +724,7 @@ struct StepPipeline {
       // longer fits the pile pushes neighbours into each other faster than the restitution
       // threshold, and the collision passes bounce them: the pile keeps jittering (bowl-pile's
       // energy: docs/benchmarks.md, "Figures behind the code's choices").
-      if (w.settings.warm_start && w.stats.warm_started > 0)
+      if (modes.warm_start && w.stats.warm_started > 0)
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.warm_start(first, last, bodies, work);
           warm_start_run_scalar(scalar, bodies, work);
@@ -827,13 +817,13 @@ struct StepPipeline {
     // What the passes compute: no friction (no contact has any), friction on linear velocities
     // (rotation off), or friction with the angular terms. Angular velocities are loaded only
     // for the last: normal impulses (the shock pass's too) never turn a sphere.
-    const FrictionWork work = friction_work(friction_needed_, rotation);
-    const bool angular = rotation && friction_needed_;
+    const FrictionWork work = friction_work(friction_needed_, modes.rotation);
+    const bool angular = modes.rotation && friction_needed_;
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
     if (st.solver_bodies.size() < n + 1) resize_geometric(st.solver_bodies, n + 1);
     const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
     bodies[n] = SolverBody{};
-    const bool soft = w.settings.solver == Solver::SoftStep;
+    const bool soft = modes.soft_step();
     const int substeps = w.settings.soft_step.substeps;
     const float h = params.dt / static_cast<float>(substeps);
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
@@ -841,14 +831,14 @@ struct StepPipeline {
       load_solver_bodies(s, first, last, bodies, angular);
       if (!soft) {
         // The collision passes' approach speeds under the uniform integrator (gravity_closing_speed).
-        if (uniform_acceleration)
+        if (modes.uniform_acceleration())
           for (std::size_t i = first; i < last; ++i)
-            bodies[i].gravity_scale = s.inv_mass[i] > 0.0f ? (params.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
+            bodies[i].gravity_scale = s.inv_mass[i] > 0.0f ? (modes.gravity_scaled ? s.gravity_scale[i] : 1.0f) : 0.0f;
         return;
       }
       const float g_rest[3] = {params.gravity[0] * (params.dt - h), params.gravity[1] * (params.dt - h),
                                params.gravity[2] * (params.dt - h)};
-      soft_load_bodies(s, first, last, bodies, g_rest, params.gravity_scaled);
+      soft_load_bodies(s, first, last, bodies, g_rest, modes.gravity_scaled);
     });
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
@@ -913,15 +903,15 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Integrate);
       std::vector<Impact>* impacts = planes ? &st.impact_blocks[b] : nullptr;
       if (impacts) impacts->clear();
-      if (sleeping && block_still(first, last)) return;  // nothing in it moves
+      if (modes.sleeping && block_still(first, last)) return;  // nothing in it moves
       integrate_positions(s, first, last, w.planes, params, st.ccd.moved(), impacts);
     });
     st.impacts.clear();
-    std::size_t count = sweeping ? st.ccd.impacts().size() : 0;
+    std::size_t count = modes.sweeping ? st.ccd.impacts().size() : 0;
     if (planes)
       for (std::size_t b = 0; b < blocks; ++b) count += st.impact_blocks[b].size();
     reserve_geometric(st.impacts, count);
-    if (sweeping) st.impacts.insert(st.impacts.end(), st.ccd.impacts().begin(), st.ccd.impacts().end());
+    if (modes.sweeping) st.impacts.insert(st.impacts.end(), st.ccd.impacts().begin(), st.ccd.impacts().end());
     if (planes)
       for (std::size_t b = 0; b < blocks; ++b)
         st.impacts.insert(st.impacts.end(), st.impact_blocks[b].begin(), st.impact_blocks[b].end());
@@ -938,7 +928,7 @@ struct StepPipeline {
   /// Gravity at scale 1, as the step applies it (params); a sphere of a larger gravity scale, or
   /// pressed by a force, sags further than this assumes.
   [[nodiscard]] float soft_deep_radius() const {
-    if (w.settings.solver != Solver::SoftStep) return 0.0f;
+    if (!modes.soft_step()) return 0.0f;
     const float* g = params.gravity;
     const float sag = soft_sag(std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]),
                                w.settings.soft_step.contact_cycles / soft_substep());
@@ -1068,8 +1058,8 @@ struct StepPipeline {
       for (std::size_t k = first; k < last; ++k) order[k] = static_cast<std::uint32_t>(keys[k]);
     });
     // Without rotation every w is 0, without forces pending every accumulator.
-    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/rotation, /*accumulators=*/forces,
-              for_ranges);
+    s.permute(std::span<const std::uint32_t>(order.data(), n), /*angular=*/modes.rotation,
+              /*accumulators=*/modes.forces, for_ranges);
     st.contact_cache.remap_slots(std::span<const std::uint32_t>(order.data(), n));  // its ranges are kept by slot
   }
 
@@ -1086,20 +1076,17 @@ struct StepPipeline {
       reorder();
     }
     float margin = 0.0f;
-    guarding = w.terrain != nullptr;
-    ran.terrain_guard = guarding;
+    ran.terrain_guard = modes.terrain_guard;
     w.stats.pushed_out = 0;
     w.stats.depenetration_passes = 0;
-    pair_margins = w.settings.pair_margin_travel > 0.0f && w.settings.sphere_collisions;
-    if (pair_margins && st.travel.size() < w.spheres.size()) resize_geometric(st.travel, w.spheres.size());
-    uniform_acceleration = params.integrator == Integrator::UniformAcceleration;
-    if (uniform_acceleration) {
+    if (modes.pair_margins && st.travel.size() < w.spheres.size()) resize_geometric(st.travel, w.spheres.size());
+    if (modes.uniform_acceleration()) {
       const std::size_t n = w.spheres.size();
       for (std::vector<float>* v : {&st.start_vx, &st.start_vy, &st.start_vz})
         if (v->size() < n) resize_geometric(*v, n);
       params.start_vx = st.start_vx.data(), params.start_vy = st.start_vy.data(), params.start_vz = st.start_vz.data();
     }
-    if (guarding) {
+    if (modes.terrain_guard) {
       const std::size_t n = w.spheres.size();
       for (std::vector<float>* v : {&st.start_x, &st.start_y, &st.start_z, &st.reach2})
         if (v->size() < n) resize_geometric(*v, n);
@@ -1111,13 +1098,13 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Predict);
       predict(margin);
     }
-    ran.detect_static = w.terrain != nullptr || !w.planes.empty();
-    ran.detect_pairs = w.settings.sphere_collisions && w.spheres.size() > 1;
+    ran.detect_static = modes.detect_static;
+    ran.detect_pairs = modes.detect_pairs;
     detect(margin);
     // A contact between a sleeper and a sphere that moves wakes the sleeper's island before the
     // solve; detection runs again so that the woken spheres' own contacts are solved this
     // substep too (and again if they touch another island). Rare: only substeps that wake.
-    if (sleeping)
+    if (modes.sleeping)
       while (wake_touched()) {
         predict_woken(margin);
         detect(margin);
@@ -1136,11 +1123,11 @@ struct StepPipeline {
     ScopedPhaseTimer timer(w.times.predict);
     SphereSoA& s = w.spheres;
     float max_speed = 0.0f;
-    for (const std::uint32_t i : st.sleep.woken_slots()) {
-      if (forces) apply_forces(s, i, i + 1, params.dt, rotation);
-      max_speed = std::max(max_speed, predict_velocities(s, i, i + 1, params, fast_fraction));
-      if (guarding) remember_reach(i, i + 1);
-      if (pair_margins) remember_travel(i, i + 1);
+    for (const std::uint32_t i : services.sleep.woken_slots()) {
+      if (modes.forces) apply_forces(s, i, i + 1, params.dt, modes.rotation);
+      max_speed = std::max(max_speed, predict_velocities(s, i, i + 1, params, w.settings.fast_travel_fraction));
+      if (modes.terrain_guard) remember_reach(i, i + 1);
+      if (modes.pair_margins) remember_travel(i, i + 1);
     }
     margin = std::max(margin, std::min(2.0f * max_speed * params.dt, w.settings.speculative_radii * max_radius));
   }
@@ -1148,7 +1135,7 @@ struct StepPipeline {
   bool wake_touched() {
     ScopedPhaseTimer timer(w.times.islands);
     ScopedTraceRecord record(w.trace, Phase::Islands);
-    return st.sleep.wake_touched(w.spheres, st.contacts);
+    return services.sleep.wake_touched(w.spheres, st.contacts);
   }
 
   /// Sphere-ground contacts and sphere pairs (both at once when both run), merged.
@@ -1192,9 +1179,9 @@ struct StepPipeline {
     if (ran.solve) {
       ScopedPhaseTimer timer(t.solve);
       ScopedTraceRecord record(w.trace, Phase::Solve);
-      if (st.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
+      if (services.events.wants_hits()) {  // approach speeds: under the uniform integrator before gravity
         const std::array<float, 3> g_dt = gravity_dt();
-        st.events.remember_solve_start(w.spheres, uniform_acceleration ? g_dt.data() : nullptr);
+        services.events.remember_solve_start(w.spheres, modes.uniform_acceleration() ? g_dt.data() : nullptr);
       }
       solve();
     } else {
@@ -1202,16 +1189,16 @@ struct StepPipeline {
       w.stats.collision_passes = 0;
       // Nothing touched: nothing to carry over, but what sleepers carry (the merge laid out
       // every slot's empty range, as begin_store needs).
-      if (w.settings.warm_start && sleeping)
+      if (modes.warm_start && modes.sleeping)
         st.contact_cache.begin_store(0, &w.spheres);
-      else if (w.settings.warm_start)
+      else if (modes.warm_start)
         st.contact_cache.clear();
     }
     ran.friction = ran.solve && friction_needed_;
-    ran.rotation = ran.solve && rotation && friction_needed_;
+    ran.rotation = ran.solve && modes.rotation && friction_needed_;
     ran.shock = ran.solve && shock;
-    ran.sweep = sweeping && !st.fast.empty();
-    if (sweeping) {
+    ran.sweep = modes.sweeping && !st.fast.empty();
+    if (modes.sweeping) {
       ScopedPhaseTimer timer(t.sweep);
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       sweep();
@@ -1223,18 +1210,18 @@ struct StepPipeline {
       integrate();
     }
     ran.depenetrate = ran.solve && w.settings.depenetration_iterations > 0;
-    if (ran.depenetrate || guarding) {
+    if (ran.depenetrate || modes.terrain_guard) {
       ScopedPhaseTimer timer(t.depenetrate);
       ScopedTraceRecord record(w.trace, Phase::Depenetrate);
       if (ran.depenetrate) depenetrate();
       if (ran.depenetrate && shock) shock_push_out();
-      if (guarding) guard_terrain();
+      if (modes.terrain_guard) guard_terrain();
       if (ran.depenetrate && !w.planes.empty()) guard_planes();
     }
-    if (sleeping) {
+    if (modes.sleeping) {
       ScopedPhaseTimer timer(t.islands);
       ScopedTraceRecord record(w.trace, Phase::Islands);
-      st.sleep.update(w.spheres, st.contacts, params.dt, w.settings);
+      services.sleep.update(w.spheres, st.contacts, params.dt, w.settings);
     }
   }
 
@@ -1254,12 +1241,12 @@ struct StepPipeline {
 void World::step(float dt) {
   // Before anything changes: a refused step leaves the world as it was.
   const int substeps = static_cast<int>(check_step(settings_, dt));  // <= max_substeps, an int
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
   times_ = {};
   // Longer steps are split into equal substeps of at most max_substep (see WorldSettings).
   const float scaled = dt * settings_.time_scale;
-  ContactEventTracker& events = step_->events;
-  SleepIslands& sleep = step_->sleep;
+  ContactEventTracker& events = services_->events;
+  SleepIslands& sleep = services_->sleep;
   // Frozen (time_scale 0) or empty; or every movable sphere asleep and nothing else moving,
   // when a step would change nothing: it costs one pass over the flags.
   const bool all_asleep = settings_.sleep && !SleepIslands::anything_moves(spheres_);
@@ -1267,8 +1254,8 @@ void World::step(float dt) {
     clear_forces();
     if (events.on()) events.finish_idle_step(spheres_);
     if (all_asleep) {
-      step_->contacts.clear();
-      step_->impacts.clear();
+      scratch_->contacts.clear();
+      scratch_->impacts.clear();
       stats_ = {};
       stats_.sleeping = SleepIslands::count_sleeping(spheres_);
       steps_taken_ += static_cast<std::uint64_t>(substeps);  // the re-sort's phase goes on
@@ -1296,34 +1283,36 @@ void World::step(float dt) {
 }
 
 void World::substep(float scaled) {
-  StepPipeline pipeline{{settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_, stats_,
-                         times_, trace_, steps_taken_},
-                        *step_,
-                        {}};
-  pipeline.params.integrator = settings_.integrator;
-  pipeline.params.gravity[0] = settings_.gravity.x();
-  pipeline.params.gravity[1] = settings_.gravity.y();
-  pipeline.params.gravity[2] = settings_.gravity.z();
-  pipeline.params.dt = scaled;
-  pipeline.fast_fraction = settings_.fast_travel_fraction;
-  pipeline.sweeping = settings_.continuous_collision;
-  pipeline.rotation = settings_.rotation;
-  pipeline.params.rotation = pipeline.rotation;
-  pipeline.forces = forces_pending_;
-  pipeline.params.forces = forces_pending_;
-  pipeline.filtering = filtered_;
-  pipeline.ground = ground_filter_;
-  pipeline.params.gravity_scaled = gravity_scaled_;
-  pipeline.params.ground_filtered = filtered_;
-  pipeline.params.ground = ground_filter_;
-  pipeline.sleeping = settings_.sleep;
-  // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
-  pipeline.params.restitution_threshold =
-      std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled);
+  // What this substep does, decided here once: every phase reads these.
+  const StepModes modes{.integrator = settings_.integrator,
+                        .solver = settings_.solver,
+                        .rotation = settings_.rotation,
+                        .warm_start = settings_.warm_start_factor > 0.0f,
+                        .sweeping = settings_.continuous_collision,
+                        .sleeping = settings_.sleep,
+                        .detect_pairs = settings_.sphere_collisions && spheres_.size() > 1,
+                        .detect_static = terrain_ != nullptr || !planes_.empty(),
+                        .terrain_guard = terrain_ != nullptr,
+                        .pair_margins = settings_.pair_margin_travel > 0.0f && settings_.sphere_collisions,
+                        .forces = forces_pending_,
+                        .gravity_scaled = gravity_scaled_,
+                        .filtering = filtered_,
+                        .ground = ground_filter_};
+  StepPipeline pipeline{
+      {settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_, stats_, times_, trace_,
+       steps_taken_},
+      *scratch_,
+      *services_,
+      modes,
+      {.modes = modes,
+       .gravity = {settings_.gravity.x(), settings_.gravity.y(), settings_.gravity.z()},
+       .dt = scaled,
+       // A sphere lying on the ground closes at |g| dt per step; twice that is still resting.
+       .restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled)}};
   arena_->execute([&] { pipeline.run(); });
-  if (step_->events.on())
-    step_->events.collect_substep(spheres_, step_->contacts, step_->impacts,
-                                  {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
+  if (services_->events.on())
+    services_->events.collect_substep(spheres_, scratch_->contacts, scratch_->impacts,
+                                      {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;
 }

@@ -1,7 +1,8 @@
 #include "hail/world.h"
 #include "hail/settings_table.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 #include <cmath>
 #include <cstdio>
@@ -99,7 +100,8 @@ std::int64_t check_step(const WorldSettings& settings, float dt) {
   return needed;
 }
 
-World::World(const WorldSettings& settings) : settings_(settings), step_(std::make_unique<StepState>()) {
+World::World(const WorldSettings& settings)
+    : settings_(settings), scratch_(std::make_unique<StepScratch>()), services_(std::make_unique<WorldServices>()) {
   validate(settings);
   constexpr int all_hardware_threads = tbb::task_arena::automatic;  // a copy: avoids odr-using the member
   own_arena_ = std::make_unique<tbb::task_arena>(settings.threads == 0 ? all_hardware_threads : settings.threads);
@@ -107,14 +109,17 @@ World::World(const WorldSettings& settings) : settings_(settings), step_(std::ma
 }
 
 World::World(const WorldSettings& settings, tbb::task_arena& host_arena)
-    : settings_(settings), arena_(&host_arena), step_(std::make_unique<StepState>()) {
+    : settings_(settings),
+      arena_(&host_arena),
+      scratch_(std::make_unique<StepScratch>()),
+      services_(std::make_unique<WorldServices>()) {
   validate(settings);
 }
 
 World::~World() = default;
 
-std::span<const Contact> World::last_contacts() const { return step_->contacts; }
-std::span<const Impact> World::last_impacts() const { return step_->impacts; }
+std::span<const Contact> World::last_contacts() const { return scratch_->contacts; }
+std::span<const Impact> World::last_impacts() const { return scratch_->impacts; }
 
 int World::thread_count() const { return arena_->max_concurrency(); }
 
@@ -145,16 +150,16 @@ SphereId World::add_sphere(const SphereDesc& d) {
                       inv_mass,       inv_inertia,    d.restitution,  d.friction, flags};
   record.filter = d.filter;
   if (d.filter != CollisionFilter{} || d.is_kinematic) filtered_ = true;
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
   const SphereId id = spheres_.add(record);
   if (d.is_static) wake(static_cast<std::size_t>(spheres_.slot_of(id)));  // it pushes nothing: wake what it meets
   return id;
 }
 
 bool World::remove_sphere(SphereId id) {
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
   // Its id index may be reused by the next sphere added: warm-start data must not carry over.
-  step_->contact_cache.clear();
+  scratch_->contact_cache.clear();
   // The last sphere moves into the hole: if it was still unchecked, so is the hole's slot now.
   const std::int64_t slot = spheres_.slot_of(id);
   if (slot >= 0 && spheres_.size() - 1 >= unchecked_from_)
@@ -212,8 +217,8 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   if (terrain) require_terrain_resolvable(*terrain);
   terrain_ = std::move(terrain);
   wake_all();
-  unchecked_from_ = 0;           // every sphere may be inside the new terrain
-  step_->contact_cache.clear();  // triangle features name another terrain's triangles now
+  unchecked_from_ = 0;              // every sphere may be inside the new terrain
+  scratch_->contact_cache.clear();  // triangle features name another terrain's triangles now
   terrain_restitution_ = restitution;
   terrain_friction_ = friction;
 }
@@ -263,15 +268,15 @@ void World::shift_origin(const Vec3& offset) {
   for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
   SphereSoA& m = spheres_;
   for (std::size_t i = 0; i < m.size(); ++i) m.px[i] -= offset.x(), m.py[i] -= offset.y(), m.pz[i] -= offset.z();
-  step_->sphere_queries.invalidate();
-  for (Impact& i : step_->impacts) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
+  services_->sphere_queries.invalidate();
+  for (Impact& i : scratch_->impacts) i.px -= offset.x(), i.py -= offset.y(), i.pz -= offset.z();
   if (moved_terrain) {
     // Warm starting keys terrain contacts by triangle index in BVH order (Contact::feature).
     // The moved terrain's BVH is built over moved boxes; rounding can make two centroids equal
     // that were not and so reorder triangles. Only then do the remembered impulses name other
     // triangles, and only then are they dropped (the next step starts its contacts from zero,
     // as after set_terrain).
-    if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) step_->contact_cache.clear();
+    if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) scratch_->contact_cache.clear();
     terrain_ = std::move(moved_terrain);
   }
 }

@@ -11,8 +11,9 @@
 
 #include "hail/world.h"
 #include "kernel/broadphase/sphere_filters.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 using namespace checks;
@@ -118,7 +119,7 @@ void World::set_collision_filter(SphereId id, CollisionFilter filter) {
   spheres_.collision_category[i] = filter.category;
   spheres_.collision_mask[i] = filter.mask;
   wake(i);
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
   if (filter != CollisionFilter{})
     filtered_ = true;
   else
@@ -159,7 +160,7 @@ void World::set_positions(std::span<const SphereId> handles, std::span<const Vec
       require_resolvable(positions[k], spheres_.radius[i]);
     });
   }
-  ContactImpulseCache& cache = step_->contact_cache;
+  ContactImpulseCache& cache = scratch_->contact_cache;
   for (std::size_t k = 0; k < handles.size(); ++k) {
     const std::size_t i = static_cast<std::size_t>(spheres_.slot_of(handles[k]));
     wake(i);  // where it was: an immovable one leaves what rested on it
@@ -167,7 +168,7 @@ void World::set_positions(std::span<const SphereId> handles, std::span<const Vec
     cache.forget(i);  // what it touched is not where it is now
   }
   if (!handles.empty()) cache.drop_forgotten(spheres_);
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
 }
 
 void World::set_velocity(SphereId id, const Vec3& velocity) { set_velocities({&id, 1}, {&velocity, 1}); }
@@ -210,7 +211,7 @@ void World::apply_impulses(std::span<const SphereId> handles, std::span<const Ve
   // Applied in order, each velocity kept first: a handle may come twice, so the speed limit is
   // checked on what the entries leave, and a refusal puts every velocity back as it was.
   SphereSoA& s = spheres_;
-  std::vector<std::array<float, 3>>& undo = step_->impulse_undo;
+  std::vector<std::array<float, 3>>& undo = services_->impulse_undo;
   undo.resize(handles.size());
   for (std::size_t k = 0; k < handles.size(); ++k) {
     const std::size_t i = static_cast<std::size_t>(s.slot_of(handles[k]));
@@ -322,7 +323,7 @@ void World::set_radius(SphereId id, float radius) {
   wake(i);  // at its old size: an immovable one that shrinks leaves what rested on it
   spheres_.radius[i] = radius;
   spheres_.inv_inertia[i] = inv_inertia;
-  step_->sphere_queries.invalidate();
+  services_->sphere_queries.invalidate();
 }
 
 void World::set_gravity_scale(SphereId id, float scale) {

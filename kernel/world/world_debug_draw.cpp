@@ -2,7 +2,7 @@
 // (include/hail/debug_draw.h).
 
 #include "hail/world.h"
-#include "kernel/world/step_state.h"
+#include "kernel/world/step_scratch.h"
 
 namespace hail {
 
@@ -13,7 +13,7 @@ void World::pair_grid_cells(std::vector<DebugBox>& out) const {
     out.clear();
     return;
   }
-  step_->grid.occupied_cells(out);
+  scratch_->grid.occupied_cells(out);
 }
 
 }  // namespace hail

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "hail/world.h"
-#include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 
@@ -14,12 +14,12 @@ void World::set_events(const EventSettings& settings) {
   checks::require(std::isfinite(settings.hit_speed) && settings.hit_speed >= 0.0f, [&] {
     return "set_events: hit_speed must be finite and >= 0 m/s, got " + checks::number(settings.hit_speed);
   });
-  step_->events.configure(settings);
+  services_->events.configure(settings);
 }
 
-const EventSettings& World::event_settings() const { return step_->events.settings(); }
-std::span<const TouchEvent> World::touch_begin_events() const { return step_->events.touch_begin(); }
-std::span<const TouchEvent> World::touch_end_events() const { return step_->events.touch_end(); }
-std::span<const HitEvent> World::hit_events() const { return step_->events.hits(); }
+const EventSettings& World::event_settings() const { return services_->events.settings(); }
+std::span<const TouchEvent> World::touch_begin_events() const { return services_->events.touch_begin(); }
+std::span<const TouchEvent> World::touch_end_events() const { return services_->events.touch_end(); }
+std::span<const HitEvent> World::hit_events() const { return services_->events.hits(); }
 
 }  // namespace hail

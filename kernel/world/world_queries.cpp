@@ -17,8 +17,8 @@
 #include "kernel/geometry/swept_sphere.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/ray_batch_leaf_test.h"
-#include "kernel/world/step_state.h"
 #include "kernel/world/world_checks.h"
+#include "kernel/world/world_services.h"
 
 namespace hail {
 
@@ -141,11 +141,11 @@ std::atomic<RayBatchLeafTest> batch_leaf_test{RayBatchLeafTest::Simd};
 void set_ray_batch_leaf_test(RayBatchLeafTest test) { batch_leaf_test.store(test, std::memory_order_relaxed); }
 RayBatchLeafTest ray_batch_leaf_test() { return batch_leaf_test.load(std::memory_order_relaxed); }
 
-std::uint64_t World::query_cache_builds() const { return step_->sphere_queries.builds(); }
+std::uint64_t World::query_cache_builds() const { return services_->sphere_queries.builds(); }
 
 std::optional<QueryHit> World::raycast(const Ray& ray, const QueryFilter& filter) const {
   const UnitRay r = check_ray(ray, "World::raycast");
-  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   return closest_hit(s, terrain_.get(), planes_, r, filter, closest_sphere_scalar(s, r, 0.0f, filter));
 }
 
@@ -162,7 +162,7 @@ void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<Que
       throw InvalidArgument(std::string(e.what()) + " (ray " + std::to_string(k) + ")");
     }
   }
-  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   const Terrain* terrain = terrain_.get();
   const bool simd = ray_batch_leaf_test() == RayBatchLeafTest::Simd;
   const SimdKernels& kernels = simd_kernels();
@@ -188,7 +188,7 @@ void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<Que
 
 std::vector<QueryHit> World::raycast_all(const Ray& ray, const QueryFilter& filter) const {
   const UnitRay r = check_ray(ray, "World::raycast_all");
-  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   std::vector<QueryHit> hits;
   const float inv[3] = {1.0f / r.d[0], 1.0f / r.d[1], 1.0f / r.d[2]};
   walk_stackless(
@@ -226,7 +226,7 @@ std::vector<QueryHit> World::raycast_all(const Ray& ray, const QueryFilter& filt
 std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const QueryFilter& filter) const {
   const UnitRay r = check_ray(ray, "World::sphere_cast");
   check_radius(radius, "World::sphere_cast");
-  std::optional<QueryHit> best = closest_sphere(step_->sphere_queries.get(spheres_), r, radius, filter);
+  std::optional<QueryHit> best = closest_sphere(services_->sphere_queries.get(spheres_), r, radius, filter);
   if (terrain_ && filter.terrain) {
     // kernel/geometry/swept_sphere.h in double, every edge a real edge (no internal-edge
     // smoothing: a query reports the geometry as it is).
@@ -257,7 +257,7 @@ std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const Q
 std::vector<SphereId> World::overlap_sphere(const Vec3& centre, float radius, const QueryFilter& filter) const {
   require(finite(centre), [&] { return "World::overlap_sphere: centre " + vec_text(centre) + " is not finite"; });
   check_radius(radius, "World::overlap_sphere");
-  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   std::vector<SphereId> found;
   query_sphere(s.bvh, centre.x(), centre.y(), centre.z(), radius, [&](std::uint32_t k) {
     if (!sphere_passes(s, k, filter)) return;
@@ -274,7 +274,7 @@ std::vector<SphereId> World::overlap_box(const Vec3& min, const Vec3& max, const
           [&] { return "World::overlap_box: box " + vec_text(min) + " .. " + vec_text(max) + " is not finite"; });
   require(min.x() <= max.x() && min.y() <= max.y() && min.z() <= max.z(),
           [&] { return "World::overlap_box: min " + vec_text(min) + " exceeds max " + vec_text(max); });
-  const SphereQueryBvh& s = step_->sphere_queries.get(spheres_);
+  const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   const Aabb box{{min.x(), min.y(), min.z()}, {max.x(), max.y(), max.z()}};
   std::vector<SphereId> found;
   query_aabb(s.bvh, box, [&](std::uint32_t k) {

@@ -42,14 +42,24 @@ inline std::vector<std::byte> saved(const World& world) {
 enum class SnapshotOutcome { Refused, Restored, Misread };
 
 /// restore(bytes); Misread when it was accepted and save() does not give the same bytes back.
+/// An older version's snapshot saves as this version: that one, restored, must save the same
+/// bytes again.
 inline SnapshotOutcome restore_and_compare(World& world, std::span<const std::byte> bytes) {
   try {
     world.restore(bytes);
   } catch (const InvalidArgument&) {
     return SnapshotOutcome::Refused;
   }
-  std::vector<std::byte> again;
+  std::uint32_t version = 0;
+  std::memcpy(&version, bytes.data() + sizeof kSnapshotMagic, sizeof version);  // restore read it
+  std::vector<std::byte> again, first_save;
   world.save(again);
+  if (version != kSnapshotVersion) {
+    first_save = std::move(again);
+    world.restore(first_save);
+    world.save(again);
+    bytes = first_save;
+  }
   const bool same = again.size() == bytes.size() && std::memcmp(again.data(), bytes.data(), bytes.size()) == 0;
   return same ? SnapshotOutcome::Restored : SnapshotOutcome::Misread;
 }

@@ -1,11 +1,14 @@
 #pragma once
-// What World::step keeps between steps besides the sphere state: the per-step scratch buffers
-// (reused, so that a steady-state step allocates nothing), the warm-start cache, the contacts
-// and impacts of the last step, and the solver's threads. World holds it by pointer
-// (include/hail/world.h), so that only the step pipeline (kernel/world/step_pipeline.cpp) and
-// world.cpp see the kernel's internal types.
+// StepScratch: what World::step computes and either throws away or hands to the next step:
+// the per-block buffers of detection, the contacts and impacts of the last step
+// (World::last_contacts, last_impacts), the colouring, solver bodies and SIMD batches, the
+// warm-start cache (last step's impulses), the sweep, the terrain guard's and integrator's
+// per-sphere arrays, the re-sort's keys, and the solver's threads. Reused, so that a
+// steady-state step allocates nothing. World holds it by pointer (include/hail/world.h), so
+// that only the step pipeline (kernel/world/step_pipeline.cpp) and the World's own files see
+// the kernel's internal types. What serves the World between steps (events, sleep, queries) is
+// WorldServices (kernel/world/world_services.h).
 
-#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,13 +26,10 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/shock_propagation.h"
 #include "kernel/solver/solver_body.h"
-#include "kernel/world/contact_events.h"
-#include "kernel/world/sleep_islands.h"
-#include "kernel/world/sphere_query_cache.h"
 
 namespace hail {
 
-struct StepState {
+struct StepScratch {
   // Detect: pairs and contacts per block, merged in block order.
   std::vector<std::vector<SpherePair>> pair_blocks;
   std::vector<std::vector<std::uint32_t>> pair_row_scratch;
@@ -40,9 +40,7 @@ struct StepState {
   std::vector<Contact> contacts;                   ///< World::last_contacts()
   std::vector<std::vector<Impact>> impact_blocks;  ///< integrate: plane impacts per sphere block
   std::vector<Impact> impacts;                     ///< World::last_impacts(): the sweep's, then impact_blocks in order
-  /// World::apply_impulses: each entry's velocity before it, to put back if a later one is refused.
-  std::vector<std::array<float, 3>> impulse_undo;
-  std::vector<std::size_t> merge_offsets;  ///< per detect block: where its contacts start in contacts
+  std::vector<std::size_t> merge_offsets;          ///< per detect block: where its contacts start in contacts
   // Solve.
   ContactColouring colouring;
   std::vector<std::uint32_t> tile_changed;  ///< per solver tile, the latest stamp of its bodies (changed_in_pass)
@@ -70,12 +68,6 @@ struct StepState {
   std::vector<std::uint64_t> reorder_keys;
   std::vector<std::uint32_t> reorder_slots;  ///< new slot k <- old slot
   std::vector<Aabb> reorder_bounds;          ///< box of each block's centres
-  // Touch and hit events (World::set_events); its touching keys persist between steps.
-  ContactEventTracker events;
-  // Sleeping: islands, waking, sleep and wake events (WorldSettings::sleep).
-  SleepIslands sleep;
-  // World queries: the BVH over the spheres, rebuilt at the first query after a change.
-  SphereQueryCache sphere_queries;
 };
 
 }  // namespace hail
