@@ -26,7 +26,7 @@
 #include "bench/scale_command.h"
 #include "bench/sleep_command.h"
 #include "bench/stress_command.h"
-#include "catch.h"
+#include "tests/catch.h"
 
 namespace bench = hail::bench;
 using Command = int (*)(const std::vector<std::string>&);

@@ -15,8 +15,8 @@
 #include "bench/run_program.h"
 #include "bench/scale_command.h"
 #include "bench/stress_command.h"
-#include "catch.h"
-#include "file_faults.h"
+#include "tests/catch.h"
+#include "tests/file_faults.h"
 #include "scenes/output_file.h"
 
 namespace bench = hail::bench;

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "catch.h"
-#include "file_faults.h"
+#include "tests/catch.h"
+#include "tests/file_faults.h"
 #include "scenes/scene_run.h"
 #include "scenes/scenes.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench/peer_engine_bullet.h"
-#include "catch.h"
+#include "tests/catch.h"
 #include "hail/heightmap.h"
 #include "scenes/scenes.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "catch.h"
+#include "tests/catch.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "scenes/memory_use.h"
 #include "scenes/scene_run.h"

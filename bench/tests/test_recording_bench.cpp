@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "bench/run_command.h"
-#include "catch.h"
+#include "tests/catch.h"
 #include "hail/recording.h"
 #include "hail/snapshot.h"
 #include "scenes/scene_run.h"
