@@ -206,6 +206,16 @@ void print_report(const RunResult& r) {
     std::printf("  memory    heap %s after set-up, %s at the end (terrain %s; %.0f bytes per sphere besides)\n",
                 format_bytes(double(r.heap_after_setup)).c_str(), format_bytes(double(r.heap_at_end)).c_str(),
                 format_bytes(double(r.terrain_bytes)).c_str(), r.bytes_per_sphere());
+  {
+    // World::memory_use: bytes per sphere by part, what the heap line's "besides" is made of.
+    const MemoryUse& m = r.memory_parts;
+    const double n = r.spheres > 0 ? double(r.spheres) : 1.0;
+    std::printf("  bytes     per sphere by part: spheres %.0f, pairs %.0f, contacts %.0f, solver %.0f, warm start %.0f, "
+                "sweep %.0f, per-sphere scratch %.0f, services %.0f; %.0f in all\n",
+                double(m.spheres) / n, double(m.pairs) / n, double(m.contacts) / n, double(m.solver) / n,
+                double(m.warm_start) / n, double(m.sweep) / n, double(m.per_sphere) / n, double(m.services) / n,
+                double(m.total()) / n);
+  }
   std::printf("  state     hash %s\n", r.state_hash.c_str());
 }
 

@@ -256,6 +256,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
   r.mean_ms = std::accumulate(timed.begin(), timed.end(), 0.0) / static_cast<double>(timed.size());
   r.median_ms = median(timed);
   r.heap_at_end = heap_added();
+  r.memory_parts = world.memory_use();
   r.errors = measure_errors(scene);
   r.tunnelling = tunnelling.figures();
   r.errors.worst_sphere_penetration = worst_sphere;
@@ -323,7 +324,17 @@ nlohmann::json to_json(const RunResult& r) {
       {"nan_count", e.nan_count},
       {"state_hash", r.state_hash},
       {"memory",
-       {{"heap_after_setup_bytes", r.heap_after_setup},
+       {{"parts_bytes",
+         {{"spheres", r.memory_parts.spheres},
+          {"pairs", r.memory_parts.pairs},
+          {"contacts", r.memory_parts.contacts},
+          {"solver", r.memory_parts.solver},
+          {"warm_start", r.memory_parts.warm_start},
+          {"sweep", r.memory_parts.sweep},
+          {"per_sphere", r.memory_parts.per_sphere},
+          {"services", r.memory_parts.services},
+          {"total", r.memory_parts.total()}}},
+        {"heap_after_setup_bytes", r.heap_after_setup},
         {"heap_at_end_bytes", r.heap_at_end},
         {"terrain_bytes", r.terrain_bytes},
         {"bytes_per_sphere", r.bytes_per_sphere()},

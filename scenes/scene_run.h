@@ -52,6 +52,9 @@ struct RunResult {
   /// cannot say. terrain_bytes is Terrain::memory_bytes(), 0 without a terrain.
   std::size_t heap_after_setup = 0, heap_at_end = 0, terrain_bytes = 0;
   bool heap_measured = false;
+  /// World::memory_use() at the end: where the World's bytes go, by part (capacities; measured
+  /// everywhere, sanitizers included).
+  MemoryUse memory_parts;
   /// (heap_at_end - terrain_bytes) / spheres: what each sphere costs, its share of the World's
   /// per-step arrays included.
   [[nodiscard]] double bytes_per_sphere() const {

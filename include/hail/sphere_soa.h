@@ -148,6 +148,18 @@ class SphereSoA {
   /// How many arrays for_each_array visits.
   static constexpr std::size_t kArrayCount = 27;
 
+  /// Heap bytes held (capacities): the per-sphere arrays, the handle tables and the re-sort's
+  /// scratch.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    std::size_t bytes = 0;
+    for_each_array([&](const char*, const auto& array) {
+      bytes += array.capacity() * sizeof(typename std::remove_cvref_t<decltype(array)>::value_type);
+    });
+    return bytes + slot_ids_.capacity() * sizeof(SphereId) + id_to_slot_.capacity() * 4 + generation_.capacity() * 4 +
+           free_ids_.capacity() * 4 + float_scratch_.capacity() * 4 + id_scratch_.capacity() * 4 +
+           user_scratch_.capacity() * 8 + handle_scratch_.capacity() * sizeof(SphereId);
+  }
+
   /// The handle tables, for snapshots: per handle index, its current generation (a removed
   /// sphere's index has moved on to the next), and the free indices in the order add() reuses
   /// them (from the back).

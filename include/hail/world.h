@@ -139,6 +139,22 @@ struct SphereState {
   std::span<const float> px, py, pz, vx, vy, vz, wx, wy, wz, radius, inv_mass;
 };
 
+/// Heap bytes a World holds, by part (World::memory_use): capacities, the room its buffers keep
+/// so that a steady-state step allocates nothing. The terrain is apart (Terrain::memory_bytes).
+struct MemoryUse {
+  std::size_t spheres = 0;     ///< the sphere arrays (SphereSoA) and handle tables
+  std::size_t pairs = 0;       ///< the pair search: per-block pair lists, grid, sorted axis, sphere BVH
+  std::size_t contacts = 0;    ///< contact lists (per block, merged, in colour order) and impacts
+  std::size_t solver = 0;      ///< colouring, solver bodies, SIMD contact batches, shock levels
+  std::size_t warm_start = 0;  ///< last step's impulses, kept for warm starting
+  std::size_t sweep = 0;       ///< continuous collision and the fast-sphere lists
+  std::size_t per_sphere = 0;  ///< the step's other per-sphere arrays (guard, integrator, travel, re-sort)
+  std::size_t services = 0;    ///< events, sleeping islands, the queries' BVH, apply_impulses' undo
+  [[nodiscard]] std::size_t total() const {
+    return spheres + pairs + contacts + solver + warm_start + sweep + per_sphere + services;
+  }
+};
+
 class World {
  public:
   /// Creates its own task_arena of settings.threads slots. Throws InvalidArgument for a bad
@@ -468,6 +484,9 @@ class World {
                                                   const QueryFilter& filter = {}) const;
   /// How many times the query BVH over the spheres has been built (diagnostics, tests).
   [[nodiscard]] std::uint64_t query_cache_builds() const;
+  /// Heap bytes held, by part (MemoryUse). O(blocks); reads nothing a step writes concurrently,
+  /// so call it between steps.
+  [[nodiscard]] MemoryUse memory_use() const;
 
   /// Checks `settings` as the constructor and restore do: InvalidArgument naming the first
   /// field out of its range (include/hail/settings_table.h) or a rule between fields. A settings

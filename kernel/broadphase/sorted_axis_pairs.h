@@ -18,6 +18,7 @@
 
 #include "hail/sphere_soa.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -49,6 +50,11 @@ class SortedAxisPairs {
   [[nodiscard]] std::size_t class_count() const { return class_begin_.empty() ? 0 : class_begin_.size() - 1; }
   /// The sorted arrays, for the SIMD kernels.
   [[nodiscard]] SortedAxisPairsView view() const;
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(x_, y_, z_, radius_, index_, class_begin_, class_max_radius_, keys_, class_of_);
+  }
 
  private:
   /// Most radius classes: radii beyond 4^(kMaxRadiusClasses - 1) times the smallest share the last.

@@ -16,6 +16,7 @@
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/geometry/aabb.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -37,6 +38,11 @@ class SphereBvhPairs {
                   std::vector<SpherePair>& out, std::vector<std::uint32_t>& row) const;
   /// The BVH of the last build (primitive k in BVH order is sphere bvh().primitive_order[k]).
   [[nodiscard]] const FlatBvh& bvh() const { return bvh_; }
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(bvh_.nodes, bvh_.primitive_order, bounds_, leaf_);
+  }
 
  private:
   /// A sphere as a leaf test reads it, stored in BVH order so that a leaf's spheres are adjacent.

@@ -28,6 +28,7 @@
 #include "kernel/broadphase/sphere_pair_bounds.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/dispatch/simd_namespace.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -142,6 +143,11 @@ class SphereGrid {
   /// (World::pair_grid_cells). Cells clamped at the grid's edge (grid_cell) are drawn where
   /// the clamp puts them. Allocates; not for the step.
   void occupied_cells(std::vector<DebugBox>& out) const;
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(sphere_travel_, bucket_of_, bucket_start_, x_, y_, z_, radius_, travel_, index_);
+  }
 
  private:
   std::uint32_t mask_ = 0;

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <vector>
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -73,6 +74,11 @@ class ChangedPathGrid {
         for (std::int32_t z = c0[2]; z <= c1[2]; ++z)
           for (std::int32_t k = head_[bucket(x, y, z)]; k >= 0; k = entries_[static_cast<std::size_t>(k)].next)
             visit(entries_[static_cast<std::size_t>(k)]);
+  }
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(head_, used_, entries_, wide_, seen_);
   }
 
  private:

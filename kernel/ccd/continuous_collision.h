@@ -49,6 +49,7 @@
 #include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -100,6 +101,11 @@ class ContinuousCollision {
   /// This step's impacts that applied an impulse, in the order resolve() took them (by time).
   [[nodiscard]] std::span<const Impact> impacts() const { return impacts_; }
   [[nodiscard]] std::size_t fast_count() const { return fast_count_; }
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(motions_, motion_of_, moved_, first_events_, heap_, path_boxes_, path_bvh_.nodes, path_bvh_.primitive_order, impacts_) + changed_paths_.heap_bytes();
+  }
 
  private:
   enum class Target : std::uint8_t { Terrain, Plane, Sphere };

@@ -27,6 +27,7 @@
 
 #include "hail/contact.h"
 #include "hail/sphere_soa.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -106,6 +107,11 @@ class ContactImpulseCache {
   void assign(std::vector<Entry> entries, std::vector<Range> ranges) {
     entries_ = std::move(entries);
     ranges_ = std::move(ranges);
+  }
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(entries_, carried_, ranges_, scratch_);
   }
 
  private:

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hail/contact.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -69,6 +70,11 @@ struct ContactColouring {
   std::vector<std::vector<std::uint32_t>>
       tile_shared;                         ///< scratch (TiledColouring): per tile, the shared contacts of its rows
   std::vector<std::uint32_t> tile_counts;  ///< scratch (TiledColouring): per tile, the lengths of those two lists
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(order, colour_begin, tile_colour_begin, serial, body_mask, shared_mask, key_of, counts,
+                         tile_contacts, tile_shared, tile_counts);
+  }
   [[nodiscard]] std::size_t colour_count() const { return colour_begin.empty() ? 0 : colour_begin.size() - 1; }
   [[nodiscard]] std::size_t tile_count() const { return tile_colour_begin.empty() ? 0 : tile_colour_begin.size() - 1; }
   [[nodiscard]] std::size_t shared_colour_begin() const {

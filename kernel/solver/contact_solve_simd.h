@@ -31,6 +31,7 @@
 #include "kernel/solver/depenetrate.h"
 #include "kernel/solver/soft_contact.h"
 #include "kernel/solver/solver_body.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -123,6 +124,11 @@ class ContactBatches {
   void store_impulses(std::span<Contact> contacts) const;
   /// store_impulses of batches [first, last): disjoint ranges may run in parallel.
   void store_impulses(std::span<Contact> contacts, std::size_t first, std::size_t last) const;
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(colour_batches_, tail_begin_, first_contact_, batch_lanes_, a_, b_, static_b_, stage_serial_, nx_, ny_, nz_, gap_, restitution_, friction_, ra_, rb_, surface_d_, normal_impulse_, tx_, ty_, tz_, bounce_impulse_);
+  }
 
  private:
   [[nodiscard]] ContactBatchArrays arrays();

@@ -25,6 +25,7 @@
 #include "hail/contact.h"
 #include "hail/vec3.h"
 #include "kernel/solver/solver_body.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -55,6 +56,11 @@ class ShockPropagation {
   /// Level of sphere `slot` after plan(); kNoLevel when it does not rest on anything.
   [[nodiscard]] std::uint32_t level(std::uint32_t slot) const { return level_[slot]; }
   static constexpr std::uint32_t kNoLevel = 0xFFFFFFFFu;
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(level_, first_edge_, edges_, queue_, level_count_, order_);
+  }
 
  private:
   std::vector<std::uint32_t> level_;        ///< per sphere

@@ -34,6 +34,7 @@
 #include "hail/events.h"
 #include "hail/plane.h"
 #include "hail/sphere_soa.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -92,6 +93,11 @@ class ContactEventTracker {
   /// Puts back what touching_pairs / touching_ground returned (a snapshot); the events are
   /// emptied. Returns false, changing nothing, unless each is strictly increasing.
   bool restore_touching(std::span<const TouchKey> pairs, std::span<const TouchKey> ground);
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(previous_pairs_, previous_ground_, current_pairs_, current_ground_, begin_events_, end_events_, hit_records_, hit_events_, start_px_, start_py_, start_pz_, start_vx_, start_vy_, start_vz_);
+  }
 
  private:
   /// A hit with what sorts it: kind (0 pair, 1 ground), key, then the order it was found in.

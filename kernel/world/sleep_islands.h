@@ -66,6 +66,7 @@
 #include "hail/contact.h"
 #include "hail/sphere_soa.h"
 #include "hail/world_settings.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -118,6 +119,11 @@ class SleepIslands {
   /// Awake spheres whose timers have reached sleep_time, counted by the last update (StepStats).
   [[nodiscard]] std::size_t ready_to_sleep() const { return ready_to_sleep_; }
   void clear_events();
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(parent_, spin2_, sphere_class_, contact_flags_, root_flags_, island_label_, block_counts_, labels_, woken_slots_, slept_, woken_, published_slept_, published_woken_);
+  }
 
  private:
   std::uint32_t find(std::uint32_t i);

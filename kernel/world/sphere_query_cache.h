@@ -13,6 +13,7 @@
 
 #include "hail/sphere_soa.h"
 #include "kernel/bvh/sphere_query_bvh.h"
+#include "soa/heap_bytes.h"
 
 namespace hail {
 
@@ -33,6 +34,11 @@ class SphereQueryCache {
   [[nodiscard]] std::uint64_t builds() const {
     const std::lock_guard<std::mutex> lock(mutex_);
     return builds_;
+  }
+
+  /// Heap bytes held (capacities), for World::memory_use.
+  [[nodiscard]] std::size_t heap_bytes() const {
+    return heap_bytes_of(bvh_.bvh.nodes, bvh_.bvh.primitive_order, bvh_.x, bvh_.y, bvh_.z, bvh_.r, bvh_.category, bvh_.handle, bvh_.bounds);
   }
 
  private:
