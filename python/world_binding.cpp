@@ -452,6 +452,24 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       "query_cache_builds", [](Self self) { return self.get().query_cache_builds(); },
       "How many times the query BVH over the spheres has been built.");
   c.def(
+      "memory_use",
+      [](Self self) {
+        const MemoryUse m = self.get().memory_use();
+        py::dict d;
+        d["spheres"] = m.spheres;
+        d["pairs"] = m.pairs;
+        d["contacts"] = m.contacts;
+        d["solver"] = m.solver;
+        d["warm_start"] = m.warm_start;
+        d["sweep"] = m.sweep;
+        d["per_sphere"] = m.per_sphere;
+        d["services"] = m.services;
+        d["total"] = m.total();
+        return d;
+      },
+      "Heap bytes the World holds, by part (World::memory_use): spheres, pairs, contacts, solver,\n"
+      "warm_start, sweep, per_sphere, services, and their total. Capacities, not sizes.");
+  c.def(
       "last_step_stats",
       [](Self self) {
         const StepStats& s = self.get().last_step_stats();

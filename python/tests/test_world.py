@@ -160,6 +160,16 @@ def test_same_hash_on_any_thread_count():
     assert len(hashes) == 1
 
 
+def test_memory_use_by_part():
+    world, handles = pile(n=300)
+    world.step(1 / 60, n=90)
+    m = world.memory_use()
+    parts = ("spheres", "pairs", "contacts", "solver", "warm_start", "sweep", "per_sphere", "services")
+    assert m["total"] == sum(m[p] for p in parts)
+    assert m["spheres"] >= 300 * 9 * 4  # positions, velocities and spins: nine floats a sphere
+    assert m["contacts"] > 0 and m["solver"] > 0
+
+
 def test_control_calls():
     world = hail.World(threads=1, gravity=(0, 0, 0))
     h = world.add_sphere((0, 1, 0), radius=0.5, mass=2.0)
