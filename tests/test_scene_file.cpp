@@ -25,6 +25,7 @@
 #include "catch.h"
 #include "file_faults.h"
 #include "hail/settings_table.h"
+#include "scenes/large_scene_text.h"
 #include "scenes/scene_file.h"
 #include "scenes/scene_run.h"
 
@@ -33,6 +34,7 @@ namespace {
 using hail::bench::parse_scene_text;
 using hail::bench::Scene;
 using hail::bench::SceneOverrides;
+using hail::bench::scene_of_many_spheres;
 
 const std::string kScenes = std::string(HAIL_SOURCE_DIR) + "/data/scenes/";
 
@@ -913,16 +915,6 @@ TEST_CASE("scene files: a function terrain keeps its shape when its origin moves
 }
 
 namespace {
-
-/// A scene whose one "list" holds `count` small spheres, then a key the reader refuses at once
-/// after the parse: the parse is nearly all the work.
-std::string scene_of_many_spheres(std::size_t count) {
-  std::string text = R"({"format": "hail-scene", "version": 1, "spheres": [{"list": [)";
-  text.reserve(text.size() + 26 * count + 40);
-  for (std::size_t k = 0; k < count; ++k)
-    text += k == 0 ? R"({"position": [1, 2, 3]})" : R"(, {"position": [1, 2, 3]})";
-  return text + R"(]}], "refused_after_the_parse": 1})";
-}
 
 /// load_scene_file(path)'s error message, from another thread: "(timed out)" when it has not
 /// ended within `limit`. A regression that blocks (opening a FIFO) or reads without end

@@ -8,23 +8,14 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
+#include "scenes/large_scene_text.h"
 #include "scenes/scene_file.h"
 
 namespace hail::micro {
 namespace {
 
-/// A scene whose one list holds `count` spheres, refused after the parse (an unknown top-level
-/// key), so that only the parse is timed, not building the spheres.
-std::string scene_of_many_spheres(std::size_t count) {
-  std::string text = R"({"format": "hail-scene", "version": 1, "spheres": [{"list": [)";
-  text.reserve(text.size() + 26 * count + 40);
-  for (std::size_t k = 0; k < count; ++k)
-    text += k == 0 ? R"({"position": [1, 2, 3]})" : R"(, {"position": [1, 2, 3]})";
-  return text + R"(]}], "refused_after_the_parse": 1})";
-}
-
 void scene_reader(benchmark::State& state) {
-  const std::string text = scene_of_many_spheres(static_cast<std::size_t>(state.range(0)));
+  const std::string text = bench::scene_of_many_spheres(static_cast<std::size_t>(state.range(0)));
   for (auto _ : state) {
     try {
       (void)bench::parse_scene_text(text, "scene.json");
@@ -37,7 +28,7 @@ void scene_reader(benchmark::State& state) {
 BENCHMARK(scene_reader)->Name("scene_file/reader")->RangeMultiplier(2)->Range(25'000, 400'000)->Complexity();
 
 void plain_json(benchmark::State& state) {
-  const std::string text = scene_of_many_spheres(static_cast<std::size_t>(state.range(0)));
+  const std::string text = bench::scene_of_many_spheres(static_cast<std::size_t>(state.range(0)));
   for (auto _ : state) benchmark::DoNotOptimize(nlohmann::json::parse(text));
   state.SetComplexityN(state.range(0));
 }
