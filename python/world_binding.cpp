@@ -491,6 +491,7 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
         d["sphere_contacts_capped"] = s.sphere_contacts_capped;
         d["pushed_out"] = s.pushed_out;
         d["lifted_out"] = s.lifted_out;
+        d["timed_bounces"] = s.timed_bounces;
         d["sleeping"] = s.sleeping;
         d["ready_to_sleep"] = s.ready_to_sleep;
         return d;

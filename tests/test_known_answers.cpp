@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "catch.h"
+#include "hail/heightmap.h"
+#include "hail/terrain.h"
 #include "hail/world.h"
 
 using hail::Integrator;
@@ -21,16 +23,26 @@ using hail::WorldSettings;
 namespace {
 
 /// Case A: r = 0.5, m = 1, lowest point dropped from 10 m onto flat ground, e = 0.8, no
-/// friction. Returns the first `count` apex heights of the lowest point.
-std::vector<double> bounce_apexes(float dt, Integrator integrator, int count, Solver solver = Solver::Passes) {
+/// friction. Returns the first `count` apex heights of the lowest point. The ground is a plane,
+/// or with `terrain` a flat heightmap (its contacts speculative; the sphere off its grid lines).
+std::vector<double> bounce_apexes(float dt, Integrator integrator, int count, Solver solver = Solver::Passes,
+                                  bool terrain = false) {
   WorldSettings settings;
   settings.threads = 1;
   settings.integrator = integrator;
   settings.solver = solver;
   World world(settings);
-  world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.8f, .friction = 0});
+  if (terrain) {
+    world.set_terrain(std::make_shared<const hail::Terrain>(hail::Heightmap::from_function(
+                          33, 33, {.cell_x = 1.0f, .cell_z = 1.0f, .origin_x = -16.0f, .origin_z = -16.0f},
+                          [](float, float) { return 0.0f; })),
+                      0.8f, 0.0f);
+  } else {
+    world.add_plane({.normal = {0, 1, 0}, .offset = 0, .restitution = 0.8f, .friction = 0});
+  }
+  const Vec3 start = terrain ? Vec3{0.3f, 10.5f, 0.2f} : Vec3{0, 10.5f, 0};
   const SphereId id =
-      world.add_sphere({.position = {0, 10.5f, 0}, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
+      world.add_sphere({.position = start, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
   // An apex is the highest sampled position of a rise (sampling misses the true top by at most
   // g (dt/2)^2 / 2: 0.3 mm at dt = 1/60, far below the tolerances).
   std::vector<double> apexes;
@@ -95,6 +107,28 @@ TEST_CASE("A: bounce apexes follow 10 e^(2n)", "[known][bounce]") {
     INFO("dt = " << run.dt << " integrator " << int(run.integrator) << " solver " << int(solver) << " apex " << n
                  << " = " << apexes[n - 1] << ", exact " << exact);
     CHECK(std::abs(apexes[n - 1] - exact) <= run.tolerance * exact);
+  }
+}
+
+TEST_CASE("A on terrain: a bounce off a speculative contact is as exact as off a plane", "[known][bounce][terrain]") {
+  // The collision pass bounces the sphere up to a step's travel above the ground; the bounce is
+  // then moved to its time (kernel/solver/bounce_timing.h). Without that the apexes were high by
+  // 3.8%, 8.8% and 14.4% at dt 1/60 (docs/accuracy.md). The soft step is not asked: its
+  // substeps bring the sphere to the ground before restitution acts (3.7% at 1/60).
+  const Integrator integrator = GENERATE(Integrator::UniformAcceleration, Integrator::SemiImplicitEuler);
+  const float dt = GENERATE(1.0f / 60, 1.0f / 240);
+  const std::vector<double> on_terrain = bounce_apexes(dt, integrator, 3, Solver::Passes, true);
+  const std::vector<double> on_plane = bounce_apexes(dt, integrator, 3, Solver::Passes, false);
+  REQUIRE(on_terrain.size() == 3);
+  REQUIRE(on_plane.size() == 3);
+  for (int n = 1; n <= 3; ++n) {
+    const double exact = 10.0 * std::pow(0.8, 2 * n);
+    INFO("dt = " << dt << " integrator " << int(integrator) << " apex " << n << ": terrain " << on_terrain[n - 1]
+                 << ", plane " << on_plane[n - 1] << ", exact " << exact);
+    // The same as the plane's to 1e-4 of the apex (the plane's own error: 6e-5 under the
+    // uniform integrator, 4% under semi-implicit Euler at 1/60), so within 0.5% under the former.
+    CHECK(std::abs(on_terrain[n - 1] - on_plane[n - 1]) <= 1e-4 * exact);
+    if (integrator == Integrator::UniformAcceleration) CHECK(std::abs(on_terrain[n - 1] - exact) <= 0.005 * exact);
   }
 }
 

@@ -351,6 +351,14 @@ Bytes read_bytes(const std::filesystem::path& path) {
   return Bytes(p, p + chars.size());
 }
 
+/// tests/data/snapshot-v6-terrain-6.snap: the world of snapshot-v4-terrain-6.snap as version 6
+/// saves it. Both were the fuzzer's terrain-6 seed when they were written (a fresh run of the
+/// seed's 30 steps gave these bytes); the seed itself moves whenever a physics change moves
+/// those steps, the old files' world does not.
+Bytes legacy_as_version6() {
+  return read_bytes(std::filesystem::path(HAIL_SOURCE_DIR) / "tests/data/snapshot-v6-terrain-6.snap");
+}
+
 }  // namespace
 
 TEST_CASE("Write the snapshot fuzzer's seed corpus", "[.write-snapshot-corpus]") {
@@ -389,8 +397,7 @@ TEST_CASE("A version 4 snapshot (the old checksum basis) still restores, and sav
   REQUIRE(version == 4);
   std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
   world->restore(legacy);
-  const auto seeds = corpus_seeds();
-  CHECK(saved(*world) == seeds.back().second);  // terrain-6, saved by this hail
+  CHECK(saved(*world) == legacy_as_version6());
 }
 
 namespace {
@@ -463,8 +470,7 @@ TEST_CASE("A version 4 or 5 snapshot saved with warm starting off restores with 
     std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
     world->restore(legacy);
     CHECK(world->settings().warm_start_factor == 0.0f);
-    const auto seeds = corpus_seeds();
-    CHECK(saved(*world) == with_warm_start_factor(seeds.back().second, 0.0f));
+    CHECK(saved(*world) == with_warm_start_factor(legacy_as_version6(), 0.0f));
   }
 }
 

@@ -68,6 +68,9 @@ struct StepStats {
   /// Spheres found with their centre below the terrain surface at the start of the step (those
   /// added, or all after set_terrain, since the last step) and lifted out onto it (World::step).
   std::size_t lifted_out = 0;
+  /// Bounces off speculative terrain contacts moved to their time of impact (of the last
+  /// substep; the passes solver: kernel/solver/bounce_timing.h, docs/accuracy.md).
+  std::size_t timed_bounces = 0;
   /// Sleeping (WorldSettings::sleep; 0 when off): spheres asleep after the step, and awake
   /// spheres that have stayed slow for sleep_time at the end of its last substep: ready to sleep,
   /// and kept awake by a sphere of their island that is not (or by an island in free flight).

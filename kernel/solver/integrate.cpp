@@ -75,10 +75,6 @@ void apply_forces(SphereSoA& s, std::size_t first, std::size_t last, float dt, b
   }
 }
 
-namespace {
-
-/// Earliest t in (0, limit] where d0 + vn t + an t^2 / 2 = 0, or a negative value if none.
-/// Computed in double: it runs once per sphere per plane and must not lose the root to rounding.
 double earliest_root(double d0, double vn, double an, double limit) {
   double best = -1.0;
   auto consider = [&](double t) {
@@ -97,6 +93,8 @@ double earliest_root(double d0, double vn, double an, double limit) {
   }
   return best;
 }
+
+namespace {
 
 /// The part of a sphere's step in which it meets planes: up to four impacts, each at its exact
 /// time, the motion x, u advanced to it and `remaining` shortened. Out of the loop that runs for

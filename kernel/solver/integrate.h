@@ -76,6 +76,11 @@ inline void uniform_step_acceleration(const SphereSoA& s, std::size_t i, const I
   for (int d = 0; d < 3; ++d) a[d] = along * f[d] + across[d];
 }
 
+/// Earliest t in (0, limit] where d0 + vn t + an t^2 / 2 = 0, or a negative value if none: when
+/// a sphere at gap d0 from a plane, moving at vn along its normal with acceleration an, meets
+/// it. Computed in double: it must not lose the root to rounding.
+double earliest_root(double d0, double vn, double an, double limit);
+
 /// v += F inv_mass dt and, with `rotation`, w += T inv_inertia dt for spheres [first, last),
 /// F and T their accumulated force and torque (World::apply_force / apply_torque); static
 /// spheres (inv_mass 0) do not move. Leaves the accumulators as they are (a step applies

@@ -21,6 +21,7 @@
 #include "kernel/ccd/continuous_collision.h"
 #include "kernel/geometry/aabb.h"
 #include "kernel/geometry/sphere_extremes.h"
+#include "kernel/solver/bounce_timing.h"
 #include "kernel/solver/contact_cache.h"
 #include "kernel/solver/contact_colouring.h"
 #include "kernel/solver/contact_solve_simd.h"
@@ -51,6 +52,7 @@ struct StepScratch {
   ContactImpulseCache contact_cache;        ///< last step's impulses, for warm starting
   ShockPropagation shock;                   ///< levels and contact order of the shock pass
   StageCrew crew;                           ///< the solver passes' threads (jobs/stage_crew.h)
+  BounceTiming bounce_timing;               ///< terrain bounces moved to their time of impact
   // Predict and sweep.
   std::vector<float> block_max_speed;
   std::vector<SphereExtremes> block_extremes;           ///< radii and inverse masses per block
