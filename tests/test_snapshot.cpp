@@ -355,6 +355,8 @@ Bytes read_bytes(const std::filesystem::path& path) {
 /// saves it. Both were the fuzzer's terrain-6 seed when they were written (a fresh run of the
 /// seed's 30 steps gave these bytes); the seed itself moves whenever a physics change moves
 /// those steps, the old files' world does not.
+Bytes version6_as_this(const Bytes& bytes);  // below, with the other version helpers
+
 Bytes legacy_as_version6() {
   return read_bytes(std::filesystem::path(HAIL_SOURCE_DIR) / "tests/data/snapshot-v6-terrain-6.snap");
 }
@@ -397,41 +399,68 @@ TEST_CASE("A version 4 snapshot (the old checksum basis) still restores, and sav
   REQUIRE(version == 4);
   std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
   world->restore(legacy);
-  CHECK(saved(*world) == legacy_as_version6());
+  CHECK(saved(*world) == version6_as_this(legacy_as_version6()));
+  CHECK(world->settings().rolling_resistance == 0.0f);  // version 4 had none
 }
 
 namespace {
 
-/// Where warm_start_factor lies in a snapshot: past the header, WRLD's section header and the
-/// settings before it in the table, each as many bytes as the snapshot gives it. Versions 4 and
-/// 5 have their warm_start byte there, and the factor after it.
-std::size_t warm_start_factor_at() {
-  const WorldSettings s;
+/// Where a setting lies in a snapshot of this version: past the header, WRLD's section header
+/// and the settings before it in the table, each as many bytes as the snapshot gives it.
+/// Versions 4 and 5 have their warm_start byte where warm_start_factor lies, and the factor
+/// after it; version 6 has no rolling_resistance (the table lists it after warm_start_factor).
+std::size_t setting_at(const void* WorldSettings_field_of_defaults, const WorldSettings& s) {
   std::size_t at = 0;
   bool reached = false;
   snapshot::for_each_setting(s, [&](const auto& field, const SettingSpec&) {
     using T = std::remove_cvref_t<decltype(field)>;
-    reached = reached || static_cast<const void*>(&field) == &s.warm_start_factor;
+    reached = reached || static_cast<const void*>(&field) == WorldSettings_field_of_defaults;
     if (!reached) at += std::is_same_v<T, bool> ? 1 : std::is_enum_v<T> ? 4 : sizeof(T);
   });
   return snapshot::kHeaderBytes + snapshot::kSectionHeaderBytes + at;
 }
+const WorldSettings kDefaults;
+std::size_t warm_start_factor_at() { return setting_at(&kDefaults.warm_start_factor, kDefaults); }
+std::size_t rolling_resistance_at() { return setting_at(&kDefaults.rolling_resistance, kDefaults); }
 
-/// A snapshot of this version as version 5 wrote the same world: its warm_start byte before
-/// warm_start_factor, and the lengths and checksum to match.
-Bytes as_version5(const Bytes& bytes, bool warm_start) {
-  Bytes old = bytes;
-  old.insert(old.begin() + static_cast<std::ptrdiff_t>(warm_start_factor_at()), std::byte{warm_start});
-  const std::uint32_t version = 5;
-  std::memcpy(old.data() + 8, &version, sizeof version);
+/// `bytes` labelled `version`, `added` bytes longer in its payload and WRLD section (inserted
+/// or, negative, removed by the caller), with the checksum to match.
+void relabel(Bytes& bytes, std::uint32_t version, std::int64_t added) {
+  std::memcpy(bytes.data() + 8, &version, sizeof version);
   // The payload's length and WRLD's.
   for (std::size_t at : {snapshot::kPayloadBytesAt, snapshot::kHeaderBytes + 8}) {
     std::uint64_t length = 0;
-    std::memcpy(&length, old.data() + at, sizeof length);
-    ++length;
-    std::memcpy(old.data() + at, &length, sizeof length);
+    std::memcpy(&length, bytes.data() + at, sizeof length);
+    length = static_cast<std::uint64_t>(static_cast<std::int64_t>(length) + added);
+    std::memcpy(bytes.data() + at, &length, sizeof length);
   }
-  rechecksum(old);
+  rechecksum(bytes);
+}
+
+/// A snapshot of this version as version 6 wrote the same world: no rolling_resistance (the
+/// world's must be 0, all version 6 knew).
+Bytes as_version6(const Bytes& bytes) {
+  Bytes old = bytes;
+  const auto at = static_cast<std::ptrdiff_t>(rolling_resistance_at());
+  old.erase(old.begin() + at, old.begin() + at + static_cast<std::ptrdiff_t>(sizeof(float)));
+  relabel(old, 6, -static_cast<std::int64_t>(sizeof(float)));
+  return old;
+}
+
+/// A version 6 snapshot as this version saves the same world: rolling_resistance 0 added.
+Bytes version6_as_this(const Bytes& bytes) {
+  Bytes now = bytes;
+  now.insert(now.begin() + static_cast<std::ptrdiff_t>(rolling_resistance_at()), sizeof(float), std::byte{0});
+  relabel(now, hail::kSnapshotVersion, static_cast<std::int64_t>(sizeof(float)));
+  return now;
+}
+
+/// A snapshot of this version as version 5 wrote the same world: version 6's layout with its
+/// warm_start byte before warm_start_factor, and the lengths and checksum to match.
+Bytes as_version5(const Bytes& bytes, bool warm_start) {
+  Bytes old = as_version6(bytes);
+  old.insert(old.begin() + static_cast<std::ptrdiff_t>(warm_start_factor_at()), std::byte{warm_start});
+  relabel(old, 5, 1);
   return old;
 }
 
@@ -444,6 +473,19 @@ Bytes with_warm_start_factor(const Bytes& bytes, float factor) {
 }
 
 }  // namespace
+
+TEST_CASE("A version 6 snapshot (no rolling resistance) restores with rolling_resistance 0", "[snapshot]") {
+  std::unique_ptr<World> source = busy_world(1);
+  const Bytes now = saved(*source);
+  WorldSettings rolling;
+  rolling.threads = 1;
+  rolling.rolling_resistance = 0.3f;
+  auto world = std::make_unique<World>(rolling);
+  world->restore(as_version6(now));
+  CHECK(world->settings().rolling_resistance == 0.0f);
+  CHECK(saved(*world) == now);
+  CHECK(version6_as_this(as_version6(now)) == now);
+}
 
 TEST_CASE("A version 4 or 5 snapshot saved with warm starting off restores with warm_start_factor 0", "[snapshot]") {
   SECTION("version 5, warm starting on and off") {
@@ -470,7 +512,7 @@ TEST_CASE("A version 4 or 5 snapshot saved with warm starting off restores with 
     std::unique_ptr<World> world = fuzz::snapshot_fuzz_world(true);
     world->restore(legacy);
     CHECK(world->settings().warm_start_factor == 0.0f);
-    CHECK(saved(*world) == with_warm_start_factor(legacy_as_version6(), 0.0f));
+    CHECK(saved(*world) == with_warm_start_factor(version6_as_this(legacy_as_version6()), 0.0f));
   }
 }
 

@@ -64,7 +64,7 @@ constexpr void for_each_setting(Settings& s, F&& f) {
   using settings_detail::kFloatMax;
   using settings_detail::kIntMax;
   // A field added to WorldSettings changes its size (mostly): list it here.
-  static_assert(sizeof(WorldSettings) == 160, "a WorldSettings field was added: list it in for_each_setting");
+  static_assert(sizeof(WorldSettings) == 168, "a WorldSettings field was added: list it in for_each_setting");
   f(s.gravity, SettingSpec{.name = "gravity",
                            .scene_top_level = true,
                            .doc = "m/s^2; |g| times the longest step (max_substeps * max_substep) at most "
@@ -178,6 +178,10 @@ constexpr void for_each_setting(Settings& s, F&& f) {
                                     .doc = "mass ratio from which shock propagation runs; infinity never"});
   f(s.rotation,
     SettingSpec{.name = "rotation", .flag = "rotation", .doc = "spheres spin and roll (off: no angular work)"});
+  f(s.rolling_resistance, SettingSpec{.name = "rolling_resistance",
+                                      .max = kFloatMax,
+                                      .flag = "rolling-resistance",
+                                      .doc = "torque opposing rolling, mu_r r N (0: none; the passes solver)"});
   f(s.sleep, SettingSpec{.name = "sleep", .flag = "sleep", .doc = "islands at rest sleep until woken"});
   f(s.sleep_linear_speed,
     SettingSpec{.name = "sleep_linear_speed", .max = kFloatMax, .doc = "m/s below which a sphere may sleep"});

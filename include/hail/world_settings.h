@@ -226,6 +226,19 @@ struct WorldSettings {
   /// (StepParts::rotation). A scene without friction runs the same passes either way and
   /// steps bitwise the same.
   bool rotation = true;
+  /// Rolling resistance coefficient mu_r (dimensionless, finite, >= 0; default 0: none). Every
+  /// contact that carries load N opposes the turning of its spheres against each other (their
+  /// relative angular velocity: rolling, and twist about the normal) with an angular impulse
+  /// of at most mu_r r N, r the contact's effective radius (the sphere's against static
+  /// ground, r_a r_b / (r_a + r_b) between spheres): the constant-torque model of DEM codes
+  /// (LIGGGHTS' rolling_friction cdt, Box2D v3's rollingResistance). A sphere rolling on flat
+  /// ground slows at 5/7 mu_r g, and one on a slope of angle theta stays put where
+  /// tan theta <= mu_r. Without it an ideal sphere rolls on for ever: in a bowl it swings like
+  /// a pendulum, and a pile whose edge spheres roll along its grooves takes half a minute to
+  /// come to rest (bowl-pile 4k: all asleep after 35 s; 16 s with 0.05, docs/accuracy.md).
+  /// The passes solver only (World::validate refuses it with the soft step); it acts where
+  /// friction and rotation do. Costs nothing at 0.
+  float rolling_resistance = 0.0f;
   /// Sleeping (kernel/world/sleep_islands.h): spheres joined by sphere-sphere contacts form an
   /// island (the terrain, planes and immovable spheres join none); an island all of whose
   /// spheres have stayed below sleep_linear_speed and sleep_angular_speed for sleep_time goes
@@ -248,7 +261,7 @@ struct WorldSettings {
   /// compared is the spin that slides a contact: for a sphere whose contacts carry load
   /// (normal impulse > 0 that substep), the largest |w x n| over their normals n; for one with
   /// none, all of |w|. Spin about a loaded contact's normal (a twist in place) is left out:
-  /// hail has no torsional or rolling resistance, so nothing would ever stop it, and it moves
+  /// without rolling_resistance (default 0) nothing would ever stop it, and it moves
   /// nothing (a sphere pinched between two neighbours, spinning about the line through the two
   /// contacts, kept a whole 2,000-sphere pile awake). Spin across a normal (rolling, or
   /// slipping against friction) counts in full.

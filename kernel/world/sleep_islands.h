@@ -14,7 +14,7 @@
 //                load (normal impulse > 0 this substep), the largest |w x n| over their normals
 //                n, how fast the spin slides its surface past any of them (over its radius);
 //                with none, all of |w|. Spin about a loaded normal (a twist in place) slides
-//                nothing, and hail has no torsional or rolling resistance that would ever stop
+//                nothing, and without rolling_resistance (default 0) nothing would ever stop
 //                it: a sphere pinched between two neighbours, spinning about the line through
 //                the two contacts, kept a 2,000-sphere bowl pile awake for good (0.51 rad/s
 //                about a horizontal axis, no linear velocity). A spin that slides a loaded

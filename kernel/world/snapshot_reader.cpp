@@ -22,11 +22,14 @@ constexpr std::uint32_t kLegacyChecksumVersion = 4;
 /// The last version with a warm_start bool among the settings, just before warm_start_factor
 /// (versions 4 and 5); since then a factor of 0 is warm starting off.
 constexpr std::uint32_t kLastWarmStartByteVersion = 5;
+/// The last version without rolling_resistance among the settings (it reads as 0, none).
+constexpr std::uint32_t kLastWithoutRollingVersion = 6;
 
 /// What differs between the versions this hail reads.
 struct Layout {
   std::uint64_t basis = kFnvOffsetBasis;  ///< of the checksum and the terrain hash
   bool warm_start_byte = false;           ///< the settings hold warm_start before warm_start_factor
+  bool rolling_resistance = true;         ///< the settings hold rolling_resistance
 };
 
 /// An InvalidArgument's message without its "hail: ", to be quoted inside another.
@@ -138,6 +141,7 @@ void read_world(snapshot::Reader r, Parsed& p, const Terrain* terrain, const Lay
   snapshot::for_each_setting(p.settings, [&](auto& field, const SettingSpec& spec) {
     if (layout.warm_start_byte && static_cast<const void*>(&field) == &p.settings.warm_start_factor)
       warm_start = r.flag("warm_start");
+    if (!layout.rolling_resistance && static_cast<const void*>(&field) == &p.settings.rolling_resistance) return;
     read_setting(r, field, spec);
   });
   // An older snapshot's warm starting off is the factor 0 that means it now.
@@ -271,7 +275,8 @@ void World::restore(std::span<const std::byte> bytes) {
     header.refuse("format version " + std::to_string(version) + " is unknown (this hail reads " +
                   std::to_string(kLegacyChecksumVersion) + " to " + std::to_string(kSnapshotVersion) + ")");
   const Layout layout{.basis = version == kLegacyChecksumVersion ? kLegacyFnvOffsetBasis : kFnvOffsetBasis,
-                      .warm_start_byte = version <= kLastWarmStartByteVersion};
+                      .warm_start_byte = version <= kLastWarmStartByteVersion,
+                      .rolling_resistance = version > kLastWithoutRollingVersion};
   if (header.value<std::uint32_t>("the reserved word") != 0) header.refuse("the reserved word is not 0");
   const auto length = header.value<std::uint64_t>("the payload length");
   const auto checksum = header.value<std::uint64_t>("the checksum");

@@ -37,6 +37,7 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/depenetrate.h"
 #include "kernel/solver/integrate.h"
+#include "kernel/solver/rolling_resistance.h"
 #include "kernel/solver/soft_step.h"
 #include "kernel/solver/solver_body.h"
 #include "kernel/solver/step_modes.h"
@@ -882,6 +883,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       batches.store_impulses(st.contacts, first, last);
     });
+    if (angular && !soft && w.settings.rolling_resistance > 0.0f) resist_rolling(bodies);
     remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
@@ -890,6 +892,25 @@ struct StepPipeline {
       else
         store_solver_velocities(bodies, first, last, s, angular);
     });
+  }
+
+  /// Rolling resistance after the passes (kernel/solver/rolling_resistance.h): each sweep runs
+  /// the tiles in parallel, each its contacts in colour order, then the contacts across tiles.
+  void resist_rolling(std::span<SolverBody> bodies) {
+    const ContactColouring& col = st.colouring;
+    assign_geometric(st.rolling_impulses, 3 * st.contacts.size(), 0.0f);
+    const std::span<Contact> contacts(st.contacts);
+    const std::span<float> rolling(st.rolling_impulses);
+    const float coefficient = w.settings.rolling_resistance;
+    const std::size_t shared = col.colour_begin[col.shared_colour_begin()];
+    for (int sweep = 0; sweep < kRollingResistanceSweeps; ++sweep) {
+      for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
+        ScopedTraceRecord record(w.trace, Phase::Solve);
+        hail::resist_rolling(contacts, col.colour_begin[col.tile_colour_begin[t]],
+                             col.colour_begin[col.tile_colour_begin[t + 1]], bodies, rolling, coefficient);
+      });
+      hail::resist_rolling(contacts, shared, contacts.size(), bodies, rolling, coefficient);
+    }
   }
 
   /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):

@@ -53,6 +53,7 @@ struct StepScratch {
   ShockPropagation shock;                   ///< levels and contact order of the shock pass
   StageCrew crew;                           ///< the solver passes' threads (jobs/stage_crew.h)
   BounceTiming bounce_timing;               ///< terrain bounces moved to their time of impact
+  std::vector<float> rolling_impulses;      ///< per contact, its rolling resistance's angular impulse (3 floats)
   // Predict and sweep.
   std::vector<float> block_max_speed;
   std::vector<SphereExtremes> block_extremes;           ///< radii and inverse masses per block

@@ -57,6 +57,10 @@ void World::validate(const WorldSettings& s) {
     return "WorldSettings::solver_tile_spheres must be 0 (no tiles) or >= " + std::to_string(kMinSolverTileSpheres) +
            ", got " + std::to_string(s.solver_tile_spheres);
   });
+  require(s.rolling_resistance == 0.0f || s.solver == Solver::Passes, [&] {
+    return "WorldSettings::rolling_resistance = " + number(s.rolling_resistance) +
+           " acts in the passes solver only; with solver soft_step it must be 0";
+  });
   // One step from rest under gravity alone stays within the speed limit (the longest step is
   // what check_step lets through); a stronger gravity turned spheres NaN a few steps later.
   const double g = s.gravity.cast<double>().norm();

@@ -17,7 +17,8 @@ MemoryUse World::memory_use() const {
   m.contacts = heap_bytes_of(st.contact_blocks, st.contacts, st.coloured_contacts, st.impact_blocks, st.impacts,
                              st.merge_offsets);
   m.solver = st.colouring.heap_bytes() + heap_bytes_of(st.tile_changed, st.solver_bodies) +
-             st.contact_batches.heap_bytes() + st.shock.heap_bytes() + st.bounce_timing.heap_bytes();
+             st.contact_batches.heap_bytes() + st.shock.heap_bytes() + st.bounce_timing.heap_bytes() +
+             heap_bytes_of(st.rolling_impulses);
   m.warm_start = st.contact_cache.heap_bytes();
   m.sweep = st.ccd.heap_bytes() + heap_bytes_of(st.fast_blocks, st.fast, st.block_max_speed, st.block_extremes);
   m.per_sphere = heap_bytes_of(st.start_x, st.start_y, st.start_z, st.reach2, st.start_vx, st.start_vy, st.start_vz,
