@@ -1230,8 +1230,10 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Integrate);
       // Speculative contacts are the terrain's alone (planes' impacts are the integrator's). The
       // shock pass leaves no trace of its impulses in the contacts, so with it no bounce can be
-      // told to be a sphere's only impulse.
-      const bool time_bounces = ran.solve && w.terrain != nullptr && !modes.soft_step() && !shock;
+      // told to be a sphere's only impulse. A step whose collision passes bounced nothing (a
+      // pile at rest) does not look.
+      const bool time_bounces = ran.solve && w.terrain != nullptr && !modes.soft_step() && !shock &&
+                                w.stats.collision_passes > 0;
       if (time_bounces) st.bounce_timing.plan(st.contacts, w.spheres, params, st.ccd.moved());
       integrate();
       w.stats.timed_bounces = time_bounces ? st.bounce_timing.apply(st.contacts, w.spheres) : 0;
