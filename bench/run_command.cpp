@@ -210,11 +210,13 @@ void print_report(const RunResult& r) {
     // World::memory_use: bytes per sphere by part, what the heap line's "besides" is made of.
     const MemoryUse& m = r.memory_parts;
     const double n = r.spheres > 0 ? double(r.spheres) : 1.0;
-    std::printf("  bytes     per sphere by part: spheres %.0f, pairs %.0f, contacts %.0f, solver %.0f, warm start %.0f, "
-                "sweep %.0f, per-sphere scratch %.0f, services %.0f; %.0f in all\n",
-                double(m.spheres) / n, double(m.pairs) / n, double(m.contacts) / n, double(m.solver) / n,
-                double(m.warm_start) / n, double(m.sweep) / n, double(m.per_sphere) / n, double(m.services) / n,
-                double(m.total()) / n);
+    std::printf("  bytes     per sphere by part:");
+    const char* separator = " ";
+    m.for_each_part([&](const char* name, std::size_t bytes) {
+      std::printf("%s%s %.0f", separator, name, double(bytes) / n);
+      separator = ", ";
+    });
+    std::printf("; %.0f in all\n", double(m.total()) / n);
   }
   std::printf("  state     hash %s\n", r.state_hash.c_str());
 }

@@ -456,14 +456,7 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
       [](Self self) {
         const MemoryUse m = self.get().memory_use();
         py::dict d;
-        d["spheres"] = m.spheres;
-        d["pairs"] = m.pairs;
-        d["contacts"] = m.contacts;
-        d["solver"] = m.solver;
-        d["warm_start"] = m.warm_start;
-        d["sweep"] = m.sweep;
-        d["per_sphere"] = m.per_sphere;
-        d["services"] = m.services;
+        m.for_each_part([&](const char* name, std::size_t bytes) { d[name] = bytes; });
         d["total"] = m.total();
         return d;
       },

@@ -150,8 +150,17 @@ struct MemoryUse {
   std::size_t sweep = 0;       ///< continuous collision and the fast-sphere lists
   std::size_t per_sphere = 0;  ///< the step's other per-sphere arrays (guard, integrator, travel, re-sort)
   std::size_t services = 0;    ///< events, sleeping islands, the queries' BVH, apply_impulses' undo
+  /// Calls f(name, bytes) for each part above, in this order (the names of hail-bench's JSON
+  /// and of Python's World.memory_use()).
+  template <class F>
+  void for_each_part(F&& f) const {
+    f("spheres", spheres), f("pairs", pairs), f("contacts", contacts), f("solver", solver);
+    f("warm_start", warm_start), f("sweep", sweep), f("per_sphere", per_sphere), f("services", services);
+  }
   [[nodiscard]] std::size_t total() const {
-    return spheres + pairs + contacts + solver + warm_start + sweep + per_sphere + services;
+    std::size_t sum = 0;
+    for_each_part([&](const char*, std::size_t bytes) { sum += bytes; });
+    return sum;
   }
 };
 
