@@ -481,6 +481,7 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
         d["sweep_swept"] = s.sweep.swept;
         d["sweep_events"] = s.sweep.events;
         d["sweep_capped"] = s.sweep.capped;
+        d["sweep_held"] = s.sweep.held;
         d["sphere_contacts_capped"] = s.sphere_contacts_capped;
         d["pushed_out"] = s.pushed_out;
         d["lifted_out"] = s.lifted_out;

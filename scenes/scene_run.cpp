@@ -244,6 +244,7 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.ready_to_sleep += weight * double(stats.ready_to_sleep);
     }
     r.sweep_capped += world.last_step_stats().sweep.capped;
+    r.sweep_held += world.last_step_stats().sweep.held;
     count_parts(world.last_step_stats().ran, r.parts_ran);
     if (options.progress && clock::now() - last_progress > std::chrono::seconds(2)) {
       std::fprintf(stderr, "  %sstep %d/%d, %.2f ms/step so far\n", options.progress_label.c_str(), k + 1, r.steps,
@@ -378,7 +379,8 @@ nlohmann::json to_json(const RunResult& r) {
         {"swept_per_step", r.swept},
         {"swept_meeting_spheres_per_step", r.swept_meeting_spheres},
         {"impacts_per_step", r.sweep_events},
-        {"capped_total", r.sweep_capped}}},
+        {"capped_total", r.sweep_capped},
+        {"held_total", r.sweep_held}}},
       {"machine",
        {{"cpu", cpu_model()},
         {"simd", simd_path()},

@@ -41,6 +41,7 @@ struct RunResult {
   double swept = 0, sweep_events = 0;  ///< continuous collision: spheres swept and impacts, mean per timed step
   double swept_meeting_spheres = 0;    ///< of the swept, those swept against spheres too (mean per timed step)
   std::size_t sweep_capped = 0;        ///< spheres that reached max_sweep_events, summed over all steps
+  std::size_t sweep_held = 0;          ///< impacts in which the ground held a light sphere, summed over all steps
   /// Sleeping (WorldSettings::sleep): whether it was on; spheres asleep and awake spheres ready
   /// to sleep, mean per timed step and after the last step (StepStats::sleeping, ready_to_sleep).
   bool sleep = false;

@@ -15,6 +15,7 @@ struct SweepStats {
   std::size_t meets_spheres = 0;  ///< of those, swept against spheres too (fast at the start or after an impact)
   std::size_t events = 0;         ///< impacts resolved at their time
   std::size_t capped = 0;         ///< spheres that reached max_events and stopped for the rest of the step
+  std::size_t held = 0;           ///< impacts in which the ground held a light sphere struck into it
 };
 
 /// Wall-clock milliseconds spent in each phase of the last step (cheap enough to stay on).

@@ -17,6 +17,13 @@ namespace {
 
 constexpr double kNoEvent = -1.0;
 
+/// A sphere counts as still touching what it hit (its backer) while the gap between them is no
+/// more than this fraction of its radius (the gap a pinched sphere's bounces leave shrinks
+/// impact by impact, so the threshold only sets how many impacts come before it is held).
+constexpr double kHeldGapFraction = 0.25;
+/// And the strike presses it into the backer: within 60 degrees of their normal.
+constexpr double kHeldPressCosine = 0.5;
+
 /// Float boxes around double paths are grown by this much (relative to the coordinates, plus
 /// 0.1 mm) so that rounding can only add candidates, never drop one.
 float box_padding(const double lo[3], const double hi[3]) {
@@ -66,6 +73,7 @@ std::uint32_t ContinuousCollision::activate(const SphereSoA& s, std::uint32_t sl
   m.x[0] = s.px[slot], m.x[1] = s.py[slot], m.x[2] = s.pz[slot];
   m.v[0] = s.vx[slot], m.v[1] = s.vy[slot], m.v[2] = s.vz[slot];
   m.slot = slot;
+  m.backer = kNoBacker;
   motion_of_[slot] = static_cast<std::int32_t>(motions_.size());
   motions_.push_back(m);
   return static_cast<std::uint32_t>(motions_.size() - 1);
@@ -80,6 +88,112 @@ void ContinuousCollision::sync_path(SphereSoA& s, const Motion& mo) {
   s.vx[i] = static_cast<float>(v[0]);
   s.vy[i] = static_cast<float>(v[1]);
   s.vz[i] = static_cast<float>(v[2]);
+}
+
+void ContinuousCollision::advance(std::uint32_t m, double t) {
+  Motion& mo = motions_[m];
+  if (!mo.stopped)
+    for (int d = 0; d < 3; ++d) mo.x[d] += mo.v[d] * (t - mo.t0);
+  mo.t0 = t;
+}
+
+void ContinuousCollision::record_impact(const SphereSoA& s, const Contact& c, double t, const double a_centre[3],
+                                        const double n[3], float impulse) {
+  const double r = s.radius[c.a];
+  impacts_.push_back({.a = c.a,
+                      .b = c.b,
+                      .feature = c.feature,
+                      .time = static_cast<float>(t),
+                      .px = static_cast<float>(a_centre[0] + n[0] * r),
+                      .py = static_cast<float>(a_centre[1] + n[1] * r),
+                      .pz = static_cast<float>(a_centre[2] + n[2] * r),
+                      .nx = c.nx,
+                      .ny = c.ny,
+                      .nz = c.nz,
+                      .impulse = impulse});
+}
+
+void ContinuousCollision::remember(std::uint32_t m, std::uint32_t hit, const double into[3]) {
+  Motion& mo = motions_[m];
+  mo.backer = hit;
+  for (int d = 0; d < 3; ++d) mo.back_x[d] = mo.x[d], mo.back_n[d] = into[d];
+}
+
+bool ContinuousCollision::held_by_backer(const SphereSoA& s, std::uint32_t m, std::uint32_t striker,
+                                         const double push[3], double t, float ratio, Hold& hold) const {
+  const Motion& mo = motions_[m];
+  double* into = hold.into;
+  double* backer_v = hold.backer_v;
+  if (mo.backer == kNoBacker || mo.backer == striker || !std::isfinite(ratio)) return false;
+  const double r = s.radius[mo.slot];
+  double gap = 0.0;
+  if (mo.backer == kStaticBody) {
+    for (int d = 0; d < 3; ++d) into[d] = mo.back_n[d], backer_v[d] = 0.0, gap += (mo.back_x[d] - mo.x[d]) * into[d];
+  } else {
+    const float backer_inv_mass = s.inv_mass[mo.backer];
+    if (backer_inv_mass > 0.0f && !(s.inv_mass[mo.slot] > ratio * backer_inv_mass)) return false;
+    double c[3], len2 = 0.0;
+    centre_at(s, mo.backer, t, c, backer_v);
+    for (int d = 0; d < 3; ++d) into[d] = c[d] - mo.x[d], len2 += into[d] * into[d];
+    const double len = std::sqrt(len2);
+    if (!(len > 0.0)) return false;
+    for (int d = 0; d < 3; ++d) into[d] /= len;
+    gap = len - r - s.radius[mo.backer];
+  }
+  const double press = push[0] * into[0] + push[1] * into[1] + push[2] * into[2];
+  return press > kHeldPressCosine && gap <= kHeldGapFraction * r;
+}
+
+void ContinuousCollision::strike_held(SphereSoA& s, const SweepScene& scene, const Contact& c, double t,
+                                      std::uint32_t held, std::uint32_t striker, const Hold& hold,
+                                      float restitution_threshold, int max_events) {
+  ++stats_.held;
+  ++stats_.events;
+  const std::uint32_t backer = motions_[held].backer;
+  const double* g = hold.into;
+  // The impulse on the held sphere is along d: the normal (a to b) when it is b.
+  const double sign = motions_[held].slot == c.b ? 1.0 : -1.0;
+  const double d[3] = {sign * c.nx, sign * c.ny, sign * c.nz};
+  const double imp = s.inv_mass[motions_[held].slot], ims = s.inv_mass[motions_[striker].slot];
+  const double imh = backer == kStaticBody ? 0.0 : s.inv_mass[backer];
+  double* vp = motions_[held].v;
+  double* vs = motions_[striker].v;
+  // Bound along g: it moves with the backer there, and across g by its own mass.
+  const double vpg = vp[0] * g[0] + vp[1] * g[1] + vp[2] * g[2];
+  const double vhg = hold.backer_v[0] * g[0] + hold.backer_v[1] * g[1] + hold.backer_v[2] * g[2];
+  for (int k = 0; k < 3; ++k) vp[k] += (vhg - vpg) * g[k];
+  const double dg = d[0] * g[0] + d[1] * g[1] + d[2] * g[2];
+  const double closing = (vs[0] - vp[0]) * d[0] + (vs[1] - vp[1]) * d[1] + (vs[2] - vp[2]) * d[2];
+  const double denominator = ims + imp * (1.0 - dg * dg) + imh * dg * dg;
+  double j = 0.0;
+  if (closing > 0.0 && denominator > 0.0) {
+    const double bounce = closing > restitution_threshold ? c.restitution : 0.0;
+    j = (1.0 + bounce) * closing / denominator;
+    for (int k = 0; k < 3; ++k) {
+      vs[k] -= j * ims * d[k];
+      vp[k] += j * (imp * (d[k] - dg * g[k]) + imh * dg * g[k]);
+    }
+    const double n[3] = {sign * d[0], sign * d[1], sign * d[2]};
+    record_impact(s, c, t, motions_[c.a == motions_[held].slot ? held : striker].x, n, static_cast<float>(j));
+  }
+  // The striker remembers the held sphere; the held one keeps its backer.
+  remember(striker, motions_[held].slot, d);
+  float v[3];
+  for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(vs[k]);
+  take_new_path(s, striker, v, max_events);
+  for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(vp[k]);
+  take_new_path(s, held, v, max_events);
+  // A sphere backer takes the impulse's part along g.
+  const bool moves_backer = backer != kStaticBody && j > 0.0;
+  const std::uint32_t mh = moves_backer ? activate(s, backer) : striker;
+  if (moves_backer) {
+    advance(mh, t);
+    for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(motions_[mh].v[k] + j * imh * dg * g[k]);
+    take_new_path(s, mh, v, max_events);
+  }
+  push(earliest_event(s, scene, striker));
+  push(earliest_event(s, scene, held));
+  if (moves_backer) push(earliest_event(s, scene, mh));
 }
 
 void ContinuousCollision::push(const Event& e) {
@@ -233,12 +347,6 @@ void ContinuousCollision::find_first_events(const SphereSoA& s, const SweepScene
 void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float restitution_threshold, int max_events) {
   if (!any_) return;
   for (std::size_t k = 0; k < fast_count_; ++k) push(first_events_[k]);
-  auto advance = [&](std::uint32_t m, double t) {
-    Motion& mo = motions_[m];
-    if (!mo.stopped)
-      for (int d = 0; d < 3; ++d) mo.x[d] += mo.v[d] * (t - mo.t0);
-    mo.t0 = t;
-  };
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end(), later);
     const Event e = heap_.back();
@@ -281,6 +389,26 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       contact.feature = kPlaneFeature | e.other;
     }
     contact.nx = static_cast<float>(n[0]), contact.ny = static_cast<float>(n[1]), contact.nz = static_cast<float>(n[2]);
+    // A light sphere pinched between a heavy striker and what it hit before (hold_mass_ratio).
+    if (e.target == Target::Sphere) {
+      const float ima = s.inv_mass[a], imb = s.inv_mass[e.other];
+      const double onto_a[3] = {-n[0], -n[1], -n[2]};
+      Hold hold;
+      std::uint32_t held = kNoBacker;
+      if (ima > scene.hold_mass_ratio * imb && held_by_backer(s, ma, e.other, onto_a, e.t, scene.hold_mass_ratio, hold))
+        held = ma;
+      else if (imb > scene.hold_mass_ratio * ima && held_by_backer(s, mb, a, n, e.t, scene.hold_mass_ratio, hold))
+        held = mb;
+      if (held != kNoBacker) {
+        strike_held(s, scene, contact, e.t, held, held == ma ? mb : ma, hold, restitution_threshold, max_events);
+        continue;
+      }
+    }
+    remember(ma, e.target == Target::Sphere ? e.other : kStaticBody, n);
+    if (mb != ma) {
+      const double back[3] = {-n[0], -n[1], -n[2]};
+      remember(mb, a, back);
+    }
     // Without rotation the impulse acts on linear velocities alone and w is not touched.
     const bool spin = scene.modes.rotation;
     ContactBodies bodies = spin ? gather_bodies<kWithFriction>(s, contact) : gather_bodies<kLinearFriction>(s, contact);
@@ -292,21 +420,7 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
     // Angular velocities (linear ones: sync_path below).
     if (spin) scatter_bodies<kWithFriction>(s, contact, bodies);
     ++stats_.events;
-    if (j > 0.0f) {
-      const double r = s.radius[a];
-      const double* x = motions_[ma].x;  // a's centre at the time of impact
-      impacts_.push_back({.a = a,
-                          .b = contact.b,
-                          .feature = contact.feature,
-                          .time = static_cast<float>(e.t),
-                          .px = static_cast<float>(x[0] + n[0] * r),
-                          .py = static_cast<float>(x[1] + n[1] * r),
-                          .pz = static_cast<float>(x[2] + n[2] * r),
-                          .nx = contact.nx,
-                          .ny = contact.ny,
-                          .nz = contact.nz,
-                          .impulse = j});
-    }
+    if (j > 0.0f) record_impact(s, contact, e.t, motions_[ma].x, n, j);
     // Both spheres take their new paths before either searches. scatter_bodies (above) has
     // written both new velocities into the SoA already: had a searched before b's path was
     // synced, the scan would have seen b's old position with its new velocity, while

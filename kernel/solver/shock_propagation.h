@@ -46,7 +46,7 @@ class ShockPropagation {
   void solve(std::span<const Contact> contacts, std::span<SolverBody> bodies, float inv_dt) const;
 
   /// Which body of contact c holds still in a shock pass: the one on the lower level; of two
-  /// spheres of one level, the one below, where the contact's normal is within 60 degrees of up
+  /// spheres of one level, the one below, where the contact's normal is within 78 degrees of up
   /// (a side-by-side pair: neither, both move by their masses). Static geometry always holds.
   enum class Holder : std::uint8_t { None, A, B };
   [[nodiscard]] Holder holder(const Contact& c) const;
