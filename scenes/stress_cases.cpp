@@ -630,13 +630,13 @@ StressResult small_under_big() {
     add_log_uniform_rain(w, v.seed, 32, 5.0f, 10.0f, v.min_r, v.max_r);  // no sphere touches another at the start
     StressBounds b;
     b.energy_growth = 0.01;
-    // 0.24 of the smaller radius at worst (seed 7: a pebble struck twice in one sweep); 1.7
-    // before the ground or a heavier sphere held a pebble struck into it in the sweep and the
-    // spheres the solve made fast were swept (ContinuousCollision::resolve, add_struck_fast),
-    // when the pebble was thrown between the two impact by impact until the event cap. Left:
-    // pebbles wedged in the crevice between two boulders (0.18), and one sphere the solve sped
-    // to a third of its radius a step, past its contacts but not fast (0.16). The soft step
-    // (16 radii) has no shock position pass: reported only.
+    // 0.22 of the smaller radius at worst; 1.7 before the ground or a heavier sphere held a
+    // pebble struck into it in the sweep, the spheres the solve made fast were swept, and the
+    // pairs that met in the sweep were parted last (ContinuousCollision::strike_held,
+    // add_struck_fast, part_swept_pairs), when the pebble was thrown between the two impact
+    // by impact until the event cap. Left: spheres the solve sped past their contacts but not
+    // to fast (0.22, 0.20), and pebbles wedged in the crevice between two boulders (0.18).
+    // The soft step (16 radii) has no shock position pass: reported only.
     b.sphere_penetration = battery_solver == Solver::SoftStep ? -1.0 : 0.3;
     // 6.8% of the radius at worst (seed 7), in the step such a sphere is thrown down; 21% before
     // a swept sphere kept its touching ground contacts (kSweptTouchFraction). The soft step:

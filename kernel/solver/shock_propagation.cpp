@@ -64,11 +64,7 @@ ShockPropagation::Holder ShockPropagation::holder(const Contact& c) const {
   if (c.b == kStaticBody) return Holder::B;
   const std::uint32_t la = level_[c.a], lb = level_[c.b];
   if (la != lb) return la < lb ? Holder::A : Holder::B;
-  // The normal points from a to b: b sits on a where it points up. Within 78 degrees of up
-  // (cos 0.2), not 60: a pebble on a slope under a boulder's flank (normal 63 degrees off up)
-  // was otherwise pushed by their correction into the ground, lifted back by the guard, and
-  // stayed 0.4 of its radius inside the boulder step after step (small-under-big-rain).
-  constexpr float kBelowCosine = 0.2f;
+  // The normal points from a to b: b sits on a where it points up.
   const float rise = c.nx * up_.x() + c.ny * up_.y() + c.nz * up_.z();
   return rise > kBelowCosine ? Holder::A : (rise < -kBelowCosine ? Holder::B : Holder::None);
 }

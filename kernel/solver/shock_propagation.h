@@ -49,6 +49,12 @@ class ShockPropagation {
   /// spheres of one level, the one below, where the contact's normal is within 78 degrees of up
   /// (a side-by-side pair: neither, both move by their masses). Static geometry always holds.
   enum class Holder : std::uint8_t { None, A, B };
+  /// Of two spheres of one level, b sits on a where the contact normal (a to b) is within 78
+  /// degrees of up: cos 0.2, not 60 degrees' 0.5: a pebble on a slope under a boulder's flank
+  /// (normal 63 degrees off up) was otherwise pushed by their correction into the ground,
+  /// lifted back by the guard, and stayed 0.4 of its radius inside the boulder step after step
+  /// (hail-bench stress, small-under-big-rain).
+  static constexpr float kBelowCosine = 0.2f;
   [[nodiscard]] Holder holder(const Contact& c) const;
 
   /// Contacts the pass visits (those with a level), in order.

@@ -269,6 +269,37 @@ struct StepPipeline {
     }
   }
 
+  /// Where masses differ, the pairs that met in the sweep are parted once more, last: the sweep
+  /// found them (they had no contact), so depenetration and the shock pass did not see them,
+  /// and the guard may have lifted a pebble the sweep left on the ground back into the heavy
+  /// sphere above it (0.24 of its radius: small-under-big-rain). As in shock_push_out, the
+  /// lower of two spheres stacked within 78 degrees of up holds and the upper takes the whole
+  /// correction; side by side, they part by their masses. Serial, in the sweep's impact order.
+  void part_swept_pairs() {
+    ScopedTraceRecord record(w.trace, Phase::Depenetrate);
+    SphereSoA& s = w.spheres;
+    DepenetrationParams whole = w.settings.depenetration;
+    whole.fraction = 1.0f;
+    bool deep = false;  // unused: one pass
+    const Vec3 rise_axis = up();
+    for (const Impact& m : st.ccd.impacts()) {
+      if (m.b == kStaticBody) continue;
+      Contact c;
+      c.a = m.a, c.b = m.b;
+      const float dx = s.px[c.b] - s.px[c.a], dy = s.py[c.b] - s.py[c.a], dz = s.pz[c.b] - s.pz[c.a];
+      const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (!(d > 0.0f)) continue;  // coincident: depenetration's pair normal is for contacts
+      c.nx = dx / d, c.ny = dy / d, c.nz = dz / d;
+      float ima = s.inv_mass[c.a], imb = s.inv_mass[c.b];
+      if (modes.sleeping && sphere_sleeps(s, c.a)) ima = 0.0f;
+      if (modes.sleeping && sphere_sleeps(s, c.b)) imb = 0.0f;
+      const float rise = c.nx * rise_axis.x() + c.ny * rise_axis.y() + c.nz * rise_axis.z();
+      if (rise > ShockPropagation::kBelowCosine) ima = 0.0f;        // b is above a: a holds
+      else if (rise < -ShockPropagation::kBelowCosine) imb = 0.0f;  // a is above b
+      push_apart_weighted(s, c, whole, ima, imb, 0.0f, deep);
+    }
+  }
+
   /// Terrain guard, part 2: a sphere that ended the step further from where it started than
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
   /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
@@ -1283,6 +1314,7 @@ struct StepPipeline {
       if (ran.depenetrate) depenetrate();
       if (ran.depenetrate && shock) shock_push_out();
       if (modes.terrain_guard) guard_terrain();
+      if (ran.depenetrate && shock && ran.sweep) part_swept_pairs();
       if (ran.depenetrate && !w.planes.empty()) guard_planes();
     }
     if (modes.sleeping) {
