@@ -182,6 +182,8 @@ void print_report(const RunResult& r) {
       r.depenetration_passes);
   std::printf("  tiles     per step: %.0f contacts solved within a solver tile, %.0f across tiles (--tile)\n",
               r.tile_contacts, r.shared_contacts);
+  std::printf("  sync      per step: %.1f parallel loops (a fork and a join each), %.1f solver stages (a barrier each)\n",
+              r.parallel_loops, r.crew_stages);
   if (r.continuous_collision)
     std::printf(
         "  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "

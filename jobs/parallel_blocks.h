@@ -12,6 +12,8 @@
 #include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "jobs/sync_count.h"
+
 namespace hail {
 
 /// Calls f(block, begin, end) for the fixed blocks [k * block_size, (k+1) * block_size) of
@@ -24,6 +26,7 @@ void for_each_block_partitioned(std::size_t count, std::size_t block_size, const
     f(std::size_t{0}, std::size_t{0}, count);
     return;
   }
+  SyncCounts::count_loop();
   // One thread in this arena: the blocks in order, without making a task per block (a step
   // enters a few hundred of these loops). The same blocks, so the same result.
   if (tbb::this_task_arena::max_concurrency() == 1) {

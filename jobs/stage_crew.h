@@ -30,6 +30,7 @@
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
 
+#include "jobs/sync_count.h"
 #include "soa/grow.h"
 
 namespace hail {
@@ -42,6 +43,7 @@ class StageCrew {
   /// never reads one being rewritten). With one thread, stage() runs its blocks in order.
   template <class Lead>
   void run(std::size_t max_stages, Lead&& lead) {
+    SyncCounts::count_loop();  // the crew's own fork and join, on any thread count
     const int threads = tbb::this_task_arena::max_concurrency();
     solo_ = threads <= 1;
     if (solo_) {
@@ -66,6 +68,7 @@ class StageCrew {
   template <class F>
   void stage(std::size_t blocks, F&& f) {
     if (blocks == 0) return;
+    if (blocks > 1) SyncCounts::count_stage();
     if (solo_ || blocks == 1) {
       for (std::size_t b = 0; b < blocks; ++b) f(b);
       return;

@@ -486,6 +486,8 @@ void bind_world(py::module_& m, py::class_<PyWorld>& c) {
         d["pushed_out"] = s.pushed_out;
         d["lifted_out"] = s.lifted_out;
         d["timed_bounces"] = s.timed_bounces;
+        d["parallel_loops"] = s.parallel_loops;
+        d["crew_stages"] = s.crew_stages;
         d["sleeping"] = s.sleeping;
         d["ready_to_sleep"] = s.ready_to_sleep;
         return d;

@@ -235,6 +235,8 @@ RunResult run_scene(const std::string& name, const std::function<Scene()>& build
       r.colours += weight * double(stats.colours);
       r.tile_contacts += weight * double(stats.tile_contacts);
       r.shared_contacts += weight * double(stats.shared_contacts);
+      r.parallel_loops += weight * double(stats.parallel_loops);
+      r.crew_stages += weight * double(stats.crew_stages);
       r.collision_passes += weight * stats.collision_passes;
       r.depenetration_passes += weight * stats.depenetration_passes;
       r.swept += weight * double(stats.sweep.swept);
@@ -373,7 +375,9 @@ nlohmann::json to_json(const RunResult& r) {
         {"tile_contacts", r.tile_contacts},
         {"shared_contacts", r.shared_contacts},
         {"collision_passes", r.collision_passes},
-        {"depenetration_passes", r.depenetration_passes}}},
+        {"depenetration_passes", r.depenetration_passes},
+        {"parallel_loops", r.parallel_loops},
+        {"crew_stages", r.crew_stages}}},
       {"continuous_collision",
        {{"on", r.continuous_collision},
         {"swept_per_step", r.swept},

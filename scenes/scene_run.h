@@ -22,6 +22,7 @@ struct RunResult {
   double static_contacts = 0, sphere_contacts = 0, warm_started = 0, colours = 0, collision_passes = 0,
          depenetration_passes = 0;                ///< mean per timed step
   double tile_contacts = 0, shared_contacts = 0;  ///< mean per timed step: solved within a solver tile / across tiles
+  double parallel_loops = 0, crew_stages = 0;     ///< mean per timed step: fork-joins and solver barriers (StepStats)
   ErrorFigures errors;
   double energy_start = 0, energy_drift = 0, momentum_drift = 0;
   std::string state_hash;

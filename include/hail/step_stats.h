@@ -72,6 +72,12 @@ struct StepStats {
   /// Bounces off speculative terrain contacts moved to their time of impact (of the last
   /// substep; the passes solver: kernel/solver/bounce_timing.h, docs/accuracy.md).
   std::size_t timed_bounces = 0;
+  /// How often the step's threads met, all substeps (jobs/sync_count.h): parallel loops of more
+  /// than one block (each a fork and a join) and solver stages of more than one block (each a
+  /// barrier). The same on every thread count above one (jobs/sync_count.h). Counted
+  /// process-wide: while another world steps at the same time, its meetings are counted too.
+  std::size_t parallel_loops = 0;
+  std::size_t crew_stages = 0;
   /// Sleeping (WorldSettings::sleep; 0 when off): spheres asleep after the step, and awake
   /// spheres that have stayed slow for sleep_time at the end of its last substep: ready to sleep,
   /// and kept awake by a sphere of their island that is not (or by an island in free flight).

@@ -31,6 +31,7 @@
 #include "jobs/parallel_blocks.h"
 #include "jobs/phase_timer.h"
 #include "jobs/stage_crew.h"
+#include "jobs/sync_count.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_filters.h"
 #include "kernel/solver/contact_impulse.h"
@@ -1133,10 +1134,12 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Reorder);
       morton_keys(s, bounds, first, last, keys.data());
     });
-    if (tbb::this_task_arena::max_concurrency() == 1)
+    if (tbb::this_task_arena::max_concurrency() == 1) {
       std::sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(n));
-    else
+    } else {
+      SyncCounts::count_loop();
       tbb::parallel_sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(n));
+    }
     auto for_ranges = [&](std::size_t count, auto&& f) {
       for_each_block(count, kReorderBlock, [&](std::size_t, std::size_t first, std::size_t last) {
         ScopedTraceRecord record(w.trace, Phase::Reorder);
@@ -1242,6 +1245,7 @@ struct StepPipeline {
       detect_pairs(margin);
     };
     if (ran.detect_static && ran.detect_pairs) {
+      SyncCounts::count_loop();
       tbb::parallel_invoke(detect_static_timed, detect_pairs_timed);
     } else if (ran.detect_static) {
       detect_static_timed();
@@ -1369,11 +1373,15 @@ void World::step(float dt) {
   const float each = std::isfinite(scaled) ? scaled / static_cast<float>(substeps)
                                            : static_cast<float>(double(dt) * settings_.time_scale / substeps);
   if (events.on()) events.begin_step();
+  const std::uint64_t loops_before = SyncCounts::loops.load(std::memory_order_relaxed);
+  const std::uint64_t stages_before = SyncCounts::stages.load(std::memory_order_relaxed);
   for (int k = 0; k < substeps; ++k) substep(each);
   if (events.on() && settings_.sleep) events.keep_sleepers_touching(spheres_);
   if (events.on()) events.finish_step();
   clear_forces();  // forces and torques act over one step (each of its substeps), then are gone
   stats_.lifted_out = lifted;
+  stats_.parallel_loops = static_cast<std::size_t>(SyncCounts::loops.load(std::memory_order_relaxed) - loops_before);
+  stats_.crew_stages = static_cast<std::size_t>(SyncCounts::stages.load(std::memory_order_relaxed) - stages_before);
   if (settings_.sleep) {
     stats_.sleeping = SleepIslands::count_sleeping(spheres_);
     stats_.ready_to_sleep = sleep.ready_to_sleep();
