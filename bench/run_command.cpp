@@ -187,7 +187,7 @@ void print_report(const RunResult& r) {
   if (r.continuous_collision)
     std::printf(
         "  sweep     per step: %.1f spheres swept (%.1f against spheres too), %.1f impacts at their time; "
-        "%zu times a sphere reached the impact cap, %zu held by the ground\n",
+        "%zu times a sphere reached the impact cap, %zu struck spheres held by the ground or a heavier sphere\n",
         r.swept, r.swept_meeting_spheres, r.sweep_events, r.sweep_capped, r.sweep_held);
   std::printf("  error     max penetration %.4g m (spheres) %.4g m (ground), tunnelled %zu, fell off %zu, NaN %zu\n",
               e.max_sphere_penetration, e.max_terrain_penetration, e.tunnelled, e.fell_off, e.nan_count);
