@@ -21,9 +21,11 @@
 #include "kernel/geometry/sphere_triangle.h"
 #include "kernel/geometry/swept_sphere.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "flat_ground.h"
 #include "pair_overlap.h"
 
 using namespace hail;
+using hail::testing::flat_ground;
 using hail::testing::max_pair_overlap;
 
 namespace {
@@ -310,7 +312,7 @@ TEST_CASE("Two spheres crossing head-on at 2,000 m/s each collide as case C says
 }
 
 TEST_CASE("A fast sphere fired into a resting pile leaves no sphere of the pile inside another", "[ccd][pile]") {
-  auto flat = std::make_shared<const Terrain>(Heightmap::from_function(64, 64, {}, [](float, float) { return 0.0f; }));
+  auto flat = flat_ground();
   World world(settings_with(true));
   world.set_terrain(flat, 0.5f, 0.5f);
   for (int y = 0; y < 3; ++y)
@@ -338,7 +340,7 @@ TEST_CASE("A fast sphere fired into a resting pile leaves no sphere of the pile 
 // as well let impacts run through a resting pile sphere by sphere (terrain-rain at 1M spheres
 // spent minutes in one step); its neighbour is met by the next step's contacts instead.
 TEST_CASE("A sphere struck into a slow speed is swept against terrain but not against its neighbours", "[ccd][pile]") {
-  auto flat = std::make_shared<const Terrain>(Heightmap::from_function(64, 64, {}, [](float, float) { return 0.0f; }));
+  auto flat = flat_ground();
   WorldSettings settings = settings_with(true);
   settings.gravity = Vec3(0.0f, 0.0f, 0.0f);  // no ground contacts to wait for: the row rests as placed
   World world(settings);
@@ -595,8 +597,7 @@ TEST_CASE("A light sphere on the ground, struck from above in the sweep, is held
     settings.threads = 1;
     settings.shock_mass_ratio = shock_mass_ratio;
     World world(settings);
-    world.set_terrain(std::make_shared<const Terrain>(
-        Heightmap::from_function(64, 64, HeightmapParams{}, [](float, float) { return 0.0f; })));
+    world.set_terrain(flat_ground());
     const float rp = 0.05f, rb = 1.0f;
     const SphereId pebble =
         world.add_sphere({.position = {31.95f, rp, 32.0f}, .velocity = {6.0f, 0.0f, 0.0f}, .radius = rp, .mass = 0.5f});

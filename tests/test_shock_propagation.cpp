@@ -7,12 +7,14 @@
 #include <vector>
 
 #include "catch.h"
+#include "flat_ground.h"
 #include "hail/heightmap.h"
 #include "hail/world.h"
 #include "kernel/solver/shock_propagation.h"
 #include "kernel/terrain/terrain_parts.h"
 
 using namespace hail;
+using hail::testing::flat_ground;
 
 namespace {
 
@@ -73,8 +75,7 @@ TEST_CASE("A 1 : 100 : 10,000 kg stack stands with shock propagation and sinks w
     settings.threads = 1;
     settings.shock_mass_ratio = shock_mass_ratio;
     World world(settings);
-    world.set_terrain(std::make_shared<const Terrain>(
-        Heightmap::from_function(64, 64, HeightmapParams{}, [](float, float) { return 0.0f; })));
+    world.set_terrain(flat_ground());
     const float masses[3] = {1.0f, 100.0f, 1e4f};
     SphereId bottom{};
     for (int k = 0; k < 3; ++k) {
@@ -101,8 +102,7 @@ TEST_CASE("A 1 : 100 : 10,000 kg stack stands with shock propagation and sinks w
 
 TEST_CASE("Equal masses never run the shock pass", "[shock]") {
   World world;
-  world.set_terrain(std::make_shared<const Terrain>(
-      Heightmap::from_function(32, 32, HeightmapParams{}, [](float, float) { return 0.0f; })));
+  world.set_terrain(flat_ground(32));
   for (int k = 0; k < 5; ++k)
     world.add_sphere({.position = {16.0f, 0.5f + k * 1.0f, 16.0f}, .radius = 0.5f, .mass = 2.0f});
   for (int step = 0; step < 30; ++step) {

@@ -64,8 +64,12 @@ ShockPropagation::Holder ShockPropagation::holder(const Contact& c) const {
   if (c.b == kStaticBody) return Holder::B;
   const std::uint32_t la = level_[c.a], lb = level_[c.b];
   if (la != lb) return la < lb ? Holder::A : Holder::B;
+  return holder_by_height(c, up_);
+}
+
+ShockPropagation::Holder ShockPropagation::holder_by_height(const Contact& c, const Vec3& up) {
   // The normal points from a to b: b sits on a where it points up.
-  const float rise = c.nx * up_.x() + c.ny * up_.y() + c.nz * up_.z();
+  const float rise = c.nx * up.x() + c.ny * up.y() + c.nz * up.z();
   return rise > kBelowCosine ? Holder::A : (rise < -kBelowCosine ? Holder::B : Holder::None);
 }
 

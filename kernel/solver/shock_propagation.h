@@ -56,6 +56,10 @@ class ShockPropagation {
   /// (hail-bench stress, small-under-big-rain).
   static constexpr float kBelowCosine = 0.2f;
   [[nodiscard]] Holder holder(const Contact& c) const;
+  /// The height rule alone, for two spheres whose contact normal (a to b) is n: A where b sits
+  /// on a, B where a sits on b, None side by side. Also the rule of the step's last parting of
+  /// the pairs that met in the sweep, which have no contact and so no level.
+  [[nodiscard]] static Holder holder_by_height(const Contact& c, const Vec3& up);
 
   /// Contacts the pass visits (those with a level), in order.
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }

@@ -282,7 +282,7 @@ struct StepPipeline {
     DepenetrationParams whole = w.settings.depenetration;
     whole.fraction = 1.0f;
     bool deep = false;  // unused: one pass
-    const Vec3 rise_axis = up();
+    const Vec3 up_axis = up();
     for (const Impact& m : st.ccd.impacts()) {
       if (m.b == kStaticBody) continue;
       Contact c;
@@ -294,9 +294,9 @@ struct StepPipeline {
       float ima = s.inv_mass[c.a], imb = s.inv_mass[c.b];
       if (modes.sleeping && sphere_sleeps(s, c.a)) ima = 0.0f;
       if (modes.sleeping && sphere_sleeps(s, c.b)) imb = 0.0f;
-      const float rise = c.nx * rise_axis.x() + c.ny * rise_axis.y() + c.nz * rise_axis.z();
-      if (rise > ShockPropagation::kBelowCosine) ima = 0.0f;        // b is above a: a holds
-      else if (rise < -ShockPropagation::kBelowCosine) imb = 0.0f;  // a is above b
+      const ShockPropagation::Holder holder = ShockPropagation::holder_by_height(c, up_axis);
+      if (holder == ShockPropagation::Holder::A) ima = 0.0f;
+      if (holder == ShockPropagation::Holder::B) imb = 0.0f;
       push_apart_weighted(s, c, whole, ima, imb, 0.0f, deep);
     }
   }
