@@ -87,3 +87,6 @@ TEST_CASE("Stress: rain of radii 0.05-5 m at one density (mass ratio 1e6)", "[st
 TEST_CASE("Stress: bowl-pile with 10,000 spheres settles in 20 s", "[stress][.slow]") {
   run_stress_case("bowl-pile-10k-20s");
 }
+TEST_CASE("Stress: bowl-pile 10k with rolling resistance is asleep within 15 s", "[stress][.slow]") {
+  run_stress_case("bowl-pile-10k-rolling-asleep");
+}

@@ -235,9 +235,10 @@ struct WorldSettings {
   /// ground slows at 5/7 mu_r g, and one on a slope of angle theta stays put where
   /// tan theta <= mu_r. Without it an ideal sphere rolls on for ever: in a bowl it swings like
   /// a pendulum, and a pile whose edge spheres roll along its grooves takes half a minute to
-  /// come to rest (bowl-pile 4k: all asleep after 35 s; 16 s with 0.05, docs/accuracy.md).
-  /// The passes solver only (World::validate refuses it with the soft step); it acts where
-  /// friction and rotation do. Costs nothing at 0.
+  /// come to rest (bowl-pile 4k: all asleep after 35 s; 12 s with 0.05, docs/accuracy.md).
+  /// Its impulses are warm-started (snapshots keep them). The passes solver only
+  /// (World::validate refuses it with the soft step); it acts where friction and rotation do.
+  /// Costs nothing at 0.
   float rolling_resistance = 0.0f;
   /// Sleeping (kernel/world/sleep_islands.h): spheres joined by sphere-sphere contacts form an
   /// island (the terrain, planes and immovable spheres join none); an island all of whose

@@ -10,6 +10,7 @@ void ContactImpulseCache::clear() {
   entries_.clear();
   ranges_.clear();
   carried_.clear();
+  rolling_.clear();
 }
 
 void ContactImpulseCache::drop_forgotten(const SphereSoA& s) {
@@ -63,13 +64,16 @@ void ContactImpulseCache::mark_runs(std::span<const Contact> contacts, std::size
 
 void ContactImpulseCache::begin_store(std::size_t contact_count, const SphereSoA* sleepers) {
   std::swap(ranges_, scratch_);  // ranges_: this step's; scratch_: the last step's
+  carried_.clear();
+  carried_rolling_.clear();
   if (sleepers == nullptr) {
     resize_geometric(entries_, contact_count);
+    rolling_.clear();
     return;
   }
   // A sleeper's contacts are left out of the step, so it has none of this step's: its last
   // ranges move to the end of the new entries, before store_entry overwrites the old ones.
-  carried_.clear();
+  const bool rolling = !rolling_.empty();
   const std::size_t slots = std::min(ranges_.size(), scratch_.size());
   const auto count = static_cast<std::uint32_t>(contact_count);
   for (std::size_t slot = 0; slot < slots; ++slot) {
@@ -80,6 +84,7 @@ void ContactImpulseCache::begin_store(std::size_t contact_count, const SphereSoA
     const auto carry = [&](std::uint32_t begin, std::uint32_t end, std::uint32_t& new_begin, std::uint32_t& new_end) {
       new_begin = count + static_cast<std::uint32_t>(carried_.size());
       carried_.insert(carried_.end(), entries_.begin() + begin, entries_.begin() + end);
+      if (rolling) carried_rolling_.insert(carried_rolling_.end(), rolling_.begin() + 3 * begin, rolling_.begin() + 3 * end);
       new_end = count + static_cast<std::uint32_t>(carried_.size());
     };
     carry(before.static_begin, before.static_end, now.static_begin, now.static_end);
@@ -87,6 +92,17 @@ void ContactImpulseCache::begin_store(std::size_t contact_count, const SphereSoA
   }
   resize_geometric(entries_, contact_count + carried_.size());
   std::copy(carried_.begin(), carried_.end(), entries_.begin() + static_cast<std::ptrdiff_t>(contact_count));
+  rolling_.clear();
+}
+
+void ContactImpulseCache::store_rolling(std::vector<float>& rolling) {
+  // Carried entries that had none (rolling resistance was off when they were stored) get zeros.
+  const std::size_t count = entries_.size() - carried_.size();
+  resize_geometric(rolling, 3 * entries_.size());
+  std::fill(rolling.begin() + static_cast<std::ptrdiff_t>(3 * count), rolling.end(), 0.0f);
+  if (carried_rolling_.size() == 3 * carried_.size())
+    std::copy(carried_rolling_.begin(), carried_rolling_.end(), rolling.begin() + static_cast<std::ptrdiff_t>(3 * count));
+  std::swap(rolling_, rolling);
 }
 
 void ContactImpulseCache::store(std::span<const Contact> contacts, std::size_t static_count, const SphereSoA& s) {
@@ -113,7 +129,7 @@ const ContactImpulseCache::Entry* ContactImpulseCache::find(std::uint32_t begin,
 }
 
 std::size_t ContactImpulseCache::load(std::span<Contact> contacts, std::size_t static_count, std::size_t first,
-                                      std::size_t last, const SphereSoA& s, float factor) const {
+                                      std::size_t last, const SphereSoA& s, float factor, float* rolling) const {
   // The range of `slot` if it still belongs to the sphere it was stored for, else none.
   auto range_of = [&](std::uint32_t slot, std::uint32_t id) -> const Range* {
     return slot < ranges_.size() && ranges_[slot].id == id ? &ranges_[slot] : nullptr;
@@ -143,6 +159,12 @@ std::size_t ContactImpulseCache::load(std::span<Contact> contacts, std::size_t s
       if (!e) {  // the re-sort may have swapped which sphere comes first
         if (const Range* rb = range_of(c.b, b)) e = find(rb->pair_begin, rb->pair_end, rb->pair_begin, a);
       }
+    }
+    if (rolling) {
+      float* r = rolling + 3 * k;
+      const bool kept = e && !rolling_.empty();
+      const float* from = kept ? rolling_.data() + 3 * static_cast<std::size_t>(e - entries_.data()) : nullptr;
+      for (int d = 0; d < 3; ++d) r[d] = kept ? factor * from[d] : 0.0f;
     }
     if (!e) {
       c.normal_impulse = 0.0f, c.tx = c.ty = c.tz = 0.0f;

@@ -58,7 +58,14 @@ class ContactImpulseCache {
   /// woken pile restarted its solve cold and sagged: `hail-bench sleep` part 2, a sphere dropped
   /// on a sleeping 10,000-sphere pile, moved the pile 14 mm RMS against 1.7 mm with sleeping off.
   /// O(spheres) with sleepers; nothing more without.
+  /// Forgets the rolling impulses (store_rolling puts this step's back; a cache without any
+  /// loads zeros).
   void begin_store(std::size_t contact_count, const SphereSoA* sleepers);
+  /// After begin_store and the step's store_entry calls, when rolling resistance ran: each
+  /// contact's accumulated rolling impulse (3 floats, by detection-order index, as `rolling`
+  /// holds them). Sleepers' carried entries keep theirs. Swaps buffers with `rolling`, which
+  /// then holds the last step's (scratch).
+  void store_rolling(std::vector<float>& rolling);
   /// Contact c, solved, at index k of its step's detection order (static when k < the step's
   /// static count).
   void store_entry(std::size_t k, const Contact& c, bool is_static, const SphereSoA& spheres) {
@@ -67,10 +74,11 @@ class ContactImpulseCache {
   /// Sets normal_impulse and the friction impulse of contacts[first, last) (detection order, as
   /// for store) from the matching remembered contact, the friction impulse projected onto the
   /// new contact's tangent plane; zero where nothing matches. Disjoint ranges may run in
-  /// parallel. `factor` scales what is carried over (WorldSettings::warm_start_factor). Returns
-  /// how many matched.
+  /// parallel. `factor` scales what is carried over (WorldSettings::warm_start_factor). With
+  /// `rolling` (3 floats a contact, detection order, as contacts), also each contact's rolling
+  /// impulse (zero where nothing matches or none was stored). Returns how many matched.
   std::size_t load(std::span<Contact> contacts, std::size_t static_count, std::size_t first, std::size_t last,
-                   const SphereSoA& spheres, float factor = 1.0f) const;
+                   const SphereSoA& spheres, float factor = 1.0f, float* rolling = nullptr) const;
   /// The spheres were permuted as SphereSoA::permute(order) did: new slot k holds the sphere
   /// of old slot order[k]. Moves each remembered range to its sphere's new slot. Without it,
   /// load() after a permutation matches nothing it should not (ranges are checked against ids),
@@ -99,19 +107,23 @@ class ContactImpulseCache {
   };
   static constexpr std::uint32_t kNoId = 0xFFFFFFFFu;
 
-  /// What the next step reads (snapshots): the remembered impulses and each slot's range of them.
+  /// What the next step reads (snapshots): the remembered impulses, each slot's range of them,
+  /// and the entries' rolling impulses (3 floats each, or none).
   [[nodiscard]] std::span<const Entry> entries() const { return entries_; }
   [[nodiscard]] std::span<const Range> ranges() const { return ranges_; }
-  /// Puts back what entries() and ranges() returned. The caller has checked that every range
-  /// lies within `entries` (load() reads them unchecked).
-  void assign(std::vector<Entry> entries, std::vector<Range> ranges) {
+  [[nodiscard]] std::span<const float> rolling() const { return rolling_; }
+  /// Puts back what entries(), ranges() and rolling() returned. The caller has checked that
+  /// every range lies within `entries` and that `rolling` is empty or 3 floats an entry (load()
+  /// reads them unchecked).
+  void assign(std::vector<Entry> entries, std::vector<Range> ranges, std::vector<float> rolling) {
     entries_ = std::move(entries);
     ranges_ = std::move(ranges);
+    rolling_ = std::move(rolling);
   }
 
   /// Heap bytes held (capacities), for World::memory_use.
   [[nodiscard]] std::size_t heap_bytes() const {
-    return heap_bytes_of(entries_, carried_, ranges_, scratch_);
+    return heap_bytes_of(entries_, carried_, ranges_, scratch_, rolling_, carried_rolling_);
   }
 
  private:
@@ -124,6 +136,9 @@ class ContactImpulseCache {
 
   std::vector<Entry> entries_, carried_;  // carried_: begin_store's sleepers' entries, on their way
   std::vector<Range> ranges_, scratch_;   // per slot; scratch_: remap_slots, then the next step's layout
+  // Rolling resistance's angular impulses, 3 floats an entry of entries_ (empty: none kept, so
+  // scenes without rolling resistance pay nothing); carried_rolling_: the sleepers' ones.
+  std::vector<float> rolling_, carried_rolling_;
 };
 
 }  // namespace hail

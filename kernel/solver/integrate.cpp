@@ -116,7 +116,7 @@ namespace {
     for (std::size_t k = 0; k < planes.size(); ++k) {
       const Plane& pl = planes[k];
       const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
-      if (d0 <= 0.0f) continue;  // touching: the solver already owns this contact
+      if (plane_touching(pl, x[0], x[1], x[2], s.radius[i], d0)) continue;  // the solver owns this contact
       const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
       const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
       const double t = earliest_root(d0, vn, an, remaining);

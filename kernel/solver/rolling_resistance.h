@@ -10,14 +10,17 @@
 // that then slows the sphere's travel; the two together give the textbook deceleration
 // 5/7 mu_r g and hold a sphere still on a slope up to tan theta = mu_r.
 //
-// It runs after the passes, on the solver bodies, as a few sweeps over the contacts (each
-// sweep brings the rolling and the slip nearer their joint answer, by 5/7 a sweep for a sphere
-// on the ground): per solver tile in parallel, then the contacts across tiles in order, so the
-// state is the same on any thread count. Scalar: only scenes that ask for it pay for it.
+// It runs after the passes, on the solver bodies: first each contact's impulse from the last
+// step is applied again (warm start, clamped to this step's limit), then a few sweeps over the
+// contacts (each sweep brings the rolling and the slip nearer their joint answer, by 5/7 a
+// sweep for a sphere on the ground); per solver tile in parallel, then the contacts across
+// tiles in order, so the state is the same on any thread count. Without the warm start a pile
+// crept: each step's sweeps left (5/7)^8 of its gravity along the slope unresisted, and the
+// next step started again from zero. Scalar: only scenes that ask for it pay for it.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
-#include <vector>
 
 #include "hail/contact.h"
 #include "kernel/solver/solver_body.h"
@@ -25,13 +28,29 @@
 namespace hail {
 
 /// Sweeps over the contacts after the passes: enough for a sphere on a slope to be held to a
-/// residual of (5/7)^8, 7% of one step's gravity along the slope.
+/// residual of (5/7)^8, 7% of one step's gravity along the slope, in the step where the load
+/// changes; the warm start carries the rest over.
 inline constexpr int kRollingResistanceSweeps = 8;
 
+/// The step's contacts, in colour order, and their accumulated rolling impulses: 3 floats a
+/// contact by its detection-order index, order[k] for contacts[k] (where the contact cache
+/// keeps them).
+struct RollingContacts {
+  std::span<Contact> contacts;
+  std::span<const std::uint32_t> order;
+  std::span<float> impulses;
+  float coefficient = 0.0f;  ///< WorldSettings::rolling_resistance, mu_r
+
+  [[nodiscard]] float* impulse(std::size_t k) const { return impulses.data() + 3 * order[k]; }
+};
+
+/// Applies contacts [first, last)'s remembered impulses to their bodies, each clamped to its
+/// contact's limit this step (none without load).
+void warm_start_rolling(const RollingContacts& rolling, std::size_t first, std::size_t last,
+                        std::span<SolverBody> bodies);
+
 /// One sweep over contacts [first, last): each loaded contact's rolling resistance, then its
-/// friction. `rolling` holds each contact's accumulated angular impulse (3 floats a contact,
-/// zero at the start of the step), indexed like `contacts`.
-void resist_rolling(std::span<Contact> contacts, std::size_t first, std::size_t last, std::span<SolverBody> bodies,
-                    std::span<float> rolling, float coefficient);
+/// friction.
+void resist_rolling(const RollingContacts& rolling, std::size_t first, std::size_t last, std::span<SolverBody> bodies);
 
 }  // namespace hail

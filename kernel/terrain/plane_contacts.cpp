@@ -10,7 +10,7 @@ void find_plane_contacts(const SphereSoA& s, std::span<const Plane> planes, std:
     for (std::uint32_t k = 0; k < planes.size(); ++k) {
       const Plane& p = planes[k];
       const float gap = plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i]);
-      if (gap > 0.0f) continue;
+      if (!plane_touching(p, s.px[i], s.py[i], s.pz[i], s.radius[i], gap)) continue;
       Contact c;
       c.a = static_cast<std::uint32_t>(i);
       c.b = kStaticBody;

@@ -12,7 +12,7 @@
 namespace hail {
 
 /// Appends a contact for every sphere in [first, last) touching or overlapping a plane
-/// (gap <= 0); spheres approaching but not yet touching are handled exactly at their time of
+/// (plane_touching); spheres approaching but not yet touching are handled exactly at their time of
 /// impact by the integrator, so planes need no speculative contacts.
 void find_plane_contacts(const SphereSoA& spheres, std::span<const Plane> planes, std::size_t first, std::size_t last,
                          std::vector<Contact>& out);

@@ -24,12 +24,15 @@ constexpr std::uint32_t kLegacyChecksumVersion = 4;
 constexpr std::uint32_t kLastWarmStartByteVersion = 5;
 /// The last version without rolling_resistance among the settings (it reads as 0, none).
 constexpr std::uint32_t kLastWithoutRollingVersion = 6;
+/// The last version whose cache holds no rolling impulses (they start from zero).
+constexpr std::uint32_t kLastWithoutRollingImpulsesVersion = 7;
 
 /// What differs between the versions this hail reads.
 struct Layout {
   std::uint64_t basis = kFnvOffsetBasis;  ///< of the checksum and the terrain hash
   bool warm_start_byte = false;           ///< the settings hold warm_start before warm_start_factor
   bool rolling_resistance = true;         ///< the settings hold rolling_resistance
+  bool rolling_impulses = true;           ///< with rolling_resistance > 0, the cache holds rolling impulses
 };
 
 /// An InvalidArgument's message without its "hail: ", to be quoted inside another.
@@ -220,7 +223,7 @@ void read_spheres(snapshot::Reader r, Parsed& p) {
   if (p.unchecked_from > n) r.refuse("unchecked_from " + std::to_string(p.unchecked_from) + " is past the spheres");
 }
 
-void read_cache(snapshot::Reader r, Parsed& p, std::size_t spheres) {
+void read_cache(snapshot::Reader r, Parsed& p, std::size_t spheres, const Layout& layout) {
   std::vector<ContactImpulseCache::Entry> entries(r.count("warm-start entry count", 20));
   for (ContactImpulseCache::Entry& e : entries) {
     e.partner = r.value<std::uint32_t>("a warm-start entry");
@@ -236,8 +239,19 @@ void read_cache(snapshot::Reader r, Parsed& p, std::size_t spheres) {
           g.pair_end <= entries.size()))
       r.refuse("a warm-start range lies outside its " + std::to_string(entries.size()) + " entries");
   }
+  std::vector<float> rolling;
+  if (layout.rolling_impulses && p.settings.rolling_resistance > 0.0f) {
+    rolling.resize(r.count("rolling impulse count", sizeof(float)));
+    if (!rolling.empty() && rolling.size() != 3 * entries.size())
+      r.refuse(std::to_string(rolling.size()) + " rolling impulse floats for " + std::to_string(entries.size()) +
+               " warm-start entries (3 each, or none)");
+    for (float& v : rolling) {
+      v = r.value<float>("a rolling impulse");
+      if (!std::isfinite(v)) r.refuse("a rolling impulse is not finite");
+    }
+  }
   r.finish();
-  p.cache.assign(std::move(entries), std::move(ranges));
+  p.cache.assign(std::move(entries), std::move(ranges), std::move(rolling));
 }
 
 void read_events(snapshot::Reader r, Parsed& p) {
@@ -276,7 +290,8 @@ void World::restore(std::span<const std::byte> bytes) {
                   std::to_string(kLegacyChecksumVersion) + " to " + std::to_string(kSnapshotVersion) + ")");
   const Layout layout{.basis = version == kLegacyChecksumVersion ? kLegacyFnvOffsetBasis : kFnvOffsetBasis,
                       .warm_start_byte = version <= kLastWarmStartByteVersion,
-                      .rolling_resistance = version > kLastWithoutRollingVersion};
+                      .rolling_resistance = version > kLastWithoutRollingVersion,
+                      .rolling_impulses = version > kLastWithoutRollingImpulsesVersion};
   if (header.value<std::uint32_t>("the reserved word") != 0) header.refuse("the reserved word is not 0");
   const auto length = header.value<std::uint64_t>("the payload length");
   const auto checksum = header.value<std::uint64_t>("the checksum");
@@ -299,7 +314,7 @@ void World::restore(std::span<const std::byte> bytes) {
   }
   read_planes(r.section(snapshot::kPlanesTag), p);
   read_spheres(r.section(snapshot::kSpheresTag), p);
-  read_cache(r.section(snapshot::kCacheTag), p, p.spheres.size());
+  read_cache(r.section(snapshot::kCacheTag), p, p.spheres.size(), layout);
   read_events(r.section(snapshot::kEventsTag), p);
   r.finish();
 

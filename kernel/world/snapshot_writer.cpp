@@ -7,7 +7,7 @@
 //              steps_taken_ (the Morton re-sort's phase), unchecked_from_ (spheres not yet
 //              checked against the terrain), forces_pending_, ground_filter_
 //   SphereSoA  every array of for_each_array, the handles, generations and free list
-//   StepScratch    the warm-start cache (ContactImpulseCache::entries, ranges)
+//   StepScratch    the warm-start cache (ContactImpulseCache::entries, ranges, rolling)
 //   WorldServices  the touch-event state (ContactEventTracker::settings, touching_pairs,
 //                  touching_ground)
 // Not saved: the last step's outputs (contacts, impacts, events, stats, phase times) and the
@@ -100,6 +100,10 @@ void World::save(std::vector<std::byte>& out) const {
   w.value(std::uint64_t{cache.ranges().size()});
   for (const ContactImpulseCache::Range& r : cache.ranges())
     w.value(r.id), w.value(r.static_begin), w.value(r.static_end), w.value(r.pair_begin), w.value(r.pair_end);
+  if (settings_.rolling_resistance > 0.0f) {  // a world without rolling resistance keeps version 7's bytes
+    w.value(std::uint64_t{cache.rolling().size()});
+    w.bytes(cache.rolling().data(), cache.rolling().size_bytes());
+  }
   w.end_section();
 
   w.begin_section(snapshot::kEventsTag);

@@ -94,6 +94,7 @@ struct StepPipeline {
   float min_radius = 0.0f, max_radius = 0.0f;  // of this step's spheres (predict)
   bool shock = false;                          // masses differ more than shock_mass_ratio: shock propagation
   bool friction_needed_ = true;                // some contact of this step has friction > 0 (merge_contacts)
+  bool rolled_ = false;                        // rolling resistance ran (solve): its impulses are remembered
 
   /// No sphere of slots [first, last) moves (all asleep, or immovable and still): a block of
   /// sleepers, which predict, static detection and integration skip whole.
@@ -575,6 +576,8 @@ struct StepPipeline {
     resize_geometric(st.contacts, offset.back());
     const std::size_t static_count = offset[static_blocks];
     const bool warm = modes.warm_start;
+    // Rolling resistance starts from last step's rolling impulses too (resist_rolling).
+    float* const rolling = warm && resists_rolling() ? resized_rolling_impulses() : nullptr;
     std::atomic<bool> friction{false};    // an OR: the order of stores cannot change the result
     std::atomic<std::size_t> matched{0};  // a sum: the order of adds cannot change it
     if (warm) st.contact_cache.begin_layout(s);
@@ -598,8 +601,8 @@ struct StepPipeline {
       // (a pass of its own read them all back from memory at 64k).
       // And where they lie, for remembering their impulses after the solve.
       if (warm) {
-        matched +=
-            st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s, w.settings.warm_start_factor);
+        matched += st.contact_cache.load(st.contacts, static_count, offset[b], offset[b + 1], s,
+                                         w.settings.warm_start_factor, rolling);
         if (b < static_blocks) {
           st.contact_cache.layout_static(st.contacts, offset[b], offset[b + 1], b * kSphereBlock,
                                          std::min(n, (b + 1) * kSphereBlock), s);
@@ -652,6 +655,18 @@ struct StepPipeline {
         cache.store_entry(order[k], c, order[k] < static_count, s);
       }
     });
+    if (rolled_) cache.store_rolling(st.rolling_impulses);
+  }
+
+  /// Rolling resistance may run this step (it runs where, besides, some contact has friction).
+  [[nodiscard]] bool resists_rolling() const {
+    return modes.rotation && !modes.soft_step() && w.settings.rolling_resistance > 0.0f;
+  }
+
+  /// st.rolling_impulses sized for this step's contacts (3 floats each, detection order).
+  float* resized_rolling_impulses() {
+    resize_geometric(st.rolling_impulses, 3 * st.contacts.size());
+    return st.rolling_impulses.data();
   }
 
   /// Runs f(tile, first_batch, last_batch, scalar_contacts) over the staged contact batches:
@@ -759,7 +774,7 @@ struct StepPipeline {
 
   /// Solver::Passes: collision passes, warm start, resting passes (kernel/solver/contact_impulse.h).
   void passes(std::size_t stages, std::span<SolverBody> bodies, FrictionWork work, float threshold, float inv_dt,
-              std::size_t tile_spheres) {
+              std::size_t tile_spheres, const RollingContacts* rolling) {
     const ContactColouring& col = st.colouring;
     ContactBatches& batches = st.contact_batches;
     const std::size_t tiles = col.tile_count();
@@ -799,6 +814,20 @@ struct StepPipeline {
           batches.warm_start(first, last, bodies, work);
           warm_start_run_scalar(scalar, bodies, work);
         });
+      // Rolling resistance's too, so that the resting passes' friction holds a sphere that
+      // rolling resistance holds still: started after the passes instead, the passes set it
+      // rolling every step and the sweeps stopped it only to (5/7)^8 (the pile crept).
+      if (rolling && modes.warm_start && w.stats.warm_started > 0) {
+        const ContactColouring& col = st.colouring;
+        crew.stage(tiles, [&](std::size_t t) {
+          ScopedTraceRecord record(w.trace, Phase::Solve);
+          warm_start_rolling(*rolling, col.colour_begin[col.tile_colour_begin[t]],
+                             col.colour_begin[col.tile_colour_begin[t + 1]], bodies);
+        });
+        crew.stage(1, [&](std::size_t) {
+          warm_start_rolling(*rolling, col.colour_begin[col.shared_colour_begin()], st.contacts.size(), bodies);
+        });
+      }
       for (int pass = 0; pass < w.settings.resting_iterations; ++pass) {
         for_each_batch_chunk(crew, [&](std::size_t, std::size_t first, std::size_t last, std::span<Contact> scalar) {
           batches.solve_resting(first, last, bodies, inv_dt, work);
@@ -889,6 +918,8 @@ struct StepPipeline {
     // for the last: normal impulses (the shock pass's too) never turn a sphere.
     const FrictionWork work = friction_work(friction_needed_, modes.rotation);
     const bool angular = modes.rotation && friction_needed_;
+    rolled_ = angular && resists_rolling();
+    const RollingContacts rolling = rolled_ ? rolling_contacts() : RollingContacts{};
     // Bodies 0..n-1, then one static body (all zero) that static contacts gather from.
     if (st.solver_bodies.size() < n + 1) resize_geometric(st.solver_bodies, n + 1);
     const std::span<SolverBody> bodies(st.solver_bodies.data(), n + 1);
@@ -940,7 +971,7 @@ struct StepPipeline {
       st.crew.run(contact_passes * stages_per_pass + 2 * static_cast<std::size_t>(substeps),
                   [&](StageCrew& crew) { soft_step(crew, bodies, work, h); });
     } else {
-      passes(stages, bodies, work, threshold, inv_dt, tile_spheres);
+      passes(stages + 1, bodies, work, threshold, inv_dt, tile_spheres, rolled_ ? &rolling : nullptr);
     }
     if (shock && !soft) {
       // Serial: it runs only in scenes of very different masses, and its order is its point.
@@ -952,7 +983,7 @@ struct StepPipeline {
       ScopedTraceRecord record(w.trace, Phase::Solve);
       batches.store_impulses(st.contacts, first, last);
     });
-    if (angular && !soft && w.settings.rolling_resistance > 0.0f) resist_rolling(bodies);
+    if (rolled_) resist_rolling(bodies, rolling);
     remember_impulses();
     for_each_block(n, kSphereBlock, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Solve);
@@ -963,23 +994,27 @@ struct StepPipeline {
     });
   }
 
-  /// Rolling resistance after the passes (kernel/solver/rolling_resistance.h): each sweep runs
+  /// The step's contacts and their rolling impulses (the merge loaded last step's; zero without
+  /// warm starting), for rolling resistance.
+  [[nodiscard]] RollingContacts rolling_contacts() {
+    if (!modes.warm_start) assign_geometric(st.rolling_impulses, 3 * st.contacts.size(), 0.0f);
+    return {st.contacts, st.colouring.order, st.rolling_impulses, w.settings.rolling_resistance};
+  }
+
+  /// Rolling resistance after the passes (kernel/solver/rolling_resistance.h): the sweeps, each
   /// the tiles in parallel, each its contacts in colour order, then the contacts across tiles.
-  void resist_rolling(std::span<SolverBody> bodies) {
+  void resist_rolling(std::span<SolverBody> bodies, const RollingContacts& rolling) {
     const ContactColouring& col = st.colouring;
-    assign_geometric(st.rolling_impulses, 3 * st.contacts.size(), 0.0f);
-    const std::span<Contact> contacts(st.contacts);
-    const std::span<float> rolling(st.rolling_impulses);
-    const float coefficient = w.settings.rolling_resistance;
     const std::size_t shared = col.colour_begin[col.shared_colour_begin()];
-    for (int sweep = 0; sweep < kRollingResistanceSweeps; ++sweep) {
+    auto over_contacts = [&](auto&& f) {
       for_each_block(col.tile_count(), 1, [&](std::size_t t, std::size_t, std::size_t) {
         ScopedTraceRecord record(w.trace, Phase::Solve);
-        hail::resist_rolling(contacts, col.colour_begin[col.tile_colour_begin[t]],
-                             col.colour_begin[col.tile_colour_begin[t + 1]], bodies, rolling, coefficient);
+        f(col.colour_begin[col.tile_colour_begin[t]], col.colour_begin[col.tile_colour_begin[t + 1]]);
       });
-      hail::resist_rolling(contacts, shared, contacts.size(), bodies, rolling, coefficient);
-    }
+      f(shared, st.contacts.size());
+    };
+    for (int sweep = 0; sweep < kRollingResistanceSweeps; ++sweep)
+      over_contacts([&](std::size_t first, std::size_t last) { hail::resist_rolling(rolling, first, last, bodies); });
   }
 
   /// Moves the spheres the sweep did not, then lists the step's impacts (World::last_impacts):
@@ -1282,10 +1317,12 @@ struct StepPipeline {
       w.stats.collision_passes = 0;
       // Nothing touched: nothing to carry over, but what sleepers carry (the merge laid out
       // every slot's empty range, as begin_store needs).
-      if (modes.warm_start && modes.sleeping)
+      if (modes.warm_start && modes.sleeping) {
         st.contact_cache.begin_store(0, &w.spheres);
-      else if (modes.warm_start)
+        if (resists_rolling()) st.contact_cache.store_rolling(st.rolling_impulses);  // theirs too
+      } else if (modes.warm_start) {
         st.contact_cache.clear();
+      }
     }
     ran.friction = ran.solve && friction_needed_;
     ran.rotation = ran.solve && modes.rotation && friction_needed_;
