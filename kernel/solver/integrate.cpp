@@ -116,7 +116,10 @@ namespace {
     for (std::size_t k = 0; k < planes.size(); ++k) {
       const Plane& pl = planes[k];
       const float d0 = plane_gap(pl, x[0], x[1], x[2], s.radius[i]);
-      if (plane_touching(pl, x[0], x[1], x[2], s.radius[i], d0)) continue;  // the solver owns this contact
+      // Touching: the solver owns this contact. At the step's start by detection's own rule
+      // (find_plane_contacts), after an impact only where the sphere reached the plane.
+      const bool owned = impact == 0 ? plane_touching(pl, x[0], x[1], x[2], s.radius[i], d0) : d0 <= 0.0f;
+      if (owned) continue;
       const float vn = pl.nx * u[0] + pl.ny * u[1] + pl.nz * u[2];
       const float an = pl.nx * a[0] + pl.ny * a[1] + pl.nz * a[2];
       const double t = earliest_root(d0, vn, an, remaining);
