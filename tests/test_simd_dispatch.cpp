@@ -22,6 +22,7 @@
 #include "kernel/ccd/path_box_scan.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/solver/contact_solve_simd.h"
+#include "kernel/solver/integrate.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "scenes/solver_problems.h"
 #include "simd_paths.h"
@@ -362,6 +363,58 @@ TEST_CASE("Every SIMD path's batch closest points equal closest_point_on_triangl
                 std::memcmp(reference[k].p, point, sizeof point) != 0;
     }
     CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("Every SIMD path's integration without planes equals the scalar reference bit for bit",
+          "[simd][dispatch][integrate]") {
+  // 1,003 spheres (a partial last batch on every path): some static, some with gravity scales
+  // and forces, start velocities scattered about the end ones so that the uniform
+  // integrator's acceleration falls inside, on and outside its ball, and (with skip) every
+  // seventh sphere moved already.
+  SphereSoA s = random_spheres(1003, 40.0f, 5.0f, 21);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> v(-1.0f, 1.0f);
+  const std::size_t n = s.size();
+  std::vector<float> start[3];
+  for (std::vector<float>& c : start) c.resize(n);
+  std::vector<std::uint8_t> skip(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % 11 == 0) s.inv_mass[i] = 0.0f;
+    s.gravity_scale[i] = i % 5 == 0 ? 2.0f * v(rng) : 1.0f;
+    s.force_x[i] = i % 3 == 0 ? 20.0f * v(rng) : 0.0f;
+    s.force_y[i] = i % 3 == 0 ? 20.0f * v(rng) : 0.0f;
+    s.force_z[i] = 0.0f;
+    const float scatter = i % 4 == 0 ? 0.0f : i % 4 == 1 ? 0.01f : 0.5f;
+    start[0][i] = s.vx[i] + scatter * v(rng);
+    start[1][i] = s.vy[i] + 9.81f / 60.0f + scatter * v(rng);
+    start[2][i] = s.vz[i] + scatter * v(rng);
+    skip[i] = i % 7 == 0 ? 1 : 0;
+  }
+  for (const Integrator integrator : {Integrator::UniformAcceleration, Integrator::SemiImplicitEuler}) {
+    for (const bool scaled : {false, true}) {
+      for (const bool forces : {false, true}) {
+        for (const std::uint8_t* skipped : {static_cast<const std::uint8_t*>(nullptr), static_cast<const std::uint8_t*>(skip.data())}) {
+          IntegrationParams p;
+          p.modes.integrator = integrator;
+          p.modes.gravity_scaled = scaled;
+          p.modes.forces = forces;
+          p.dt = 1.0f / 60.0f;
+          p.start_vx = start[0].data(), p.start_vy = start[1].data(), p.start_vz = start[2].data();
+          SphereSoA reference = s;
+          integrate_free_scalar(reference, 0, n, p, skipped);
+          for (SimdPath path : supported_paths()) {
+            INFO("path " << simd_path_name(path) << ", uniform " << (integrator == Integrator::UniformAcceleration)
+                         << ", scaled " << scaled << ", forces " << forces << ", skip " << (skipped != nullptr));
+            SphereSoA moved = s;
+            simd_kernels(path).integrate_free(moved, 0, n, p, skipped);
+            for (auto member : {&SphereSoA::px, &SphereSoA::py, &SphereSoA::pz, &SphereSoA::vx, &SphereSoA::vy,
+                                &SphereSoA::vz})
+              CHECK(std::memcmp((moved.*member).data(), (reference.*member).data(), n * sizeof(float)) == 0);
+          }
+        }
+      }
+    }
   }
 }
 

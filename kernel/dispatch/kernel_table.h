@@ -14,6 +14,7 @@
 // The scalar references stay beside the kernels' callers (find_sphere_pairs_scalar,
 // SphereGrid::find_pairs_scalar,
 // solve_*_run_scalar, soft_run_scalar, Terrain::find_contacts_scalar, scan_path_boxes_scalar, query_sphere,
+// integrate_free_scalar,
 // closest_sphere_scalar,
 // closest_point_on_triangle), and
 // tests/test_simd_dispatch.cpp compares every path with them.
@@ -42,6 +43,7 @@ struct SphereGridView;
 struct ContactBatchArrays;
 struct DepenetrationArrays;
 struct SoftPass;
+struct IntegrationParams;
 struct SphereQueryBvh;
 struct UnitRay;
 struct SphereRayHit;
@@ -111,6 +113,10 @@ struct SimdKernels {
   /// Terrain::push_out_spheres (include/hail/terrain.h): the spheres at slots[0, count).
   std::size_t (*terrain_push_out)(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots,
                                   std::size_t count);
+  /// integrate_positions without planes (kernel/solver/integrate.h), spheres [first, last) in
+  /// batches; skip[i] != 0: moved already (null: none). The same bits as integrate_free_scalar.
+  void (*integrate_free)(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
+                         const std::uint8_t* skip);
   /// scan_path_boxes_simd (kernel/ccd/path_box_scan.h): the slots go to `sink`, in slot order.
   void (*scan_path_boxes)(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
   /// The packet walk for hail-bench query, hail-micro and the tests: spheres [0, count) in

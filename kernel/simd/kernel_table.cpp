@@ -30,6 +30,7 @@ constexpr SimdKernels kTable{
     .contact_depenetrate = &HAIL_SIMD_NS::contact_depenetrate,
     .terrain_contacts = &HAIL_SIMD_NS::terrain_contacts,
     .terrain_push_out = &HAIL_SIMD_NS::terrain_push_out,
+    .integrate_free = &HAIL_SIMD_NS::integrate_free,
     .scan_path_boxes = &HAIL_SIMD_NS::scan_path_boxes,
     .count_packet_hits = &HAIL_SIMD_NS::count_packet_hits,
     .closest_points = &HAIL_SIMD_NS::closest_points,

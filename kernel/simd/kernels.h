@@ -36,6 +36,8 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::siz
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
                       bool sweep_fast);
 std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots, std::size_t count);
+void integrate_free(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
+                    const std::uint8_t* skip);
 void scan_path_boxes(const SphereSoA& spheres, const PathBox& box, float t0, float t1, SlotSink sink);
 void closest_points(const TriangleQueries& queries, std::size_t count, float* const p[3], std::uint8_t* region);
 std::uint64_t count_packet_hits(const FlatBvh& bvh, const Aabb* bounds, const float* x, const float* y, const float* z,

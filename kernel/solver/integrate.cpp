@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "kernel/broadphase/sphere_filters.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/geometry/fast_motion.h"
 #include "kernel/solver/contact_impulse.h"
@@ -211,8 +212,18 @@ void integrate_range(SphereSoA& s, std::size_t first, std::size_t last, std::spa
 }
 }  // namespace
 
+void integrate_free_scalar(SphereSoA& s, std::size_t first, std::size_t last, const IntegrationParams& p,
+                           const std::uint8_t* skip) {
+  const std::span<const std::uint8_t> held = skip ? std::span<const std::uint8_t>(skip, last) : std::span<const std::uint8_t>();
+  integrate_range<false>(s, first, last, {}, p, held, nullptr);
+}
+
 void integrate_positions(SphereSoA& s, std::size_t first, std::size_t last, std::span<const Plane> planes,
                          const IntegrationParams& p, std::span<const std::uint8_t> skip, std::vector<Impact>* impacts) {
+  if (planes.empty()) {  // nothing cuts a sphere's step short: the SIMD kernel
+    simd_kernels().integrate_free(s, first, last, p, skip.empty() ? nullptr : skip.data());
+    return;
+  }
   p.modes.filtering ? integrate_range<true>(s, first, last, planes, p, skip, impacts)
                     : integrate_range<false>(s, first, last, planes, p, skip, impacts);
 }

@@ -94,6 +94,12 @@ void apply_forces(SphereSoA& spheres, std::size_t first, std::size_t last, float
 float predict_velocities(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
                          float fast_fraction = 0.0f, std::vector<std::uint32_t>* fast = nullptr);
 
+/// integrate_positions without planes, one sphere at a time: the scalar reference of the SIMD
+/// kernel that integrate_positions runs when there are none (SimdKernels::integrate_free).
+/// skip[i] != 0: moved already (null: none).
+void integrate_free_scalar(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
+                           const std::uint8_t* skip);
+
 /// Moves spheres in [first, last) over dt with their solved velocities, resolving impacts with
 /// the planes at their exact time (at most four per sphere per step). Spheres with skip[i] != 0
 /// were moved already (continuous collision); an empty `skip` skips none. With `impacts` given,
