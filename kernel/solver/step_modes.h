@@ -22,6 +22,10 @@ struct StepModes {
   bool sweeping = true;
   /// WorldSettings::sleep: sleepers are left out (kernel/world/sleep_islands.h).
   bool sleeping = false;
+  /// Some sphere sleeps as the substep starts (none falls asleep before its islands phase, at
+  /// its end): the filters that leave sleepers' contacts out, and the warm-start cache's carry
+  /// of their impulses, run only then. Where none sleeps they would drop nothing.
+  bool sleepers = false;
   /// Sphere collisions on and at least two spheres: the pair search runs.
   bool detect_pairs = true;
   /// A terrain or planes: sphere-static detection runs.

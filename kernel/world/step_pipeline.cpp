@@ -380,7 +380,7 @@ struct StepPipeline {
                                  st.contact_blocks[b], w.settings.fast_travel_fraction, modes.sweeping);
       if (modes.filtering)  // static contacts all have the sphere in a
         std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, modes.ground); });
-      if (modes.sleeping) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
+      if (modes.sleepers) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
     });
   }
 
@@ -425,7 +425,7 @@ struct StepPipeline {
             break;
         }
         if (modes.filtering) drop_filtered_pairs(s, out, found_before);
-        if (modes.sleeping)  // sleepers among themselves (and on still spheres) need no contact
+        if (modes.sleepers)  // sleepers among themselves (and on still spheres) need no contact
           out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(found_before), out.end(),
                                    [&](const SpherePair& p) { return sleeping_contact(s, p.a, p.b); }),
                     out.end());
@@ -624,7 +624,7 @@ struct StepPipeline {
   void remember_impulses() {
     if (!modes.warm_start) return;
     ContactImpulseCache& cache = st.contact_cache;
-    cache.begin_store(st.contacts.size(), modes.sleeping ? &w.spheres : nullptr);  // sleepers keep theirs
+    cache.begin_store(st.contacts.size(), modes.sleepers ? &w.spheres : nullptr);  // sleepers keep theirs
     const std::uint32_t* order = st.colouring.order.data();
     const std::size_t static_count = w.stats.static_contacts;
     // The soft step passes on no impulse of a contact whose push was saturated when the step
@@ -1318,7 +1318,7 @@ struct StepPipeline {
       // Nothing touched: nothing to carry over, but what sleepers carry (the merge laid out
       // every slot's empty range, as begin_store needs).
       if (modes.warm_start && modes.sleeping) {
-        st.contact_cache.begin_store(0, &w.spheres);
+        st.contact_cache.begin_store(0, modes.sleepers ? &w.spheres : nullptr);
         if (resists_rolling()) st.contact_cache.store_rolling(st.rolling_impulses);  // theirs too
       } else if (modes.warm_start) {
         st.contact_cache.clear();
@@ -1434,6 +1434,7 @@ void World::substep(float scaled) {
                         .warm_start = settings_.warm_start_factor > 0.0f,
                         .sweeping = settings_.continuous_collision,
                         .sleeping = settings_.sleep,
+                        .sleepers = settings_.sleep && SleepIslands::any_sleeping(spheres_),
                         .detect_pairs = settings_.sphere_collisions && spheres_.size() > 1,
                         .detect_static = terrain_ != nullptr || !planes_.empty(),
                         .terrain_guard = terrain_ != nullptr,
