@@ -75,6 +75,11 @@ void write_at(Bytes& bytes, std::size_t at, T v) {
   std::memcpy(bytes.data() + at, &v, sizeof v);
 }
 
+/// `bytes` labelled `version`, `added` bytes longer in its payload and in the section at
+/// `section` (WRLD's by default; inserted or, negative, removed by the caller), with the
+/// checksum to match.
+void relabel(Bytes& bytes, std::uint32_t version, std::int64_t added, std::size_t section = snapshot::kHeaderBytes);
+
 /// A version 8 snapshot of a world with rolling resistance as version 7 wrote it: its CACH
 /// section without the rolling impulses at its end (u64 count, then the floats).
 Bytes without_rolling_impulses(const Bytes& bytes) {
@@ -88,10 +93,7 @@ Bytes without_rolling_impulses(const Bytes& bytes) {
   at += 8 + 20 * read_at<std::uint64_t>(old, at);  // ranges: 5 u32
   const std::size_t removed = 8 + sizeof(float) * read_at<std::uint64_t>(old, at);
   old.erase(old.begin() + static_cast<std::ptrdiff_t>(at), old.begin() + static_cast<std::ptrdiff_t>(at + removed));
-  write_at(old, 8, std::uint32_t{7});
-  write_at(old, snapshot::kPayloadBytesAt, read_at<std::uint64_t>(old, snapshot::kPayloadBytesAt) - removed);
-  write_at(old, section + 8, read_at<std::uint64_t>(old, section + 8) - removed);
-  rechecksum(old);
+  relabel(old, 7, -static_cast<std::int64_t>(removed), section);
   return old;
 }
 
@@ -497,17 +499,11 @@ const WorldSettings kDefaults;
 std::size_t warm_start_factor_at() { return setting_at(&kDefaults.warm_start_factor, kDefaults); }
 std::size_t rolling_resistance_at() { return setting_at(&kDefaults.rolling_resistance, kDefaults); }
 
-/// `bytes` labelled `version`, `added` bytes longer in its payload and WRLD section (inserted
-/// or, negative, removed by the caller), with the checksum to match.
-void relabel(Bytes& bytes, std::uint32_t version, std::int64_t added) {
-  std::memcpy(bytes.data() + 8, &version, sizeof version);
-  // The payload's length and WRLD's.
-  for (std::size_t at : {snapshot::kPayloadBytesAt, snapshot::kHeaderBytes + 8}) {
-    std::uint64_t length = 0;
-    std::memcpy(&length, bytes.data() + at, sizeof length);
-    length = static_cast<std::uint64_t>(static_cast<std::int64_t>(length) + added);
-    std::memcpy(bytes.data() + at, &length, sizeof length);
-  }
+void relabel(Bytes& bytes, std::uint32_t version, std::int64_t added, std::size_t section) {
+  write_at(bytes, 8, version);
+  // The payload's length and the section's.
+  for (std::size_t at : {snapshot::kPayloadBytesAt, section + 8})
+    write_at(bytes, at, static_cast<std::uint64_t>(static_cast<std::int64_t>(read_at<std::uint64_t>(bytes, at)) + added));
   rechecksum(bytes);
 }
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "kernel/broadphase/sphere_filters.h"
-#include "kernel/dispatch/kernel_table.h"
 #include "kernel/broadphase/sphere_pairs.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/fast_motion.h"
 #include "kernel/solver/contact_impulse.h"
 

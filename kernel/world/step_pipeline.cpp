@@ -825,6 +825,7 @@ struct StepPipeline {
                              col.colour_begin[col.tile_colour_begin[t + 1]], bodies);
         });
         crew.stage(1, [&](std::size_t) {
+          ScopedTraceRecord record(w.trace, Phase::Solve);
           warm_start_rolling(*rolling, col.colour_begin[col.shared_colour_begin()], st.contacts.size(), bodies);
         });
       }
