@@ -10,6 +10,7 @@
 #   bvh        kernel/bvh/: the flat BVH, its build and its walks
 #   broadphase kernel/broadphase/: sphere-sphere pair searches and the Morton re-sort
 #   terrain    kernel/terrain/: heightmaps, terrain triangles and contacts, planes
+#   mesh       kernel/mesh/: triangle meshes, their files, colliders and contacts
 #   solver     kernel/solver/: impulses, colouring, SIMD batches, shock propagation, integration
 #   ccd        kernel/ccd/: continuous collision of fast spheres
 #   simd       kernel/simd/: the per-path SIMD kernels of all the layers above
@@ -23,13 +24,13 @@
 # (tests/CMakeLists.txt also runs it on tests/layering/, a tree with an upward include, which it
 # must refuse).
 
-set(hail_layer_names public jobs files dispatch geometry bvh broadphase terrain solver ccd simd world)
+set(hail_layer_names public jobs files dispatch geometry bvh broadphase terrain mesh solver ccd simd world)
 
 # Layer index of a repository-relative path, or -1 when it is not in a layer.
 function(hail_layer_of path out)
   set(layer -1)
   if(path STREQUAL "include/hail/world.h" OR path STREQUAL "include/hail/hail.h" OR path MATCHES "^kernel/world/")
-    set(layer 11)
+    list(FIND hail_layer_names world layer)
   elseif(path MATCHES "^(include/hail|soa)/")
     set(layer 0)
   elseif(path MATCHES "^jobs/")

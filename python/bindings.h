@@ -75,6 +75,7 @@ void bind_world(py::module_& m, py::class_<PyWorld>& world);
 void bind_world_arrays(py::module_& m, py::class_<PyWorld>& world);
 void bind_world_queries(py::module_& m, py::class_<PyWorld>& world);
 void bind_terrain(py::module_& m, py::class_<PyWorld>& world);
+void bind_mesh(py::module_& m, py::class_<PyWorld>& world);
 
 /// A numpy array over `count` elements at `data` that owns nothing: `owner` (the Python World)
 /// is its base, so the World outlives it; numpy refuses writes to it.

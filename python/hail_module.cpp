@@ -70,5 +70,6 @@ PYBIND11_MODULE(hail, m) {
   bind_world_arrays(m, world);
   bind_world_queries(m, world);
   bind_terrain(m, world);
+  bind_mesh(m, world);
   bind_vtk(m);
 }

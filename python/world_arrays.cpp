@@ -124,6 +124,7 @@ void bind_world_arrays(py::module_& m, py::class_<PyWorld>& c) {
   m.attr("WITH_SPHERE") = static_cast<int>(ContactWith::Sphere);
   m.attr("WITH_TERRAIN") = static_cast<int>(ContactWith::Terrain);
   m.attr("WITH_PLANE") = static_cast<int>(ContactWith::Plane);
+  m.attr("WITH_MESH") = static_cast<int>(ContactWith::Mesh);
   m.attr("STATIC_BODY") = kStaticBody;
   m.attr("FLAG_KINEMATIC") = static_cast<std::uint32_t>(kSphereFlagKinematic);
   m.attr("FLAG_SLEEPING") = static_cast<std::uint32_t>(kSphereFlagSleeping);
@@ -207,8 +208,8 @@ void bind_world_arrays(py::module_& m, py::class_<PyWorld>& c) {
       "touch_begin_events",
       [](Self self) { return copy_records(self.get().touch_begin_events(), touch_dtype()); },
       "Touches that began in the last step: structured array (hail.touch_event_dtype) with a, b\n"
-      "(handles; b is hail.NO_SPHERE for the ground), with (WITH_SPHERE, WITH_TERRAIN, WITH_PLANE)\n"
-      "and surface (the plane's index). Needs set_events(touch=True). A copy.");
+      "(handles; b is hail.NO_SPHERE for the ground), with (WITH_SPHERE, WITH_TERRAIN, WITH_PLANE,\n"
+      "WITH_MESH) and surface (the plane's or mesh's index). Needs set_events(touch=True). A copy.");
   c.def_property_readonly(
       "touch_end_events", [](Self self) { return copy_records(self.get().touch_end_events(), touch_dtype()); },
       "Touches that ended in the last step (as touch_begin_events). A copy.");

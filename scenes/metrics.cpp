@@ -66,6 +66,9 @@ ErrorFigures measure_errors(const Scene& scene) {
     for (const Plane& p : world.planes())
       e.max_terrain_penetration =
           std::max(e.max_terrain_penetration, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])));
+    if (world.mesh_count() > 0)
+      e.max_terrain_penetration = std::max<double>(
+          e.max_terrain_penetration, world.mesh_penetration(Vec3(s.px[i], s.py[i], s.pz[i]), s.radius[i]));
     if (!scene.ground_height) continue;
     const float x = s.px[i], z = s.pz[i];
     if (!(x >= scene.min_x && x <= scene.max_x && z >= scene.min_z && z <= scene.max_z)) {

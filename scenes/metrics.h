@@ -13,7 +13,7 @@ namespace hail::bench {
 
 struct ErrorFigures {
   double max_sphere_penetration = 0;   ///< m, deepest overlap of two spheres
-  double max_terrain_penetration = 0;  ///< m, deepest sphere-triangle (or plane) overlap
+  double max_terrain_penetration = 0;  ///< m, deepest sphere-triangle (terrain or mesh) or plane overlap
   std::size_t tunnelled = 0;           ///< centres below the ground at their (x, z)
   std::size_t fell_off = 0;            ///< centres outside the ground's x/z extent
   /// m, the deepest overlap any timed step's contacts started from (-gap at detection, so the

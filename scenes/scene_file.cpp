@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <limits>
 #include <list>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -17,6 +18,7 @@
 #include "hail/errors.h"
 #include "hail/heightmap.h"
 #include "hail/settings_table.h"
+#include "hail/triangle_mesh.h"
 #include "scenes/setting_text.h"
 
 namespace hail::bench {
@@ -1083,7 +1085,7 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
   const Where root{source_name, ""};
   const Object top(doc, root,
                    {"format", "version", "description", "gravity", "dt", "steps", "threads", "settings", "terrain",
-                    "planes", "material", "spheres"});
+                    "planes", "meshes", "material", "spheres"});
   // The format and version first: a newer file's new keys should not read as typos.
   const std::optional<std::string> format = top.opt_string("format");
   if (format != "hail-scene")
@@ -1142,6 +1144,46 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
                         .offset = p.number("offset", 0.0f),
                         .restitution = unit_interval(p, "restitution", 0.5f),
                         .friction = non_negative(p, "friction", 0.5f)});
+    }
+  }
+
+  // Meshes: loaded (and their files checked) now; added to the World with the planes.
+  struct SceneMesh {
+    TriangleMesh mesh;
+    MeshTransform transform;
+    float restitution, friction;
+  };
+  std::vector<SceneMesh> meshes;
+  if (top.has("meshes")) {
+    const json& list = top["meshes"];
+    if (!list.is_array()) top.at("meshes").fail("must be an array, got " + got(list));
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const Object m(list[k], top.at("meshes").index(k),
+                     {"file", "position", "rotation", "scale", "restitution", "friction"});
+      m.reject_unknown_keys();
+      if (!m.has("file")) m.where().fail("missing required key \"file\" (an .obj or .stl file)");
+      std::filesystem::path path(*m.opt_string("file"));
+      if (path.is_relative()) path = std::filesystem::path(base_dir) / path;
+      MeshTransform transform{.position = m.vec3("position", Vec3(0, 0, 0)), .scale = positive(m, "scale", 1.0f)};
+      if (m.has("rotation")) {
+        const Object r(m["rotation"], m.at("rotation"), {"axis", "degrees"});
+        r.reject_unknown_keys();
+        transform.axis = r.vec3("axis", transform.axis);
+        transform.degrees = r.number("degrees", 0.0f);
+        try {
+          transform.validate();
+        } catch (const InvalidArgument& e) {
+          r.where().fail(e.what());
+        }
+      }
+      std::optional<TriangleMesh> mesh;
+      try {
+        mesh = TriangleMesh::load(path.string());
+      } catch (const FileError& e) {
+        m.at("file").fail(e.what());
+      }
+      meshes.push_back({std::move(*mesh), transform, unit_interval(m, "restitution", 0.5f),
+                        non_negative(m, "friction", 0.5f)});
     }
   }
 
@@ -1211,6 +1253,13 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
     set_terrain(*scene.world, terrain, terrain_restitution, terrain_friction,
                 Object(top["terrain"], top.at("terrain"), {}));
   for (std::size_t k = 0; k < planes.size(); ++k) add_plane(*scene.world, planes[k], top.at("planes").index(k));
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    try {
+      scene.world->add_mesh(meshes[k].mesh, meshes[k].transform, meshes[k].restitution, meshes[k].friction);
+    } catch (const InvalidArgument& e) {
+      top.at("meshes").index(k).fail(e.what());
+    }
+  }
   scene.world->reserve(spheres.size());
   scene.ids.reserve(spheres.size());
   for (std::size_t k = 0; k < spheres.size(); ++k) {

@@ -936,7 +936,7 @@ TEST_CASE("scene files: a long list of objects is read whole before its refusal"
   REQUIRE(document["spheres"][0]["list"].size() == 200'000);
   CHECK(error_of(text) ==
         "scene.json: unknown key \"refused_after_the_parse\" at top level (known: format, version, "
-        "description, gravity, dt, steps, threads, settings, terrain, planes, material, spheres)");
+        "description, gravity, dt, steps, threads, settings, terrain, planes, meshes, material, spheres)");
 }
 
 TEST_CASE("scene files: only a regular file is read, and no more than its size", "[scene_file]") {
@@ -1094,4 +1094,27 @@ TEST_CASE("scene files: every setting of the settings table is a key, read with 
     ++keys;
   });
   CHECK(keys >= 34);
+}
+
+TEST_CASE("scene files: meshes load from their files, placed, and fail by field", "[scene]") {
+  const Scene funnel = hail::bench::load_scene_file(kScenes + "funnel.json", {.spheres = 200});
+  REQUIRE(funnel.world->mesh_count() == 2);
+  for (int k = 0; k < 120; ++k) funnel.world->step(funnel.dt);
+  for (const hail::SphereId id : funnel.ids) CHECK(funnel.world->position(id).y() > 0.0f);  // none through the floor
+
+  const std::string meshes_dir = std::string(HAIL_SOURCE_DIR) + "/data/meshes/";
+  const Scene placed = hail::bench::parse_scene_text(
+      R"({"format": "hail-scene", "version": 1, "gravity": [0, -10, 0],
+          "meshes": [{"file": "floor.obj", "position": [0, 2, 0], "rotation": {"axis": [0, 1, 0], "degrees": 30}}],
+          "spheres": [{"list": [{"position": [0.5, 3, 0.5], "radius": 0.5}]}]})",
+      "scene.json", {}, meshes_dir);
+  for (int k = 0; k < 120; ++k) placed.world->step(1.0f / 60);
+  CHECK(placed.world->position(placed.ids[0]).y() == Approx(2.5f).margin(0.005f));
+
+  CHECK_THAT(error_of(R"({"format": "hail-scene", "version": 1, "meshes": [{"file": "no-such.obj"}]})"),
+             Catch::Matchers::StartsWith("scene.json: meshes[0].file:") && Catch::Matchers::Contains("no-such.obj"));
+  CHECK_THAT(error_of(R"({"format": "hail-scene", "version": 1, "meshes": [{"position": [0, 0, 0]}]})"),
+             Catch::Matchers::Contains("meshes[0]") && Catch::Matchers::Contains("\"file\""));
+  CHECK_THAT(error_of(R"({"format": "hail-scene", "version": 1, "meshes": [{"file": "a.obj", "scale": -1}]})"),
+             Catch::Matchers::Contains("meshes[0].scale"));
 }

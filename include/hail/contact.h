@@ -26,7 +26,8 @@ struct Contact {
   /// gap after the sphere moves is surface_d - n.x - r (depenetration recomputes it this way).
   float surface_d = 0;
   /// What b is for a static contact, so that the contact can be found again next step (warm
-  /// starting): the terrain triangle (BVH order) or kPlaneFeature | plane index. 0 for spheres.
+  /// starting): the terrain triangle (BVH order), kPlaneFeature | plane index or kMeshFeature |
+  /// mesh triangle. 0 for spheres.
   std::uint32_t feature = 0;
 };
 
@@ -38,6 +39,9 @@ struct Contact {
 
 /// Contact::feature of a plane contact: this bit, or'd with the plane's index.
 inline constexpr std::uint32_t kPlaneFeature = 0x80000000u;
+/// Contact::feature of a mesh contact: this bit, or'd with the triangle's number among all the
+/// world's mesh triangles (each mesh's triangles in its BVH order, meshes in the order added).
+inline constexpr std::uint32_t kMeshFeature = 0x40000000u;
 
 /// An impact resolved at its exact time within a step, outside the contact solve: a sphere that
 /// reaches a plane during the step (the integrator splits its motion there) or an impact of
@@ -46,7 +50,7 @@ inline constexpr std::uint32_t kPlaneFeature = 0x80000000u;
 struct Impact {
   std::uint32_t a = 0;            ///< dense slot of the sphere
   std::uint32_t b = kStaticBody;  ///< dense slot of the other sphere, or kStaticBody
-  std::uint32_t feature = 0;      ///< static b: the terrain triangle or kPlaneFeature | plane index (as Contact)
+  std::uint32_t feature = 0;      ///< static b: as Contact::feature (terrain triangle, plane or mesh triangle)
   float time = 0;                 ///< s after the start of the step (of its last substep)
   float px = 0, py = 0, pz = 0;   ///< contact point at that time: a's centre + n * a's radius, m
   float nx = 0, ny = 1, nz = 0;   ///< unit normal pointing from a towards b (into the surface)

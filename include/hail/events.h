@@ -22,6 +22,7 @@ enum class ContactWith : std::uint8_t {
   Sphere,   ///< another sphere: TouchEvent::b / HitEvent::b
   Terrain,  ///< the World's terrain
   Plane,    ///< a plane: the event's `surface` is its index in World::planes()
+  Mesh,     ///< a mesh: the event's `surface` is its index (World::add_mesh's result)
 };
 
 /// Off by default: a World that never calls set_events pays nothing for them (no pass, no
@@ -37,7 +38,7 @@ struct TouchEvent {
   SphereId a{};  ///< the sphere; of a pair, the one with the lower handle index
   SphereId b{};  ///< with == Sphere: the other sphere (higher handle index); else SphereId{} (no sphere)
   ContactWith with = ContactWith::Sphere;
-  std::uint32_t surface = 0;  ///< with == Plane: the plane's index; else 0
+  std::uint32_t surface = 0;  ///< with == Plane or Mesh: the plane's or mesh's index; else 0
 };
 
 /// An impact in the last step that closed faster than EventSettings::hit_speed.
@@ -45,8 +46,8 @@ struct HitEvent {
   SphereId a{};  ///< the sphere; of a pair, the one with the lower handle index
   SphereId b{};  ///< with == Sphere: the other sphere; else SphereId{}
   ContactWith with = ContactWith::Sphere;
-  /// with == Plane: the plane's index; with == Terrain: the triangle (Terrain::triangles()
-  /// order, as Contact::feature); else 0.
+  /// with == Plane or Mesh: the plane's or mesh's index; with == Terrain: the triangle
+  /// (Terrain::triangles() order, as Contact::feature); else 0.
   std::uint32_t surface = 0;
   /// m/s, > 0: the speed at which the surfaces approached along the normal just before the
   /// impact, (v_a - v_b) . normal.

@@ -44,6 +44,7 @@
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
 #include "hail/terrain.h"
+#include "hail/triangle_mesh.h"
 #include "hail/vec3.h"
 #include "hail/version.h"
 #include "hail/world.h"

@@ -44,11 +44,13 @@
 #include "hail/sphere_soa.h"
 #include "hail/step_stats.h"
 #include "hail/terrain.h"
+#include "hail/triangle_mesh.h"
 #include "hail/vec3.h"
 #include "hail/world_settings.h"
 
 namespace hail {
 
+class MeshSet;         // kernel/mesh/mesh_set.h
 struct StepScratch;    // kernel/world/step_scratch.h
 struct WorldServices;  // kernel/world/world_services.h
 
@@ -214,6 +216,28 @@ class World {
   /// (kSphereRadiusResolution; a sphere already past that rule may only be brought nearer), or a
   /// terrain that set_terrain would refuse where it lands (kTerrainCellResolution).
   void shift_origin(const Vec3& offset);
+  /// Adds a static triangle mesh (include/hail/triangle_mesh.h) placed by `transform`, with its
+  /// material; returns its index (0, 1, ... in the order added; TouchEvent::surface and
+  /// HitEvent::surface name it with ContactWith::Mesh). The World keeps its own collider: the
+  /// triangles in world coordinates, their internal edges and a flat BVH, built on the calling
+  /// thread (O(n log n) in the triangles, about 150 bytes a triangle: mesh_memory_bytes). Spheres
+  /// meet a mesh as they meet the terrain: speculative contacts with the terrain's reduction and
+  /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the ground
+  /// filter (docs/meshes.md says what a closed mesh and a shell each do). Not yet: ray and shape
+  /// queries, the terrain guard and lift-out, debug drawing, shift_origin (it refuses a world
+  /// with meshes), and snapshots record no mesh (attach the same meshes, in the same order,
+  /// before restoring). Throws InvalidArgument (world unchanged) for a bad transform or
+  /// material, a mesh with no triangle of non-zero area where it is placed, or more than 2^30
+  /// mesh triangles in all. Wakes every sleeper.
+  std::size_t add_mesh(const TriangleMesh& mesh, const MeshTransform& transform = {}, float restitution = 0.5f,
+                       float friction = 0.5f);
+  /// Meshes added (add_mesh).
+  [[nodiscard]] std::size_t mesh_count() const;
+  /// Heap bytes the meshes' colliders hold (apart from memory_use, as the terrain's).
+  [[nodiscard]] std::size_t mesh_memory_bytes() const;
+  /// Deepest overlap (m, >= 0) of a sphere at `centre` with radius r with any mesh: for error
+  /// reports (the way Terrain::penetration serves the terrain).
+  [[nodiscard]] float mesh_penetration(const Vec3& centre, float radius) const;
   [[nodiscard]] const Terrain* terrain() const { return terrain_.get(); }
   [[nodiscard]] float terrain_restitution() const { return terrain_restitution_; }
   [[nodiscard]] float terrain_friction() const { return terrain_friction_; }
@@ -531,6 +555,8 @@ class World {
   std::vector<Plane> planes_;
   std::shared_ptr<const Terrain> terrain_;
   float terrain_restitution_ = 0.5f, terrain_friction_ = 0.5f;
+  std::unique_ptr<MeshSet> meshes_;  ///< null until the first add_mesh
+  [[nodiscard]] bool has_meshes() const;
   /// Slots from here on have not been checked against the terrain since they were added (or
   /// the terrain set): lift_out_of_terrain checks them at the start of the next step.
   std::size_t unchecked_from_ = 0;

@@ -287,6 +287,32 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
       return static_cast<float>(hit.t);
     });
   }
+  for (std::size_t m = 0; scene.meshes && meets_the_ground && m < scene.meshes->size(); ++m) {
+    // As the terrain, except that a shell's triangle is met on the face the path starts in
+    // front of: its corners reversed and its normal turned for a centre behind it.
+    const MeshCollider& mesh = (*scene.meshes)[m];
+    const TerrainTriangles& tri = mesh.triangles;
+    const float origin[3] = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+    const float dir[3] = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+    const float reach = static_cast<float>(r) + pad;
+    const float t_walk = static_cast<float>(t_left) * (1.0f + 1e-6f);
+    (void)query_swept_sphere(mesh.bvh, origin, dir, t_walk, reach, [&](std::uint32_t k) {
+      double a[3] = {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, b[3] = {tri.v1x[k], tri.v1y[k], tri.v1z[k]};
+      double cc[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
+      std::uint8_t internal = tri.internal_edges[k];
+      if (mesh.two_sided && n[0] * c[0] + n[1] * c[1] + n[2] * c[2] < double{tri.d[k]}) {
+        for (int d = 0; d < 3; ++d) std::swap(b[d], cc[d]), n[d] = -n[d];
+        // Reversed, edge 0 (a-b) is the old edge 2 (c-a), edge 1 (b-c) the old edge 1, edge 2 the old edge 0.
+        internal = static_cast<std::uint8_t>(((internal & kEdge2Internal) ? kEdge0Internal : 0) |
+                                             (internal & kEdge1Internal) |
+                                             ((internal & kEdge0Internal) ? kEdge2Internal : 0));
+      }
+      SweptHit hit;
+      if (!swept_sphere_triangle(c, v, r, a, b, cc, n, internal, t_left, hit)) return -1.0f;
+      offer(mo.t0 + hit.t, Target::Mesh, mesh.first_feature + k, 0, hit.n);
+      return static_cast<float>(hit.t);
+    });
+  }
   for (std::uint32_t k = 0; meets_the_ground && k < scene.planes.size(); ++k) {
     const Plane& p = scene.planes[k];
     const double n[3] = {p.nx, p.ny, p.nz};
@@ -382,6 +408,11 @@ void ContinuousCollision::resolve(SphereSoA& s, const SweepScene& scene, float r
       contact.restitution = combine_restitution(s.restitution[a], scene.terrain_restitution);
       contact.friction = combine_friction(s.friction[a], scene.terrain_friction);
       contact.feature = e.other;
+    } else if (e.target == Target::Mesh) {
+      const MeshCollider& mesh = (*scene.meshes)[scene.meshes->mesh_of(e.other)];
+      contact.restitution = combine_restitution(s.restitution[a], mesh.restitution);
+      contact.friction = combine_friction(s.friction[a], mesh.friction);
+      contact.feature = kMeshFeature | e.other;
     } else {
       const Plane& p = scene.planes[e.other];
       contact.restitution = combine_restitution(s.restitution[a], p.restitution);

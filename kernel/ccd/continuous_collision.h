@@ -47,6 +47,7 @@
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/ccd/changed_path_grid.h"
 #include "kernel/geometry/fast_motion.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
@@ -78,6 +79,7 @@ struct SweepScene {
   /// that backer for the impact (see ContinuousCollision::resolve).
   /// WorldSettings::shock_mass_ratio; infinity: never.
   float hold_mass_ratio = std::numeric_limits<float>::infinity();
+  const MeshSet* meshes = nullptr;  ///< null: no meshes
 };
 
 class ContinuousCollision {
@@ -114,7 +116,7 @@ class ContinuousCollision {
   }
 
  private:
-  enum class Target : std::uint8_t { Terrain, Plane, Sphere };
+  enum class Target : std::uint8_t { Terrain, Plane, Mesh, Sphere };
   struct Motion {
     double x[3];  ///< centre at time t0
     double v[3];  ///< velocity since t0

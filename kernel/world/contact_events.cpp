@@ -14,11 +14,7 @@ namespace hail {
 namespace {
 
 constexpr std::uint32_t kTerrainSurface = 0;  // TouchKey ground surface; plane k is 1 + k
-
-/// Where a static contact or impact's feature is: the terrain or plane k (1 + k).
-std::uint32_t surface_code(std::uint32_t feature) {
-  return (feature & kPlaneFeature) ? 1u + (feature & ~kPlaneFeature) : kTerrainSurface;
-}
+constexpr std::uint32_t kMeshSurface = 0x80000000u;  // or'd with the mesh's index
 
 TouchKey pair_key(SphereId x, SphereId y) {
   if (y.index < x.index) std::swap(x, y);
@@ -40,9 +36,12 @@ TouchEvent pair_event(const TouchKey& k) { return {.a = first_of(k), .b = second
 
 TouchEvent ground_event(const TouchKey& k) {
   const auto surface = static_cast<std::uint32_t>(k.key);
+  const ContactWith with = surface == kTerrainSurface  ? ContactWith::Terrain
+                           : (surface & kMeshSurface) ? ContactWith::Mesh
+                                                      : ContactWith::Plane;
   return {.a = {static_cast<std::uint32_t>(k.key >> 32), static_cast<std::uint32_t>(k.generations)},
-          .with = surface == kTerrainSurface ? ContactWith::Terrain : ContactWith::Plane,
-          .surface = surface == kTerrainSurface ? 0u : surface - 1u};
+          .with = with,
+          .surface = with == ContactWith::Terrain ? 0u : with == ContactWith::Mesh ? surface & ~kMeshSurface : surface - 1u};
 }
 
 /// Whether a contact, after its substep's solve, counts as touching (the rule in the header).
@@ -93,6 +92,12 @@ void ContactEventTracker::remember_solve_start(const SphereSoA& s, const float* 
   }
 }
 
+std::uint32_t ContactEventTracker::surface_code(std::uint32_t feature) const {
+  if (feature & kPlaneFeature) return 1u + (feature & ~kPlaneFeature);
+  if ((feature & kMeshFeature) && meshes_) return kMeshSurface | meshes_->mesh_of(feature);
+  return kTerrainSurface;
+}
+
 void ContactEventTracker::add_touch(const SphereSoA& s, std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
   if (b != kStaticBody)
     current_pairs_.push_back(pair_key(s.id_at(a), s.id_at(b)));
@@ -102,6 +107,7 @@ void ContactEventTracker::add_touch(const SphereSoA& s, std::uint32_t a, std::ui
 
 void ContactEventTracker::collect_substep(const SphereSoA& s, std::span<const Contact> contacts,
                                           std::span<const Impact> impacts, const EventSurfaces& surfaces) {
+  meshes_ = surfaces.meshes;
   if (settings_.touch) {
     reserve_geometric(current_pairs_, current_pairs_.size() + contacts.size() + impacts.size());
     reserve_geometric(current_ground_, current_ground_.size() + contacts.size() + impacts.size());
@@ -134,8 +140,11 @@ void ContactEventTracker::add_hit(const SphereSoA& s, std::uint32_t a, std::uint
   } else {
     r.kind = 1;
     r.key = ground_key(first, surface_code(feature)).key;
-    r.event.with = (feature & kPlaneFeature) ? ContactWith::Plane : ContactWith::Terrain;
-    r.event.surface = feature & ~kPlaneFeature;
+    const std::uint32_t surface = surface_code(feature);
+    r.event.with = (feature & kPlaneFeature) ? ContactWith::Plane
+                   : (surface & kMeshSurface) ? ContactWith::Mesh
+                                              : ContactWith::Terrain;
+    r.event.surface = r.event.with == ContactWith::Mesh ? surface & ~kMeshSurface : feature & ~kPlaneFeature;
   }
   r.event.a = first;
   reserve_geometric(hit_records_, hit_records_.size() + 1);
@@ -174,6 +183,8 @@ void ContactEventTracker::impact_hits(const SphereSoA& s, std::span<const Impact
       k += s.inv_mass[i.b];
     } else if (i.feature & kPlaneFeature) {
       other_restitution = surfaces.planes[i.feature & ~kPlaneFeature].restitution;
+    } else if ((i.feature & kMeshFeature) && surfaces.meshes) {
+      other_restitution = (*surfaces.meshes)[surfaces.meshes->mesh_of(i.feature)].restitution;
     }
     const float e = combine_restitution(s.restitution[i.a], other_restitution);
     const float stopped = i.impulse * k, bounced = stopped / (1.0f + e);

@@ -34,6 +34,7 @@
 #include "hail/events.h"
 #include "hail/plane.h"
 #include "hail/sphere_soa.h"
+#include "kernel/mesh/mesh_set.h"
 #include "soa/heap_bytes.h"
 
 namespace hail {
@@ -53,6 +54,7 @@ struct TouchKey {
 struct EventSurfaces {
   std::span<const Plane> planes;
   float terrain_restitution = 0.0f;
+  const MeshSet* meshes = nullptr;  ///< null: no meshes
   float restitution_threshold = 0.0f;  ///< the substep's (World::substep), to undo an impact's impulse
 };
 
@@ -115,7 +117,12 @@ class ContactEventTracker {
   /// Sorts, drops duplicates, appends begin and end events, and makes current the previous.
   void merge_touches(std::vector<TouchKey>& current, std::vector<TouchKey>& previous, bool pairs);
 
+  /// The ground a static contact's feature names, as a TouchKey's low half: the terrain, plane
+  /// k or mesh m (by the substep's meshes_).
+  [[nodiscard]] std::uint32_t surface_code(std::uint32_t feature) const;
+
   EventSettings settings_;
+  const MeshSet* meshes_ = nullptr;  ///< the substep's (collect_substep), for surface_code
   // Persistent: the keys touching after the last step, sorted.
   std::vector<TouchKey> previous_pairs_, previous_ground_;
   // This step's, then scratch.

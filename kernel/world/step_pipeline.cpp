@@ -44,6 +44,7 @@
 #include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/world/sleep_islands.h"
 #include "kernel/world/step_heuristics.h"
 #include "kernel/world/step_scratch.h"
@@ -79,6 +80,7 @@ struct StepWorld {
   std::span<const Plane> planes;
   const Terrain* terrain;  ///< null: no terrain
   float terrain_restitution, terrain_friction;
+  const MeshSet* meshes;  ///< null: no meshes
   StepStats& stats;
   PhaseTimes& times;
   PhaseTrace& trace;
@@ -378,6 +380,9 @@ struct StepPipeline {
       if (w.terrain)
         w.terrain->find_contacts(s, first, last, params.dt, w.terrain_restitution, w.terrain_friction,
                                  st.contact_blocks[b], w.settings.fast_travel_fraction, modes.sweeping);
+      if (w.meshes)
+        w.meshes->find_contacts(s, first, last, params.dt, st.contact_blocks[b], w.settings.fast_travel_fraction,
+                                modes.sweeping);
       if (modes.filtering)  // static contacts all have the sphere in a
         std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return !meets_ground(s, c.a, modes.ground); });
       if (modes.sleepers) std::erase_if(st.contact_blocks[b], [&](const Contact& c) { return sphere_sleeps(s, c.a); });
@@ -551,7 +556,8 @@ struct StepPipeline {
                            .planes = w.planes,
                            .sphere_collisions = w.settings.sphere_collisions,
                            .modes = modes,
-                           .hold_mass_ratio = w.settings.shock_mass_ratio};
+                           .hold_mass_ratio = w.settings.shock_mass_ratio,
+                           .meshes = w.meshes};
     for_each_block(st.fast.size(), 16, [&](std::size_t, std::size_t first, std::size_t last) {
       ScopedTraceRecord record(w.trace, Phase::Sweep);
       ccd.find_first_events(s, scene, first, last);
@@ -1339,11 +1345,11 @@ struct StepPipeline {
     {
       ScopedPhaseTimer timer(t.integrate);
       ScopedTraceRecord record(w.trace, Phase::Integrate);
-      // Speculative contacts are the terrain's alone (planes' impacts are the integrator's). The
+      // Speculative contacts are the terrain's and meshes' alone (planes' impacts are the integrator's). The
       // shock pass leaves no trace of its impulses in the contacts, so with it no bounce can be
       // told to be a sphere's only impulse. A step whose collision passes bounced nothing (a
       // pile at rest) does not look.
-      const bool time_bounces = ran.solve && w.terrain != nullptr && !modes.soft_step() && !shock &&
+      const bool time_bounces = ran.solve && (w.terrain != nullptr || w.meshes != nullptr) && !modes.soft_step() && !shock &&
                                 w.stats.collision_passes > 0;
       if (time_bounces) st.bounce_timing.plan(st.contacts, w.spheres, params, st.ccd.moved());
       integrate();
@@ -1437,7 +1443,7 @@ void World::substep(float scaled) {
                         .sleeping = settings_.sleep,
                         .sleepers = settings_.sleep && SleepIslands::any_sleeping(spheres_),
                         .detect_pairs = settings_.sphere_collisions && spheres_.size() > 1,
-                        .detect_static = terrain_ != nullptr || !planes_.empty(),
+                        .detect_static = terrain_ != nullptr || !planes_.empty() || has_meshes(),
                         .terrain_guard = terrain_ != nullptr,
                         .pair_margins = settings_.pair_margin_travel > 0.0f && settings_.sphere_collisions,
                         .forces = forces_pending_,
@@ -1445,8 +1451,8 @@ void World::substep(float scaled) {
                         .filtering = filtered_,
                         .ground = ground_filter_};
   StepPipeline pipeline{
-      {settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_, stats_, times_, trace_,
-       steps_taken_},
+      {settings_, spheres_, planes_, terrain_.get(), terrain_restitution_, terrain_friction_,
+       has_meshes() ? meshes_.get() : nullptr, stats_, times_, trace_, steps_taken_},
       *scratch_,
       *services_,
       modes,
@@ -1458,7 +1464,8 @@ void World::substep(float scaled) {
   arena_->execute([&] { pipeline.run(); });
   if (services_->events.on())
     services_->events.collect_substep(spheres_, scratch_->contacts, scratch_->impacts,
-                                      {planes_, terrain_restitution_, pipeline.params.restitution_threshold});
+                                      {planes_, terrain_restitution_, has_meshes() ? meshes_.get() : nullptr,
+                                       pipeline.params.restitution_threshold});
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;
 }

@@ -13,6 +13,7 @@
 
 #include "kernel/broadphase/sphere_filters.h"
 #include "kernel/dispatch/simd_dispatch.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/fnv1a.h"
 
@@ -227,8 +228,28 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
   terrain_friction_ = friction;
 }
 
+std::size_t World::add_mesh(const TriangleMesh& mesh, const MeshTransform& transform, float restitution,
+                           float friction) {
+  require_material(restitution, friction, "mesh");
+  if (!meshes_) meshes_ = std::make_unique<MeshSet>();
+  const std::size_t index = meshes_->add(mesh, transform, restitution, friction);
+  wake_all();
+  return index;
+}
+
+bool World::has_meshes() const { return meshes_ && !meshes_->empty(); }
+std::size_t World::mesh_count() const { return meshes_ ? meshes_->size() : 0; }
+std::size_t World::mesh_memory_bytes() const { return meshes_ ? meshes_->memory_bytes() : 0; }
+float World::mesh_penetration(const Vec3& centre, float radius) const {
+  return has_meshes() ? meshes_->penetration(centre.x(), centre.y(), centre.z(), radius) : 0.0f;
+}
+
 void World::shift_origin(const Vec3& offset) {
   require_finite(offset, "World::shift_origin: offset");
+  require(!has_meshes(), [] {
+    return std::string("World::shift_origin: the world has meshes, which do not move with the origin yet "
+                       "(docs/meshes.md)");
+  });
   // Everything is checked (and the moved terrain built) before anything changes, so that a
   // refusal leaves the world as it was.
   for (std::size_t k = 0; k < planes_.size(); ++k) {

@@ -1,0 +1,45 @@
+#pragma once
+// The static meshes of a World (World::add_mesh), in the order added: their colliders, and
+// which mesh a contact's feature names. Colliders are immutable and shared, so copying a set
+// copies pointers.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "hail/contact.h"
+#include "hail/sphere_soa.h"
+#include "hail/triangle_mesh.h"
+#include "kernel/mesh/mesh_collider.h"
+
+namespace hail {
+
+class MeshSet {
+ public:
+  /// Builds and appends the collider of `mesh` placed by `transform`; returns its index. The set
+  /// is unchanged when it throws (build_mesh_collider's errors; InvalidArgument when the world's
+  /// mesh triangles would pass 2^30, what Contact::feature can number).
+  std::size_t add(const TriangleMesh& mesh, const MeshTransform& transform, float restitution, float friction);
+
+  [[nodiscard]] bool empty() const { return meshes_.empty(); }
+  [[nodiscard]] std::size_t size() const { return meshes_.size(); }
+  [[nodiscard]] const MeshCollider& operator[](std::size_t i) const { return *meshes_[i]; }
+  /// The mesh whose triangle a kMeshFeature contact or impact names.
+  [[nodiscard]] std::uint32_t mesh_of(std::uint32_t feature) const;
+
+  /// Every mesh's contacts with spheres [first, last): mesh by mesh, each in sphere order
+  /// (MeshCollider::find_contacts).
+  void find_contacts(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt, std::vector<Contact>& out,
+                     float fast_fraction, bool sweep_fast) const {
+    for (const auto& m : meshes_) m->find_contacts(spheres, first, last, dt, out, fast_fraction, sweep_fast);
+  }
+  /// Deepest overlap of a sphere with any mesh (m, >= 0).
+  [[nodiscard]] float penetration(float x, float y, float z, float r) const;
+  [[nodiscard]] std::size_t memory_bytes() const;
+
+ private:
+  std::vector<std::shared_ptr<const MeshCollider>> meshes_;
+  std::uint32_t triangles_ = 0;  ///< all meshes' triangles: the next mesh's first_feature
+};
+
+}  // namespace hail
