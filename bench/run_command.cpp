@@ -481,6 +481,9 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
              "m; run the scene moved by (D, 0, D) (World::shift_origin), to measure precision far from the origin");
   add_count(app, "--home-after", o.home_after, 1, 100'000'000,
             "with --origin D: after step K, World::shift_origin brings the scene back home (its error stays)");
+  app.add_flag("--terrain-as-mesh", o.params.terrain_as_mesh,
+               "a heightmap scene's terrain given to World::add_mesh instead (the same triangles through the mesh "
+               "path: docs/meshes.md)");
   add_count(app, "--repeat", o.repeat, 1, 1000, "runs (default 0: 1; 3 with --ccd-both or --filters compare)");
   app.add_option("--filters", o.filters,
                  "collision filters given to every sphere: accept-all (filtered, nothing rejected), teams (two "

@@ -1,6 +1,9 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
+#include "hail/triangle_mesh.h"
 #include "scenes/scenes.h"
 
 namespace hail::bench {
@@ -42,8 +45,22 @@ Scene scene_on_terrain(const SceneParams& p, Heightmap heightmap, const std::str
   scene.max_z = heightmap.max_z();
   auto terrain = std::make_shared<const Terrain>(std::move(heightmap));
   scene.ground_height = [terrain](float x, float z) { return terrain->heightmap().surface_height(x, z); };
-  scene.world->set_terrain(terrain, 0.5f, 0.5f);
-  scene.description = description;
+  if (p.terrain_as_mesh) {
+    std::vector<Vec3> vertices;
+    std::vector<std::uint32_t> indices;
+    vertices.reserve(3 * terrain->triangle_count());
+    for (std::uint32_t k = 0; k < terrain->triangle_count(); ++k) {
+      const TerrainTriangle t = terrain->triangle(k);
+      for (const Vec3& v : {t.a, t.b, t.c}) {
+        indices.push_back(static_cast<std::uint32_t>(vertices.size()));
+        vertices.push_back(v);  // corners apart: the mesh welds them back into a surface
+      }
+    }
+    scene.world->add_mesh(TriangleMesh(std::move(vertices), std::move(indices)), {}, 0.5f, 0.5f);
+  } else {
+    scene.world->set_terrain(terrain, 0.5f, 0.5f);
+  }
+  scene.description = description + (p.terrain_as_mesh ? " (terrain as a mesh)" : "");
   scene.dt = p.dt;
   return scene;
 }

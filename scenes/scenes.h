@@ -23,6 +23,9 @@ struct SceneParams {
   /// --set NAME=VALUE: any setting of the settings table by its name, applied after the fields
   /// above (scenes/setting_text.h).
   std::vector<std::string> set{};
+  /// --terrain-as-mesh: a heightmap scene's triangles given to World::add_mesh instead of
+  /// set_terrain (the same triangles, met through the mesh path), to compare the two walks.
+  bool terrain_as_mesh = false;
 };
 
 /// The WorldSettings the command-line parameters ask for: p.settings with p.threads, then the

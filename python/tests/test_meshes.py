@@ -49,3 +49,11 @@ def test_bad_meshes_and_placements_are_refused():
     with pytest.raises(hail.InvalidArgument, match="scale"):
         world.add_mesh(floor(), scale=0)
     assert world.mesh_count == 0
+
+
+def test_spheres_fall_asleep_on_a_mesh():
+    world = hail.World(threads=1, sleep=True)
+    world.add_mesh(floor())
+    world.add_spheres(np.array([(0.1, 2.0, 0.2), (1.5, 3.0, 1.0)]), radii=0.25, masses=1.0)
+    world.step(1 / 60, 180)
+    assert world.sleeping.all()
