@@ -21,6 +21,7 @@
 #include "kernel/broadphase/sphere_pairs.h"
 #include "kernel/ccd/path_box_scan.h"
 #include "kernel/dispatch/kernel_table.h"
+#include "kernel/mesh/mesh_collider.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/integrate.h"
 #include "kernel/terrain/terrain_parts.h"
@@ -450,6 +451,57 @@ TEST_CASE("A small terrain scene has the same state hash on every SIMD path",
                    << hash);
       if (first == 0) first = hash;
       CHECK(hash == first);
+    }
+  }
+}
+
+TEST_CASE("Every SIMD path's mesh contacts equal the scalar reference's, shell and solid", "[simd][dispatch][mesh]") {
+  // A bumpy sheet (a shell) and a closed box (a solid) of many triangles; spheres in front of,
+  // on, behind and through them, some fast, some static.
+  const int cells = 24;
+  std::vector<Vec3> v;
+  std::vector<std::uint32_t> idx;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) v.emplace_back(float(i), 0.8f * std::sin(0.5f * i) * std::cos(0.4f * j), float(j));
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (cells + 1) + a); };
+      idx.insert(idx.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  const TriangleMesh sheet(v, idx);
+  std::vector<Vec3> box_v;
+  for (int k = 0; k < 8; ++k) box_v.emplace_back(k & 1 ? 20.0f : 4.0f, k & 2 ? 1.0f : -3.0f, k & 4 ? 20.0f : 4.0f);
+  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  std::vector<std::uint32_t> box_idx;
+  for (const auto& q : quads) box_idx.insert(box_idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  const TriangleMesh box(box_v, box_idx);
+  REQUIRE(box.closed());
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  SphereSoA s;
+  for (int k = 0; k < 401; ++k) {
+    const float r = 0.2f + 0.6f * u(rng);
+    s.add({.px = 24.0f * u(rng), .py = -2.5f + 4.0f * u(rng), .pz = 24.0f * u(rng),
+           .vx = 2.0f * u(rng), .vy = k % 23 == 0 ? -200.0f : -6.0f * u(rng), .vz = 0.0f,
+           .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
+           .inv_inertia = 1.0f, .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+  }
+  for (const TriangleMesh* mesh : {&sheet, &box}) {
+    const MeshCollider collider = build_mesh_collider(*mesh, {}, 0.4f, 0.6f, 1000);
+    CHECK(collider.two_sided == !mesh->closed());
+    for (const bool sweep_fast : {false, true}) {
+      std::vector<Contact> reference;
+      collider.find_contacts_scalar(s, 0, 150, 1.0f / 60.0f, reference, 1.0f, sweep_fast);
+      collider.find_contacts_scalar(s, 150, s.size(), 1.0f / 60.0f, reference, 1.0f, sweep_fast);
+      REQUIRE(reference.size() > 50);
+      for (SimdPath p : supported_paths()) {
+        INFO("path " << simd_path_name(p) << ", sweep_fast " << sweep_fast << ", closed " << mesh->closed());
+        const SimdKernels& k = simd_kernels(p);
+        std::vector<Contact> found;
+        k.mesh_contacts(collider, s, 0, 150, 1.0f / 60.0f, found, 1.0f, sweep_fast);
+        k.mesh_contacts(collider, s, 150, s.size(), 1.0f / 60.0f, found, 1.0f, sweep_fast);
+        CHECK(same_contacts(found, reference));
+      }
     }
   }
 }

@@ -34,6 +34,7 @@ struct Aabb;
 enum FrictionWork : std::uint8_t;
 class SphereSoA;
 class Terrain;
+struct MeshCollider;
 struct FlatBvh;
 struct PathBox;
 struct SolverBody;
@@ -110,6 +111,10 @@ struct SimdKernels {
   void (*terrain_contacts)(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last,
                            float dt, float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
                            bool sweep_fast);
+  /// MeshCollider::find_contacts (kernel/mesh/mesh_collider.h): the terrain's packet walk with a
+  /// mesh's contact rule (kernel/mesh/mesh_contact.h).
+  void (*mesh_contacts)(const MeshCollider& mesh, const SphereSoA& spheres, std::size_t first, std::size_t last,
+                        float dt, std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
   /// Terrain::push_out_spheres (include/hail/terrain.h): the spheres at slots[0, count).
   std::size_t (*terrain_push_out)(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots,
                                   std::size_t count);

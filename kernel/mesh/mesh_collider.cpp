@@ -5,6 +5,7 @@
 #include <string>
 
 #include "hail/errors.h"
+#include "kernel/dispatch/kernel_table.h"
 #include "kernel/mesh/mesh_contact.h"
 #include "kernel/mesh/mesh_edges.h"
 #include "kernel/terrain/terrain_contacts.h"
@@ -127,6 +128,11 @@ MeshCollider build_mesh_collider(const TriangleMesh& mesh, const MeshTransform& 
 
 void MeshCollider::find_contacts(const SphereSoA& s, std::size_t first, std::size_t last, float dt,
                                  std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const {
+  if (first < last) simd_kernels().mesh_contacts(*this, s, first, last, dt, out, fast_fraction, sweep_fast);
+}
+
+void MeshCollider::find_contacts_scalar(const SphereSoA& s, std::size_t first, std::size_t last, float dt,
+                                        std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const {
   const TerrainTriangles& t = triangles;
   for (std::size_t i = first; i < last; ++i) {
     const float margin = terrain_contact_reach(s, i, dt, fast_fraction, sweep_fast);

@@ -28,11 +28,16 @@ struct MeshCollider {
   std::uint32_t first_feature = 0;
   std::size_t degenerate = 0;  ///< triangles of the mesh left out (zero area)
 
-  /// Appends the contacts of spheres [first, last) with this mesh, sphere by sphere, with the
+  /// Appends the contacts of spheres [first, last) with this mesh, in sphere order, with the
   /// terrain's reach and reduction (kernel/terrain/terrain_contacts.h: one contact per distinct
-  /// normal, speculative up to the sphere's travel this step). No allocation beyond `out`.
+  /// normal, speculative up to the sphere's travel this step), by the terrain's packet walk on the
+  /// active SIMD path (kernel/simd/terrain_contacts.cpp; the contacts do not depend on the path).
+  /// No allocation beyond `out`.
   void find_contacts(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt, std::vector<Contact>& out,
                      float fast_fraction, bool sweep_fast) const;
+  /// find_contacts with one scalar BVH walk per sphere: the reference, same contacts in the same order.
+  void find_contacts_scalar(const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
+                            std::vector<Contact>& out, float fast_fraction, bool sweep_fast) const;
   /// Deepest overlap (m, >= 0) of a sphere with the mesh: for error reports and tests.
   [[nodiscard]] float penetration(float x, float y, float z, float r) const;
   /// Heap bytes held (capacities).

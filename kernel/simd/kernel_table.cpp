@@ -29,6 +29,7 @@ constexpr SimdKernels kTable{
     .contact_soft = &HAIL_SIMD_NS::contact_soft,
     .contact_depenetrate = &HAIL_SIMD_NS::contact_depenetrate,
     .terrain_contacts = &HAIL_SIMD_NS::terrain_contacts,
+    .mesh_contacts = &HAIL_SIMD_NS::mesh_contacts,
     .terrain_push_out = &HAIL_SIMD_NS::terrain_push_out,
     .integrate_free = &HAIL_SIMD_NS::integrate_free,
     .scan_path_boxes = &HAIL_SIMD_NS::scan_path_boxes,

@@ -35,6 +35,8 @@ bool contact_depenetrate(const ContactBatchArrays& batches, std::size_t first, s
 void terrain_contacts(const Terrain& terrain, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
                       float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
                       bool sweep_fast);
+void mesh_contacts(const MeshCollider& mesh, const SphereSoA& spheres, std::size_t first, std::size_t last, float dt,
+                   std::vector<Contact>& out, float fast_fraction, bool sweep_fast);
 std::size_t terrain_push_out(const Terrain& terrain, SphereSoA& spheres, const std::uint32_t* slots, std::size_t count);
 void integrate_free(SphereSoA& spheres, std::size_t first, std::size_t last, const IntegrationParams& params,
                     const std::uint8_t* skip);

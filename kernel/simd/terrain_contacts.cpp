@@ -3,12 +3,16 @@
 // planes tested for all lanes at once; the (sphere, triangle) candidates that pass are then
 // tested a batch at a time (kernel/simd/sphere_triangle_lanes.h). Compiled once per SIMD path (kernel/dispatch/simd_arch.h);
 // the scalar reference is Terrain::find_contacts_scalar, and both share kernel/terrain/terrain_contacts.h.
+// Meshes (MeshCollider::find_contacts) take the same walk with their own contact rule
+// (kernel/mesh/mesh_contact.h); their scalar reference is MeshCollider::find_contacts_scalar.
 
 #include "kernel/dispatch/simd_arch.h"  // first: the path's namespace
 
 #include <algorithm>
 
 #include "kernel/bvh/bvh_packet_walk.h"
+#include "kernel/mesh/mesh_collider.h"
+#include "kernel/mesh/mesh_contact.h"
 #include "kernel/simd/compress_lanes.h"
 #include "kernel/simd/gather.h"
 #include "kernel/simd/kernels.h"
@@ -61,9 +65,10 @@ struct PacketSpheres {
 /// a batch at a time (kernel/simd/sphere_triangle_lanes.h; its plane test was done by the walk,
 /// which kept the heights), then, for the lanes within reach, its second half and the contact
 /// into the lane's reduction, in candidate order.
-void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p,
-                     const TerrainTriangles& t, const SphereSoA& s, float restitution, float friction,
-                     ContactReduction* lanes) {
+template <class Rule>
+void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const PacketSpheres& p, const Rule& rule,
+                     const SphereSoA& s, ContactReduction* lanes) {
+  const TerrainTriangles& t = rule.triangles;
   alignas(64) float px[W], py[W], pz[W], region[W], distance[W], height[W];
   for (std::uint32_t o = 0; o < c.count; o += W) {
     std::uint32_t valid = (1u << std::min(W, c.count - o)) - 1u;
@@ -96,21 +101,56 @@ void test_candidates(TerrainCandidates& c, const SpherePacket& packet, const Pac
       const float corner0[3] = {t.v0x[tri], t.v0y[tri], t.v0z[tri]}, corner1[3] = {t.v1x[tri], t.v1y[tri], t.v1z[tri]},
                   corner2[3] = {t.v2x[tri], t.v2y[tri], t.v2z[tri]};
       SphereTriangleContact st;
-      if (contact_from_closest_point(centre, s.radius[i], at, to, distance[l], height[l], normal, t.d[tri],
-                                     t.internal_edges[tri], corner0, corner1, corner2, st))
-        add_terrain_contact(s, i, st, tri, restitution, friction, lanes[sphere_lane]);
+      if (rule.finish(centre, s.radius[i], at, to, distance[l], height[l], normal, t.d[tri], t.internal_edges[tri],
+                      corner0, corner1, corner2, st))
+        add_terrain_contact(s, i, st, rule.feature(tri), rule.restitution, rule.friction, lanes[sphere_lane]);
     }
   }
   c.count = 0;
 }
 
-}  // namespace
+/// The terrain's rule: a heightfield, solid below (kernel/geometry/sphere_triangle.h).
+struct TerrainRule {
+  const TerrainTriangles& triangles;
+  float restitution, friction;
+  /// Lanes whose centre's height h over the triangle's plane leaves the triangle within reach.
+  [[nodiscard]] std::uint32_t within_reach(const batch& h, const batch& radius, const batch& max_gap) const {
+    return lane_bits(!(h - radius > max_gap));
+  }
+  [[nodiscard]] bool finish(const float centre[3], float radius, const TrianglePoint& at, const float to[3],
+                            float distance, float height, const float normal[3], float d, std::uint8_t internal,
+                            const float a[3], const float b[3], const float c[3], SphereTriangleContact& st) const {
+    return contact_from_closest_point(centre, radius, at, to, distance, height, normal, d, internal, a, b, c, st);
+  }
+  [[nodiscard]] std::uint32_t feature(std::uint32_t k) const { return k; }
+};
 
-void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t first, std::size_t last, float dt,
-                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
-                      bool sweep_fast) {
-  const TerrainTriangles& t = terrain.triangles();
-  const std::span<const Aabb> bounds(terrain.triangle_bounds().data(), terrain.triangle_bounds().size());
+/// A mesh's rule (sphere_mesh_triangle_contact, kernel/mesh/mesh_contact.h): a shell meets the
+/// face the centre is in front of; a solid pushes a centre out from up to a radius behind.
+struct MeshRule {
+  const TerrainTriangles& triangles;
+  float restitution, friction;
+  bool two_sided;
+  std::uint32_t first_feature;
+  [[nodiscard]] std::uint32_t within_reach(const batch& h, const batch& radius, const batch& max_gap) const {
+    const batch height = two_sided ? xsimd::abs(h) : h;
+    return lane_bits(!(height - radius > max_gap)) & lane_bits(!(height < -radius));
+  }
+  [[nodiscard]] bool finish(const float centre[3], float radius, const TrianglePoint& at, const float to[3],
+                            float distance, float height, const float normal[3], float d, std::uint8_t internal,
+                            const float a[3], const float b[3], const float c[3], SphereTriangleContact& st) const {
+    return mesh_contact_from_closest_point(centre, radius, at, to, distance, height, normal, d, internal, two_sided, a,
+                                           b, c, st);
+  }
+  [[nodiscard]] std::uint32_t feature(std::uint32_t k) const { return kMeshFeature | (first_feature + k); }
+};
+
+/// Spheres [first, last) through the BVH a packet at a time, each candidate by `rule`.
+template <class Rule>
+void packet_contacts(const FlatBvh& bvh, std::span<const Aabb> bounds, const Rule& rule, const SphereSoA& s,
+                     std::size_t first, std::size_t last, float dt, std::vector<Contact>& out, float fast_fraction,
+                     bool sweep_fast) {
+  const TerrainTriangles& t = rule.triangles;
   SpherePacket packet;
   PacketSpheres spheres;
   TerrainCandidates candidates;
@@ -135,16 +175,16 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
     const batch radius = batch::load_aligned(spheres.radius), max_gap = batch::load_aligned(spheres.margin);
     // The walk stops when the buffer could overflow at the next leaf; the buffer is tested and
     // emptied here, outside the walk's loop (PacketWalkExact).
-    PacketWalkExact walk(terrain.bvh(), bounds, packet);
+    PacketWalkExact walk(bvh, bounds, packet);
     while (!walk.done()) {
       walk.run_masks(
           [&](std::uint32_t lanes, std::uint32_t k) {
             const batch h = (batch(t.nx[k]) * cx + batch(t.ny[k]) * cy + batch(t.nz[k]) * cz) - batch(t.d[k]);
-            lanes &= lane_bits(!(h - radius > max_gap));
+            lanes &= rule.within_reach(h, radius, max_gap);
             candidates.count += append_candidates(candidates, candidates.count, lanes, k, h);
           },
           [&] { return TerrainCandidates::kCapacity - candidates.count; });
-      if (candidates.count > 0) test_candidates(candidates, packet, spheres, t, s, restitution, friction, lanes);
+      if (candidates.count > 0) test_candidates(candidates, packet, spheres, rule, s, lanes);
     }
     // In sphere order, as the scalar walk gives them.
     std::size_t count = 0;
@@ -152,6 +192,23 @@ void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t fi
       for (int m = 0; m < lanes[lane].count; ++m) found[count++] = lanes[lane].found[m];
     if (count > 0) append_contacts(out, found, count);
   }
+}
+
+}  // namespace
+
+void terrain_contacts(const Terrain& terrain, const SphereSoA& s, std::size_t first, std::size_t last, float dt,
+                      float restitution, float friction, std::vector<Contact>& out, float fast_fraction,
+                      bool sweep_fast) {
+  const std::span<const Aabb> bounds(terrain.triangle_bounds().data(), terrain.triangle_bounds().size());
+  packet_contacts(terrain.bvh(), bounds, TerrainRule{terrain.triangles(), restitution, friction}, s, first, last, dt,
+                  out, fast_fraction, sweep_fast);
+}
+
+void mesh_contacts(const MeshCollider& mesh, const SphereSoA& s, std::size_t first, std::size_t last, float dt,
+                   std::vector<Contact>& out, float fast_fraction, bool sweep_fast) {
+  packet_contacts(mesh.bvh, std::span<const Aabb>(mesh.bounds),
+                  MeshRule{mesh.triangles, mesh.restitution, mesh.friction, mesh.two_sided, mesh.first_feature}, s,
+                  first, last, dt, out, fast_fraction, sweep_fast);
 }
 
 namespace {
