@@ -19,6 +19,7 @@ const char* kind_name(QueryHitKind kind) {
     case QueryHitKind::Sphere: return "sphere";
     case QueryHitKind::Terrain: return "terrain";
     case QueryHitKind::Plane: return "plane";
+    case QueryHitKind::Mesh: return "mesh";
   }
   return "?";
 }
@@ -58,11 +59,12 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
   using py::arg;
   py::class_<QueryHit>(m, "QueryHit", "One hit of a ray or a swept sphere (read-only).")
       .def_property_readonly(
-          "kind", [](const QueryHit& h) { return kind_name(h.kind); }, "'sphere', 'terrain' or 'plane'")
+          "kind", [](const QueryHit& h) { return kind_name(h.kind); }, "'sphere', 'terrain', 'plane' or 'mesh'")
       .def_property_readonly(
           "sphere", [](const QueryHit& h) -> py::object { return h.kind == QueryHitKind::Sphere ? py::cast(h.sphere) : py::none(); },
           "the handle of the sphere hit, or None")
-      .def_readonly("index", &QueryHit::index, "terrain triangle or plane index (0 for a sphere)")
+      .def_readonly("index", &QueryHit::index, "terrain triangle, plane or mesh index (0 for a sphere)")
+      .def_readonly("triangle", &QueryHit::triangle, "a mesh hit's triangle among all the world's mesh triangles, else 0")
       .def_property_readonly(
           "point", [](const QueryHit& h) { return py::make_tuple(h.point.x(), h.point.y(), h.point.z()); },
           "where the surface was met, m")

@@ -356,3 +356,37 @@ TEST_CASE("Spheres in a mesh funnel step to the same state on any thread count",
   CHECK(hashes[0] == hashes[1]);
 }
 
+
+TEST_CASE("Rays and swept spheres meet meshes from either side of a shell", "[mesh][queries]") {
+  World world(one_thread());
+  world.add_mesh(floor_mesh(4, 4), {.position = {0, 1, 0}});  // mesh 0: a shell at y = 1
+  world.add_mesh(floor_mesh(4, 4), {.position = {0, 3, 0}});  // mesh 1: a shell at y = 3
+  const auto down = world.raycast({.origin = {0.3f, 5, 0.2f}, .direction = {0, -2, 0}});
+  REQUIRE(down);
+  CHECK(down->kind == hail::QueryHitKind::Mesh);
+  CHECK(down->index == 1);
+  CHECK(down->distance == Approx(2.0f));
+  CHECK(down->normal.y() == Approx(1.0f));
+  const auto up = world.raycast({.origin = {0.3f, 0, 0.2f}, .direction = {0, 1, 0}});
+  REQUIRE(up);
+  CHECK(up->index == 0);
+  CHECK(up->normal.y() == Approx(-1.0f));  // the face the ray came from
+  const std::vector<hail::QueryHit> all = world.raycast_all({.origin = {0.3f, 5, 0.2f}, .direction = {0, -1, 0}});
+  REQUIRE(all.size() == 2);
+  CHECK(all[0].index == 1);
+  CHECK(all[1].index == 0);
+  CHECK(all[1].distance == Approx(4.0f));
+  hail::QueryFilter no_meshes;
+  no_meshes.meshes = false;
+  CHECK_FALSE(world.raycast({.origin = {0.3f, 5, 0.2f}, .direction = {0, -1, 0}}, no_meshes));
+  const auto cast = world.sphere_cast({.origin = {0.3f, 2, 0.2f}, .direction = {0, -1, 0}}, 0.5f);
+  REQUIRE(cast);
+  CHECK(cast->index == 0);
+  CHECK(cast->distance == Approx(0.5f));
+  CHECK(cast->point.y() == Approx(1.0f));
+  const auto cast_up = world.sphere_cast({.origin = {0.3f, 2, 0.2f}, .direction = {0, 1, 0}}, 0.5f);
+  REQUIRE(cast_up);
+  CHECK(cast_up->index == 1);
+  CHECK(cast_up->distance == Approx(0.5f));
+  CHECK(cast_up->normal.y() == Approx(-1.0f));
+}

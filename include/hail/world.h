@@ -223,10 +223,10 @@ class World {
   /// thread (O(n log n) in the triangles, about 150 bytes a triangle: mesh_memory_bytes). Spheres
   /// meet a mesh as they meet the terrain: speculative contacts with the terrain's reduction and
   /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the ground
-  /// filter (docs/meshes.md says what a closed mesh and a shell each do). Not yet: ray and shape
-  /// queries, the terrain guard and lift-out, debug drawing, shift_origin (it refuses a world
-  /// with meshes), and snapshots record no mesh (attach the same meshes, in the same order,
-  /// before restoring). Throws InvalidArgument (world unchanged) for a bad transform or
+  /// filter, and the ray and sphere-cast queries (QueryHitKind::Mesh; docs/meshes.md says what
+  /// a closed mesh and a shell each do). Not yet: the terrain guard and lift-out, debug drawing,
+  /// shift_origin (it refuses a world with meshes), and snapshots record no mesh (attach the
+  /// same meshes, in the same order, before restoring). Throws InvalidArgument (world unchanged) for a bad transform or
   /// material, a mesh with no triangle of non-zero area where it is placed, or more than 2^30
   /// mesh triangles in all. Wakes every sleeper.
   std::size_t add_mesh(const TriangleMesh& mesh, const MeshTransform& transform = {}, float restitution = 0.5f,

@@ -6,6 +6,7 @@
 // same on any thread count.
 
 #include <algorithm>
+#include <utility>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -15,6 +16,7 @@
 #include "kernel/bvh/sphere_ray_walk.h"
 #include "kernel/dispatch/kernel_table.h"
 #include "kernel/geometry/swept_sphere.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/terrain/terrain_parts.h"
 #include "kernel/world/ray_batch_leaf_test.h"
 #include "kernel/world/world_checks.h"
@@ -91,6 +93,22 @@ QueryHit terrain_hit(const UnitRay& r, const TerrainTriangles& tri, std::uint32_
   return {QueryHitKind::Terrain, {}, k, along(r, dist), n, dist};
 }
 
+/// A hit of the ray on mesh m's triangle k (BVH order), the normal turned to face the ray's origin side.
+QueryHit mesh_hit(const UnitRay& r, const MeshCollider& mesh, std::uint32_t m, std::uint32_t k, float dist) {
+  const TerrainTriangles& tri = mesh.triangles;
+  Vec3 n(tri.nx[k], tri.ny[k], tri.nz[k]);
+  if (n.x() * r.d[0] + n.y() * r.d[1] + n.z() * r.d[2] > 0.0f) n = -n;
+  return {QueryHitKind::Mesh, {}, m, along(r, dist), n, dist, mesh.first_feature + k};
+}
+
+/// Mesh m's triangle k as float corners, for the ray and sweep tests.
+struct Corners {
+  float a[3], b[3], c[3];
+};
+Corners corners(const TerrainTriangles& tri, std::uint32_t k) {
+  return {{tri.v0x[k], tri.v0y[k], tri.v0z[k]}, {tri.v1x[k], tri.v1y[k], tri.v1z[k]}, {tri.v2x[k], tri.v2y[k], tri.v2z[k]}};
+}
+
 /// Overlap results by handle index (unique among live spheres).
 void sort_by_handle(std::vector<SphereId>& ids) {
   std::sort(ids.begin(), ids.end(), [](SphereId a, SphereId b) { return a.index < b.index; });
@@ -98,6 +116,18 @@ void sort_by_handle(std::vector<SphereId>& ids) {
 
 void keep_if_before(std::optional<QueryHit>& best, const QueryHit& hit) {
   if (!best || hit_before(hit, *best)) best = hit;
+}
+
+/// The closest hit of ray r on any mesh (both faces count, as on terrain).
+void closest_mesh(const MeshSet* meshes, const UnitRay& r, std::optional<QueryHit>& best) {
+  for (std::uint32_t m = 0; meshes && m < meshes->size(); ++m) {
+    const MeshCollider& mesh = (*meshes)[m];
+    const RayHit hit = query_ray(mesh.bvh, r.o, r.d, r.max, [&](std::uint32_t k) {
+      const Corners t = corners(mesh.triangles, k);
+      return ray_triangle(r.o, r.d, t.a, t.b, t.c);
+    });
+    if (hit.primitive != kNoPrimitive) keep_if_before(best, mesh_hit(r, mesh, m, hit.primitive, hit.t));
+  }
 }
 
 /// Closest sphere hit of a ball of radius `grow` swept along r (grow 0: a ray): the scalar
@@ -120,8 +150,9 @@ std::optional<QueryHit> closest_plane(std::span<const Plane> planes, const UnitR
 
 /// The closest hit of ray r, given its closest sphere (closest_sphere_scalar or the SIMD kernel):
 /// the terrain and the planes added.
-std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terrain, std::span<const Plane> planes,
-                                    const UnitRay& r, const QueryFilter& filter, const SphereRayHit& sphere) {
+std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terrain, const MeshSet* meshes,
+                                    std::span<const Plane> planes, const UnitRay& r, const QueryFilter& filter,
+                                    const SphereRayHit& sphere) {
   std::optional<QueryHit> best;
   if (sphere.k != kNoPrimitive) best = sphere_hit(s, sphere.k, r, sphere.t, 0.0f);
   if (terrain && filter.terrain) {
@@ -129,6 +160,7 @@ std::optional<QueryHit> closest_hit(const SphereQueryBvh& s, const Terrain* terr
     const auto hit = terrain->raycast(Vec3(r.o[0], r.o[1], r.o[2]), Vec3(r.d[0], r.d[1], r.d[2]), r.max);
     if (hit) keep_if_before(best, terrain_hit(r, terrain->triangles(), hit->triangle, hit->t));
   }
+  if (filter.meshes) closest_mesh(meshes, r, best);
   if (filter.planes)
     if (auto p = closest_plane(planes, r, 0.0f)) keep_if_before(best, *p);
   return best;
@@ -146,7 +178,8 @@ std::uint64_t World::query_cache_builds() const { return services_->sphere_queri
 std::optional<QueryHit> World::raycast(const Ray& ray, const QueryFilter& filter) const {
   const UnitRay r = check_ray(ray, "World::raycast");
   const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
-  return closest_hit(s, terrain_.get(), planes_, r, filter, closest_sphere_scalar(s, r, 0.0f, filter));
+  return closest_hit(s, terrain_.get(), has_meshes() ? meshes_.get() : nullptr, planes_, r, filter,
+                     closest_sphere_scalar(s, r, 0.0f, filter));
 }
 
 void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<QueryHit>> hits,
@@ -164,6 +197,7 @@ void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<Que
   }
   const SphereQueryBvh& s = services_->sphere_queries.get(spheres_);
   const Terrain* terrain = terrain_.get();
+  const MeshSet* meshes = has_meshes() ? meshes_.get() : nullptr;
   const bool simd = ray_batch_leaf_test() == RayBatchLeafTest::Simd;
   const SimdKernels& kernels = simd_kernels();
   // Each ray is answered alone, so any split of the rays gives the same bits; blocks of 64 rays
@@ -181,7 +215,7 @@ void World::raycast_batch(std::span<const Ray> rays, std::span<std::optional<Que
         for (std::size_t k = 0; k < count; ++k) sphere[k] = closest_sphere_scalar(s, unit[k], 0.0f, filter);
       }
       for (std::size_t k = 0; k < count; ++k)
-        hits[first + k] = closest_hit(s, terrain, planes_, unit[k], filter, sphere[k]);
+        hits[first + k] = closest_hit(s, terrain, meshes, planes_, unit[k], filter, sphere[k]);
     });
   });
 }
@@ -211,6 +245,18 @@ std::vector<QueryHit> World::raycast_all(const Ray& ray, const QueryFilter& filt
             const float c[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]};
             const float t = ray_triangle(r.o, r.d, a, b, c);
             if (t >= 0.0f && t < r.max) hits.push_back(terrain_hit(r, tri, k, t));
+          }
+        });
+  }
+  for (std::uint32_t m = 0; filter.meshes && has_meshes() && m < meshes_->size(); ++m) {
+    const MeshCollider& mesh = (*meshes_)[m];
+    walk_stackless(
+        mesh.bvh.nodes, [&](const FlatNode& n) { return ray_overlaps(n, r.o, inv, r.max); },
+        [&](std::uint32_t first, std::uint32_t count) {
+          for (std::uint32_t k = first; k < first + count; ++k) {
+            const Corners t = corners(mesh.triangles, k);
+            const float d = ray_triangle(r.o, r.d, t.a, t.b, t.c);
+            if (d >= 0.0f && d < r.max) hits.push_back(mesh_hit(r, mesh, m, k, d));
           }
         });
   }
@@ -247,6 +293,31 @@ std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const Q
       (void)sweep(hit.primitive, h);
       const Vec3 into(static_cast<float>(h.n[0]), static_cast<float>(h.n[1]), static_cast<float>(h.n[2]));
       keep_if_before(best, {QueryHitKind::Terrain, {}, hit.primitive, along(r, hit.t) + radius * into, -into, hit.t});
+    }
+  }
+  for (std::uint32_t m = 0; filter.meshes && has_meshes() && m < meshes_->size(); ++m) {
+    // As the terrain; a shell's triangle is met on the face the cast starts in front of (its
+    // corners reversed and its normal turned for an origin behind it).
+    const MeshCollider& mesh = (*meshes_)[m];
+    const TerrainTriangles& tri = mesh.triangles;
+    const double centre[3] = {r.o[0], r.o[1], r.o[2]}, v[3] = {r.d[0], r.d[1], r.d[2]};
+    auto sweep = [&](std::uint32_t k, SweptHit& hit) {
+      double a[3] = {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, b[3] = {tri.v1x[k], tri.v1y[k], tri.v1z[k]};
+      double c[3] = {tri.v2x[k], tri.v2y[k], tri.v2z[k]}, n[3] = {tri.nx[k], tri.ny[k], tri.nz[k]};
+      if (mesh.two_sided && n[0] * centre[0] + n[1] * centre[1] + n[2] * centre[2] < double{tri.d[k]})
+        for (int d = 0; d < 3; ++d) std::swap(b[d], c[d]), n[d] = -n[d];
+      return swept_sphere_triangle(centre, v, radius, a, b, c, n, 0, double{r.max}, hit);
+    };
+    const RayHit hit = query_swept_sphere(mesh.bvh, r.o, r.d, r.max, radius, [&](std::uint32_t k) {
+      SweptHit h;
+      return sweep(k, h) ? static_cast<float>(h.t) : kRayMiss;
+    });
+    if (hit.primitive != kNoPrimitive && hit.t < r.max) {
+      SweptHit h;
+      (void)sweep(hit.primitive, h);
+      const Vec3 into(static_cast<float>(h.n[0]), static_cast<float>(h.n[1]), static_cast<float>(h.n[2]));
+      keep_if_before(best, {QueryHitKind::Mesh, {}, m, along(r, hit.t) + radius * into, -into, hit.t,
+                            mesh.first_feature + hit.primitive});
     }
   }
   if (filter.planes)

@@ -57,3 +57,11 @@ def test_spheres_fall_asleep_on_a_mesh():
     world.add_spheres(np.array([(0.1, 2.0, 0.2), (1.5, 3.0, 1.0)]), radii=0.25, masses=1.0)
     world.step(1 / 60, 180)
     assert world.sleeping.all()
+
+
+def test_a_ray_reports_the_mesh_it_hits():
+    world = hail.World(threads=1)
+    world.add_mesh(floor(), position=(0, 2, 0))
+    hit = world.raycast((0.3, 5.0, 0.2), (0, -1, 0))
+    assert hit.kind == "mesh" and hit.index == 0
+    assert hit.distance == pytest.approx(3.0)
