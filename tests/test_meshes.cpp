@@ -390,3 +390,23 @@ TEST_CASE("Rays and swept spheres meet meshes from either side of a shell", "[me
   CHECK(cast_up->distance == Approx(0.5f));
   CHECK(cast_up->normal.y() == Approx(-1.0f));
 }
+
+TEST_CASE("mesh_triangles gives every mesh's triangles where they are placed", "[mesh]") {
+  World world(one_thread());
+  world.add_mesh(floor_mesh(1, 2), {.position = {0, 2, 0}});  // 8 triangles
+  world.add_mesh(box_mesh({0, 0, 0}, {1, 1, 1}));            // 12
+  std::vector<hail::TerrainTriangle> triangles;
+  world.mesh_triangles(triangles);
+  REQUIRE(triangles.size() == 20);
+  for (std::size_t k = 0; k < 8; ++k) {
+    CHECK(triangles[k].a.y() == 2.0f);
+    CHECK(std::abs(triangles[k].normal.y()) == 1.0f);
+  }
+  // Query hits name the same entries.
+  const auto hit = world.raycast({.origin = {0.5f, 1.5f, 0.5f}, .direction = {0, -1, 0}});
+  REQUIRE(hit);
+  CHECK(hit->index == 1);
+  const hail::TerrainTriangle& t = triangles[hit->triangle];
+  CHECK(std::max({t.a.y(), t.b.y(), t.c.y()}) == 1.0f);
+  CHECK(t.normal.y() == 1.0f);
+}

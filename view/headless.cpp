@@ -63,7 +63,7 @@ struct Picture {
   Picture(const World& world, const Frame& frame, const ViewOptions& o)
       : geometry(StaticGeometry::of(world)),
         bounds(scene_bounds(geometry, frame)),
-        renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent()),
+        renderer(geometry.heightmap(), geometry.planes, geometry.meshes, bounds.centre(), bounds.extent()),
         target(o.width, o.height),
         width(o.width),
         height(o.height),

@@ -149,7 +149,7 @@ int run_window(const ViewOptions& o) {
   ImGui_ImplOpenGL3_Init("#version 330");
   {
     const Bounds bounds = scene_bounds(geometry, frame);
-    Renderer renderer(geometry.heightmap(), geometry.planes, bounds.centre(), bounds.extent());
+    Renderer renderer(geometry.heightmap(), geometry.planes, geometry.meshes, bounds.centre(), bounds.extent());
     OrbitCamera camera;
     const Bounds focus = focus_bounds(bounds, frame);
     camera.frame_box(focus.min, focus.max);

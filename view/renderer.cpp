@@ -67,15 +67,19 @@ constexpr const char* kLitFragment = R"(#version 330 core
 in vec3 normal;
 in vec3 colour;
 out vec4 pixel;
+uniform float light_back_faces;  // 1: a back face is lit by its own side's normal (meshes)
 void main() {
   vec3 light = normalize(vec3(0.4, 1.0, 0.3));
-  float lambert = max(dot(normalize(normal), light), 0.0);
+  vec3 n = normalize(normal);
+  if (light_back_faces > 0.5 && !gl_FrontFacing) n = -n;
+  float lambert = max(dot(n, light), 0.0);
   pixel = vec4(colour * (0.35 + 0.65 * lambert), 1.0);
 }
 )";
 
 const Eigen::Vector3f kTerrainGreen(0.36f, 0.58f, 0.26f);
 const Eigen::Vector3f kPlaneGrey(0.55f, 0.55f, 0.57f);
+const Eigen::Vector3f kMeshSand(0.72f, 0.62f, 0.45f);
 /// Asleep, in ColourMode::Sleep: grey with a little blue, darker than any speed's colour.
 constexpr std::array<float, 3> kAsleepGrey = {0.42f, 0.45f, 0.55f};
 constexpr std::size_t kInstanceFloats = 9;  // centre x y z, radius, speed, own colour r g b a
@@ -120,8 +124,8 @@ GLuint static_buffer(GLenum target, const std::vector<T>& data) {
 
 }  // namespace
 
-Renderer::Renderer(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre,
-                   float extent) {
+Renderer::Renderer(const Heightmap* terrain, std::span<const Plane> planes, std::span<const TerrainTriangle> meshes,
+                   const Eigen::Vector3f& centre, float extent) {
   sphere_program_ = link_program(kSphereVertex, kLitFragment);
   mesh_program_ = link_program(kMeshVertex, kLitFragment);
   line_program_ = link_program(kLineVertex, kLineFragment);
@@ -135,7 +139,7 @@ Renderer::Renderer(const Heightmap* terrain, std::span<const Plane> planes, cons
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
   glBindVertexArray(0);
-  build_static_mesh(terrain, planes, centre, extent);
+  build_static_mesh(terrain, planes, meshes, centre, extent);
 }
 
 Renderer::~Renderer() {
@@ -175,8 +179,8 @@ void Renderer::build_sphere_mesh(int subdivisions) {
   glBindVertexArray(0);
 }
 
-void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre,
-                                 float extent) {
+void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes,
+                                 std::span<const TerrainTriangle> meshes, const Eigen::Vector3f& centre, float extent) {
   std::vector<float> v;  // position, normal
   std::vector<unsigned> idx;
   if (terrain) {
@@ -222,6 +226,12 @@ void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane
     idx.insert(idx.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   }
   plane_index_count_ = static_cast<GLsizei>(idx.size()) - terrain_index_count_;
+  for (const TerrainTriangle& t : meshes) {  // flat shaded: each triangle its own corners
+    const auto base = static_cast<unsigned>(v.size() / 6);
+    for (const Vec3& p : {t.a, t.b, t.c}) v.insert(v.end(), {p.x(), p.y(), p.z(), t.normal.x(), t.normal.y(), t.normal.z()});
+    idx.insert(idx.end(), {base, base + 1, base + 2});
+  }
+  mesh_index_count_ = static_cast<GLsizei>(idx.size()) - terrain_index_count_ - plane_index_count_;
   glGenVertexArrays(1, &mesh_vao_);
   glBindVertexArray(mesh_vao_);
   mesh_vertices_ = static_buffer(GL_ARRAY_BUFFER, v);
@@ -271,7 +281,7 @@ void Renderer::draw(const Frame& frame, bool changed, const OrbitCamera& camera,
   glUseProgram(mesh_program_);
   set_uniform(mesh_program_, "view_projection", view_projection);
   glBindVertexArray(mesh_vao_);
-  glDisable(GL_CULL_FACE);  // the terrain and planes are seen from both sides
+  glDisable(GL_CULL_FACE);  // the terrain, planes and meshes are seen from both sides
   if (terrain_index_count_ > 0) {
     set_uniform(mesh_program_, "base_colour", kTerrainGreen);
     glDrawElements(GL_TRIANGLES, terrain_index_count_, GL_UNSIGNED_INT, nullptr);
@@ -280,6 +290,14 @@ void Renderer::draw(const Frame& frame, bool changed, const OrbitCamera& camera,
     set_uniform(mesh_program_, "base_colour", kPlaneGrey);
     glDrawElements(GL_TRIANGLES, plane_index_count_, GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(std::size_t(terrain_index_count_) * sizeof(unsigned)));
+  }
+  if (mesh_index_count_ > 0) {
+    set_uniform(mesh_program_, "base_colour", kMeshSand);
+    set_uniform(mesh_program_, "light_back_faces", 1.0f);
+    glDrawElements(
+        GL_TRIANGLES, mesh_index_count_, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(std::size_t(terrain_index_count_ + plane_index_count_) * sizeof(unsigned)));
+    set_uniform(mesh_program_, "light_back_faces", 0.0f);
   }
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);

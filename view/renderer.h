@@ -14,6 +14,7 @@
 
 #include "hail/heightmap.h"
 #include "hail/plane.h"
+#include "hail/terrain.h"
 #include "view/camera.h"
 #include "view/debug_lines.h"
 #include "view/draw_choices.h"
@@ -27,7 +28,8 @@ class Renderer {
  public:
   /// Needs a current OpenGL 3.3 core context; builds the terrain mesh (every vertex up to
   /// about a million, else every k-th) and the plane quads around `centre`.
-  Renderer(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre, float extent);
+  Renderer(const Heightmap* terrain, std::span<const Plane> planes, std::span<const TerrainTriangle> meshes,
+           const Eigen::Vector3f& centre, float extent);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -43,7 +45,8 @@ class Renderer {
 
  private:
   void build_sphere_mesh(int subdivisions);
-  void build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes, const Eigen::Vector3f& centre,
+  void build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes,
+                         std::span<const TerrainTriangle> meshes, const Eigen::Vector3f& centre,
                          float extent);
   void draw_lines(const LineList& lines);  // line program and uniforms set
 
@@ -55,7 +58,7 @@ class Renderer {
   ColourMode uploaded_mode_ = ColourMode::Speed;
   GLuint line_program_ = 0, line_vao_ = 0, line_vertices_ = 0;
   GLuint mesh_vao_ = 0, mesh_vertices_ = 0, mesh_indices_ = 0;
-  GLsizei terrain_index_count_ = 0, plane_index_count_ = 0;
+  GLsizei terrain_index_count_ = 0, plane_index_count_ = 0, mesh_index_count_ = 0;
 };
 
 /// An offscreen colour + depth framebuffer of a fixed size (headless pictures).

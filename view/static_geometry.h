@@ -1,6 +1,6 @@
 #pragma once
 // What the renderer draws besides spheres: the terrain's heightmap, its BVH's node boxes (for
-// --draw-bvh) and the planes, copied out of a World once (they never change during a run), so that the render thread never reads the
+// --draw-bvh), the planes and the meshes' triangles, copied out of a World once (they never change during a run), so that the render thread never reads the
 // World the simulation thread steps.
 
 #include <optional>
@@ -17,6 +17,7 @@ struct StaticGeometry {
   std::optional<Heightmap> terrain;
   std::vector<BvhNodeBox> terrain_bvh;  ///< terrain_bvh_boxes: every node, depth-first
   std::vector<Plane> planes;
+  std::vector<TerrainTriangle> meshes;  ///< World::mesh_triangles
 
   [[nodiscard]] static StaticGeometry of(const World& world) {
     StaticGeometry g;
@@ -25,6 +26,7 @@ struct StaticGeometry {
       terrain_bvh_boxes(*world.terrain(), g.terrain_bvh);
     }
     g.planes.assign(world.planes().begin(), world.planes().end());
+    world.mesh_triangles(g.meshes);
     return g;
   }
   [[nodiscard]] const Heightmap* heightmap() const { return terrain ? &*terrain : nullptr; }

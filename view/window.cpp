@@ -72,6 +72,8 @@ Bounds scene_bounds(const StaticGeometry& geometry, const Frame& frame) {
     b.min = b.min.cwiseMin(Eigen::Vector3f(h.x_of(0), h.min_height(), h.z_of(0)));
     b.max = b.max.cwiseMax(Eigen::Vector3f(h.max_x(), h.max_height(), h.max_z()));
   }
+  for (const TerrainTriangle& t : geometry.meshes)
+    for (const Vec3& p : {t.a, t.b, t.c}) b.min = b.min.cwiseMin(p), b.max = b.max.cwiseMax(p);
   if (!finite(b)) b = {Eigen::Vector3f::Constant(-10), Eigen::Vector3f::Constant(10)};
   return b;
 }

@@ -223,12 +223,12 @@ class World {
   /// thread (O(n log n) in the triangles, about 150 bytes a triangle: mesh_memory_bytes). Spheres
   /// meet a mesh as they meet the terrain: speculative contacts with the terrain's reduction and
   /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the ground
-  /// filter, and the ray and sphere-cast queries (QueryHitKind::Mesh; docs/meshes.md says what
-  /// a closed mesh and a shell each do). Not yet: the terrain guard and lift-out, debug drawing,
-  /// shift_origin (it refuses a world with meshes), and snapshots record no mesh (attach the
-  /// same meshes, in the same order, before restoring). Throws InvalidArgument (world unchanged) for a bad transform or
-  /// material, a mesh with no triangle of non-zero area where it is placed, or more than 2^30
-  /// mesh triangles in all. Wakes every sleeper.
+  /// filter, and the ray and sphere-cast queries (QueryHitKind::Mesh); mesh_triangles draws
+  /// them (docs/meshes.md says what a closed mesh and a shell each do). Not yet: the terrain
+  /// guard and lift-out, shift_origin (it refuses a world with meshes), and snapshots record no
+  /// mesh (attach the same meshes, in the same order, before restoring). Throws InvalidArgument
+  /// (world unchanged) for a bad transform or material, a mesh with no triangle of non-zero area
+  /// where it is placed, or more than 2^30 mesh triangles in all. Wakes every sleeper.
   std::size_t add_mesh(const TriangleMesh& mesh, const MeshTransform& transform = {}, float restitution = 0.5f,
                        float friction = 0.5f);
   /// Meshes added (add_mesh).
@@ -398,6 +398,10 @@ class World {
   /// plus the step's margin) wide, counted from the lowest centre on each axis
   /// (kernel/broadphase/sphere_grid.h). For drawing (hail-view --draw-grid): allocates.
   void pair_grid_cells(std::vector<DebugBox>& out) const;
+  /// Every mesh's triangles in world coordinates (corners and unit normal from the winding),
+  /// meshes in the order added, each in its BVH order: entry k is the triangle QueryHit::triangle
+  /// k names. Into `out` (replacing what it held). For drawing (hail-view): allocates.
+  void mesh_triangles(std::vector<TerrainTriangle>& out) const;
   // ---- Touch and hit events (include/hail/events.h; kernel/world/world_events.cpp) ----
 
   /// Turns touch and hit events on or off (both off by default; off, a step does nothing for
