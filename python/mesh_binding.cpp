@@ -66,8 +66,8 @@ void bind_mesh(py::module_& m, py::class_<PyWorld>& world) {
   world.def(
       "add_mesh",
       // Vec3 through pybind11's Eigen caster trips GCC's -Wmaybe-uninitialized here: plain arrays.
-      [](PyWorld& self, const TriangleMesh& mesh, const std::array<float, 3>& position, const std::array<float, 3>& axis,
-         float degrees, float scale, float restitution, float friction) {
+      [](PyWorld& self, const TriangleMesh& mesh, const std::array<float, 3>& position,
+         const std::array<float, 3>& axis, float degrees, float scale, float restitution, float friction) {
         World& w = self.get();
         MeshTransform transform;
         transform.position = Vec3(position[0], position[1], position[2]);
@@ -78,8 +78,8 @@ void bind_mesh(py::module_& m, py::class_<PyWorld>& world) {
         return w.add_mesh(mesh, transform, restitution, friction);
       },
       arg("mesh"), py::kw_only(), arg("position") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
-      arg("axis") = std::array<float, 3>{0.0f, 1.0f, 0.0f},
-      arg("degrees") = 0.0f, arg("scale") = 1.0f, arg("restitution") = 0.5f, arg("friction") = 0.5f,
+      arg("axis") = std::array<float, 3>{0.0f, 1.0f, 0.0f}, arg("degrees") = 0.0f, arg("scale") = 1.0f,
+      arg("restitution") = 0.5f, arg("friction") = 0.5f,
       "add_mesh(mesh, *, position=(0, 0, 0), axis=(0, 1, 0), degrees=0, scale=1, restitution=0.5,\n"
       "friction=0.5) -> int\n\n"
       "Adds a static hail.TriangleMesh, scaled, turned by degrees about axis, then moved to\n"

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,7 +69,8 @@ TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
   std::vector<Vec3> v;
   for (int k = 0; k < 8; ++k) v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
   // Each face as a quad wound counter-clockwise seen from outside.
-  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   std::vector<std::uint32_t> idx;
   for (const auto& q : quads) idx.insert(idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
   return TriangleMesh(std::move(v), std::move(idx));
@@ -79,8 +81,7 @@ TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
 TriangleMesh floor_mesh(float half, int cells) {
   std::vector<Vec3> v;
   for (int j = 0; j <= cells; ++j)
-    for (int i = 0; i <= cells; ++i)
-      v.emplace_back(-half + 2 * half * i / cells, 0.0f, -half + 2 * half * j / cells);
+    for (int i = 0; i <= cells; ++i) v.emplace_back(-half + 2 * half * i / cells, 0.0f, -half + 2 * half * j / cells);
   std::vector<std::uint32_t> idx;
   auto at = [&](int i, int j) { return static_cast<std::uint32_t>(j * (cells + 1) + i); };
   for (int j = 0; j < cells; ++j)
@@ -107,8 +108,8 @@ TEST_CASE("TriangleMesh checks its vertices and indices", "[mesh]") {
   CHECK_NOTHROW(TriangleMesh(tri, {0, 1, 2}));
   CHECK_THROWS_AS(TriangleMesh(tri, {}), hail::InvalidArgument);
   CHECK_THROWS_AS(TriangleMesh(tri, {0, 1}), hail::InvalidArgument);
-  CHECK_THROWS_WITH(TriangleMesh(tri, {0, 1, 3}), Catch::Matchers::Contains("index 2") &&
-                                                      Catch::Matchers::Contains("not below the vertex count 3"));
+  CHECK_THROWS_WITH(TriangleMesh(tri, {0, 1, 3}),
+                    Catch::Matchers::Contains("index 2") && Catch::Matchers::Contains("not below the vertex count 3"));
   CHECK_THROWS_AS(TriangleMesh({{0, 0, 0}, {1, NAN, 0}, {0, 0, 1}}, {0, 1, 2}), hail::InvalidArgument);
 }
 
@@ -159,7 +160,8 @@ TEST_CASE("OBJ files load faces of any size and report what is wrong by line", "
   CHECK_THAT(load_error([&] { return TriangleMesh::load(bad_number.path()); }),
              Catch::Matchers::Contains("num.obj:2") && Catch::Matchers::Contains("'zero' is not a number"));
   const TempFile no_faces("empty.obj", "v 0 0 0\n");
-  CHECK_THAT(load_error([&] { return TriangleMesh::load(no_faces.path()); }), Catch::Matchers::Contains("no triangles"));
+  CHECK_THAT(load_error([&] { return TriangleMesh::load(no_faces.path()); }),
+             Catch::Matchers::Contains("no triangles"));
   CHECK_THAT(load_error([&] { return TriangleMesh::load("/nonexistent/hail.obj"); }),
              Catch::Matchers::Contains("/nonexistent/hail.obj"));
   const TempFile wrong_type("mesh.ply", "ply\n");
@@ -180,7 +182,8 @@ TEST_CASE("STL files load, ASCII and binary, with shared corners welded", "[mesh
     const float normal[3] = {0, 0, 0};
     binary.append(reinterpret_cast<const char*>(normal), 12);
     for (int c : f) {
-      ascii += "      vertex " + std::to_string(v[c][0]) + " " + std::to_string(v[c][1]) + " " + std::to_string(v[c][2]) + "\n";
+      ascii += "      vertex " + std::to_string(v[c][0]) + " " + std::to_string(v[c][1]) + " " +
+               std::to_string(v[c][2]) + "\n";
       binary.append(reinterpret_cast<const char*>(v[c]), 12);
     }
     ascii += "    endloop\n  endfacet\n";
@@ -199,8 +202,9 @@ TEST_CASE("STL files load, ASCII and binary, with shared corners welded", "[mesh
   const TempFile unfinished("open.stl", ascii.substr(0, ascii.find("endsolid")));
   CHECK_THAT(load_error([&] { return TriangleMesh::load(unfinished.path()); }),
              Catch::Matchers::Contains("no 'endsolid'"));
-  const TempFile two_corners("two.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"
-                                        "endfacet\nendsolid x\n");
+  const TempFile two_corners("two.stl",
+                             "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"
+                             "endfacet\nendsolid x\n");
   CHECK_THAT(load_error([&] { return TriangleMesh::load(two_corners.path()); }),
              Catch::Matchers::Contains("two.stl:6") && Catch::Matchers::Contains("2 vertices"));
 }
@@ -250,8 +254,8 @@ TEST_CASE("A sphere rests in concave corners of two and three faces", "[mesh]") 
     settings.gravity = {-2.0f, -9.81f, three ? -2.0f : 0.0f};  // pressed into the corner
     World world(settings);
     const float r = 0.5f;
-    world.add_mesh(quad_mesh({2, 0, 2}, {2, 0, 0}, {0, 0, 2}));  // floor y = 0
-    world.add_mesh(quad_mesh({0, 2, 2}, {0, 2, 0}, {0, 0, 2}));  // wall x = 0
+    world.add_mesh(quad_mesh({2, 0, 2}, {2, 0, 0}, {0, 0, 2}));             // floor y = 0
+    world.add_mesh(quad_mesh({0, 2, 2}, {0, 2, 0}, {0, 0, 2}));             // wall x = 0
     if (three) world.add_mesh(quad_mesh({2, 2, 0}, {2, 0, 0}, {0, 2, 0}));  // wall z = 0
     const Vec3 start{r, r, three ? r : 2.0f};
     const SphereId id = world.add_sphere({.position = start, .radius = r, .mass = 1, .friction = 0.5f});
@@ -290,8 +294,8 @@ TEST_CASE("A bounce on a mesh floor peaks as on a plane", "[mesh]") {
   // speculative contact is bounced at its time (kernel/solver/bounce_timing.h), as on terrain.
   World world(one_thread());
   world.add_mesh(box_mesh({-16, -1, -16}, {16, 0, 16}), {}, 0.8f, 0.0f);
-  const SphereId id =
-      world.add_sphere({.position = {0.3f, 10.5f, 0.2f}, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
+  const SphereId id = world.add_sphere(
+      {.position = {0.3f, 10.5f, 0.2f}, .radius = 0.5f, .mass = 1, .restitution = 0.8f, .friction = 0});
   double highest = -1.0, apex = -1.0;
   for (int k = 0; k < 600 && apex < 0; ++k) {
     world.step(1.0f / 60);
@@ -345,9 +349,10 @@ TEST_CASE("Spheres in a mesh funnel step to the same state on any thread count",
     world.add_mesh(box_mesh({-30, -1, -30}, {30, 0, 30}));  // wide enough that none rolls off in 4 s
     std::vector<SphereId> ids;
     for (int k = 0; k < 400; ++k)
-      ids.push_back(world.add_sphere({.position = {-2.5f + 0.5f * (k % 10), 6.0f + 0.5f * (k / 100), -2.5f + 0.5f * ((k / 10) % 10)},
-                        .radius = 0.2f,
-                        .mass = 1}));
+      ids.push_back(world.add_sphere(
+          {.position = {-2.5f + 0.5f * (k % 10), 6.0f + 0.5f * (k / 100), -2.5f + 0.5f * ((k / 10) % 10)},
+           .radius = 0.2f,
+           .mass = 1}));
     for (int k = 0; k < 240; ++k) world.step(1.0f / 60);
     hashes[threads - 1] = world.state_hash();
     // None fell through the funnel's walls or the floor.
@@ -355,7 +360,6 @@ TEST_CASE("Spheres in a mesh funnel step to the same state on any thread count",
   }
   CHECK(hashes[0] == hashes[1]);
 }
-
 
 TEST_CASE("Rays and swept spheres meet meshes from either side of a shell", "[mesh][queries]") {
   World world(one_thread());
@@ -394,7 +398,7 @@ TEST_CASE("Rays and swept spheres meet meshes from either side of a shell", "[me
 TEST_CASE("mesh_triangles gives every mesh's triangles where they are placed", "[mesh]") {
   World world(one_thread());
   world.add_mesh(floor_mesh(1, 2), {.position = {0, 2, 0}});  // 8 triangles
-  world.add_mesh(box_mesh({0, 0, 0}, {1, 1, 1}));            // 12
+  world.add_mesh(box_mesh({0, 0, 0}, {1, 1, 1}));             // 12
   std::vector<hail::TerrainTriangle> triangles;
   world.mesh_triangles(triangles);
   REQUIRE(triangles.size() == 20);
@@ -409,4 +413,32 @@ TEST_CASE("mesh_triangles gives every mesh's triangles where they are placed", "
   const hail::TerrainTriangle& t = triangles[hit->triangle];
   CHECK(std::max({t.a.y(), t.b.y(), t.c.y()}) == 1.0f);
   CHECK(t.normal.y() == 1.0f);
+}
+
+TEST_CASE("A snapshot of a world with meshes restores bitwise into one with the same meshes only", "[mesh][snapshot]") {
+  auto build = [](float floor_y) {
+    auto world = std::make_unique<World>(one_thread());
+    world->add_mesh(floor_mesh(3, 6), {.position = {0, floor_y, 0}}, 0.3f, 0.6f);
+    world->add_mesh(box_mesh({-1, 0.5f, -1}, {1, 1.5f, 1}));
+    for (int k = 0; k < 40; ++k)
+      world->add_sphere({.position = {-1.5f + 0.4f * (k % 8), 2.5f + 0.5f * (k / 8), 0.1f * (k % 3)}, .radius = 0.18f});
+    return world;
+  };
+  const auto a = build(0.0f);
+  for (int k = 0; k < 60; ++k) a->step(1.0f / 60);
+  std::vector<std::byte> bytes;
+  a->save(bytes);
+  const auto b = build(0.0f);
+  b->restore(bytes);
+  for (int k = 0; k < 60; ++k) a->step(1.0f / 60), b->step(1.0f / 60);
+  CHECK(a->state_hash() == b->state_hash());
+
+  const auto moved = build(0.01f);  // one mesh placed elsewhere
+  CHECK_THROWS_WITH(moved->restore(bytes), Catch::Matchers::Contains("wrong mesh 0"));
+  World none(one_thread());
+  CHECK_THROWS_WITH(none.restore(bytes), Catch::Matchers::Contains("saved with 2 meshes and this World has 0"));
+  World plain(one_thread());
+  plain.add_sphere({.position = {0, 1, 0}});
+  plain.save(bytes);
+  CHECK_THROWS_WITH(b->restore(bytes), Catch::Matchers::Contains("saved without meshes and this World has 2"));
 }

@@ -169,9 +169,9 @@ float MeshCollider::penetration(float x, float y, float z, float r) const {
 std::size_t MeshCollider::memory_bytes() const {
   const TerrainTriangles& t = triangles;
   std::size_t bytes = 0;
-  for (const AlignedArray<float>* a : {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.e0x,
-                                       &t.e0y, &t.e0z, &t.e1x, &t.e1y, &t.e1z, &t.e2x, &t.e2y, &t.e2z, &t.nx, &t.ny,
-                                       &t.nz, &t.d})
+  for (const AlignedArray<float>* a :
+       {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.e0x, &t.e0y,
+        &t.e0z, &t.e1x, &t.e1y, &t.e1z, &t.e2x, &t.e2y, &t.e2z, &t.nx,  &t.ny,  &t.nz,  &t.d})
     bytes += a->capacity() * sizeof(float);
   bytes += t.internal_edges.capacity();
   bytes += bvh.nodes.capacity() * sizeof(FlatNode) + bvh.primitive_order.capacity() * sizeof(std::uint32_t);

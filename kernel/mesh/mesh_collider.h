@@ -20,8 +20,8 @@ namespace hail {
 struct MeshCollider {
   TerrainTriangles triangles;  ///< world coordinates, BVH order, degenerate triangles left out
   FlatBvh bvh;
-  std::vector<Aabb> bounds;    ///< per triangle, BVH order
-  bool two_sided = false;      ///< a shell (the mesh is not closed): both faces collide
+  std::vector<Aabb> bounds;  ///< per triangle, BVH order
+  bool two_sided = false;    ///< a shell (the mesh is not closed): both faces collide
   float restitution = 0.5f, friction = 0.5f;
   /// Contact::feature of triangle k (BVH order) is kMeshFeature | (first_feature + k): the
   /// world's meshes number their triangles one after another.

@@ -35,10 +35,9 @@ inline bool over_triangle(const float q[3], const float a[3], const float b[3], 
 /// to the face plane along `face_normal`. The packet walk (kernel/simd/terrain_contacts.cpp)
 /// finishes its candidates here, so both give the same bits.
 inline bool mesh_contact_from_closest_point(const float centre[3], float radius, const TrianglePoint& closest,
-                                            const float to[3], float distance, float height,
-                                            const float face_normal[3], float face_d, std::uint8_t internal_edges,
-                                            bool two_sided, const float a[3], const float b[3], const float c[3],
-                                            SphereTriangleContact& out) {
+                                            const float to[3], float distance, float height, const float face_normal[3],
+                                            float face_d, std::uint8_t internal_edges, bool two_sided, const float a[3],
+                                            const float b[3], const float c[3], SphereTriangleContact& out) {
   float n[3] = {face_normal[0], face_normal[1], face_normal[2]};
   float d = face_d;
   if (two_sided && height < 0.0f) {
@@ -67,8 +66,7 @@ inline bool sphere_mesh_triangle_contact(const float centre[3], float radius, co
                                          const float c[3], const float face_normal[3], float face_d,
                                          std::uint8_t internal_edges, bool two_sided, float max_gap,
                                          SphereTriangleContact& out) {
-  const float height =
-      face_normal[0] * centre[0] + face_normal[1] * centre[1] + face_normal[2] * centre[2] - face_d;
+  const float height = face_normal[0] * centre[0] + face_normal[1] * centre[1] + face_normal[2] * centre[2] - face_d;
   const float reach = two_sided ? std::fabs(height) : height;  // what the plane test sees, as the packet walk
   if (reach - radius > max_gap || reach < -radius) return false;
   const TrianglePoint closest = closest_point_on_triangle(centre, a, b, c);

@@ -9,9 +9,7 @@ namespace hail {
 std::vector<std::uint32_t> weld_vertices(std::span<const Vec3> vertices) {
   std::vector<std::uint32_t> order(vertices.size());
   std::iota(order.begin(), order.end(), 0u);
-  auto key = [&](std::uint32_t v) {
-    return std::array<float, 3>{vertices[v].x(), vertices[v].y(), vertices[v].z()};
-  };
+  auto key = [&](std::uint32_t v) { return std::array<float, 3>{vertices[v].x(), vertices[v].y(), vertices[v].z()}; };
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     const auto ka = key(a), kb = key(b);
     return ka != kb ? ka < kb : a < b;

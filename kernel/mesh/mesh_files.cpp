@@ -101,8 +101,7 @@ TriangleMesh load_stl_binary(const std::string& path, const std::vector<std::byt
       float xyz[3];
       std::memcpy(xyz, record + 12 + 12 * corner, 12);  // little-endian floats, as every host hail builds on
       for (float v : xyz)
-        if (!std::isfinite(v))
-          fail(path, 0, "triangle " + std::to_string(t) + " has a corner that is not finite");
+        if (!std::isfinite(v)) fail(path, 0, "triangle " + std::to_string(t) + " has a corner that is not finite");
       indices.push_back(welder.add(Vec3(xyz[0], xyz[1], xyz[2])));
     }
   }
@@ -119,7 +118,8 @@ TriangleMesh load_stl_ascii(const std::string& path, std::string_view text) {
     if (w.empty()) return;
     if (ended) fail(path, line, "text after endsolid");
     if (!in_solid) {
-      if (w[0] != "solid") fail(path, line, "an ASCII STL file starts with 'solid', this one with '" + std::string(w[0]) + "'");
+      if (w[0] != "solid")
+        fail(path, line, "an ASCII STL file starts with 'solid', this one with '" + std::string(w[0]) + "'");
       in_solid = true;
     } else if (w[0] == "facet" || w[0] == "endfacet") {
     } else if (w[0] == "outer") {
@@ -157,8 +157,8 @@ std::uint32_t obj_index(std::string_view word, std::size_t vertex_count, const s
     fail(path, line, "face index '" + std::string(word) + "' is not a non-zero whole number");
   const long long resolved = i > 0 ? i - 1 : static_cast<long long>(vertex_count) + i;
   if (resolved < 0 || resolved >= static_cast<long long>(vertex_count))
-    fail(path, line, "face index " + std::to_string(i) + " names no vertex (" + std::to_string(vertex_count) +
-                         " so far)");
+    fail(path, line,
+         "face index " + std::to_string(i) + " names no vertex (" + std::to_string(vertex_count) + " so far)");
   return static_cast<std::uint32_t>(resolved);
 }
 
@@ -204,14 +204,16 @@ TriangleMesh TriangleMesh::load_stl(const std::string& path) {
   const std::size_t start = text.find_first_not_of(" \t\r\n");
   if (start == std::string_view::npos) fail(path, 0, "empty file");
   if (text.substr(start, 5) != "solid")
-    fail(path, 0, std::to_string(bytes.size()) +
-                      " bytes: neither binary STL (84 + 50 bytes a triangle, as its header counts) nor ASCII STL "
-                      "(starting with 'solid')");
+    fail(path, 0,
+         std::to_string(bytes.size()) +
+             " bytes: neither binary STL (84 + 50 bytes a triangle, as its header counts) nor ASCII STL "
+             "(starting with 'solid')");
   return load_stl_ascii(path, text);
 }
 
 TriangleMesh TriangleMesh::load(const std::string& path) {
-  std::string extension = path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
+  std::string extension =
+      path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".obj") return load_obj(path);

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "hail/errors.h"
@@ -37,7 +37,8 @@ Vec3 MeshTransform::apply(const Vec3& p) const {
   const double s = scale;
   double q[3] = {s * p.x(), s * p.y(), s * p.z()};
   if (degrees != 0.0f) {
-    const double len = std::sqrt(double(axis.x()) * axis.x() + double(axis.y()) * axis.y() + double(axis.z()) * axis.z());
+    const double len =
+        std::sqrt(double(axis.x()) * axis.x() + double(axis.y()) * axis.y() + double(axis.z()) * axis.z());
     const double k[3] = {axis.x() / len, axis.y() / len, axis.z() / len};
     const double angle = double(degrees) * (3.14159265358979323846 / 180.0);
     const double c = std::cos(angle), sn = std::sin(angle);

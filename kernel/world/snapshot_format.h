@@ -27,6 +27,10 @@
 #include "hail/world_settings.h"
 #include "kernel/world/fnv1a.h"
 
+namespace hail {
+struct MeshCollider;  // kernel/mesh/mesh_collider.h
+}  // namespace hail
+
 namespace hail::snapshot {
 
 static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian, byte for byte");
@@ -40,6 +44,8 @@ inline constexpr char kPlanesTag[4] = {'P', 'L', 'N', 'S'};
 inline constexpr char kSpheresTag[4] = {'S', 'P', 'H', 'R'};
 inline constexpr char kCacheTag[4] = {'C', 'A', 'C', 'H'};
 inline constexpr char kEventsTag[4] = {'E', 'V', 'N', 'T'};
+/// Version 9, only when the world has meshes: their count and each one's mesh_hash.
+inline constexpr char kMeshesTag[4] = {'M', 'E', 'S', 'H'};
 
 using hail::fnv1a;  // kernel/world/fnv1a.h, shared with World::state_hash
 
@@ -147,6 +153,11 @@ class Reader {
 /// terrain_content_hash with FNV-1a started from `basis` (kLegacyFnvOffsetBasis: the hash a
 /// version 4 snapshot holds).
 [[nodiscard]] std::uint64_t terrain_hash(const Terrain& terrain, std::uint64_t basis);
+/// FNV-1a 64 over everything that decides how spheres meet a mesh's collider: its triangles
+/// (world coordinates, normals, internal edges), its BVH (nodes and triangle order, which number
+/// the triangles warm starting remembers), whether it is a shell, its material and where its
+/// triangles start among the world's. Equal hashes: the same mesh where it was, to a step.
+[[nodiscard]] std::uint64_t mesh_hash(const MeshCollider& mesh);
 
 /// Calls f(field, spec) for every WorldSettings field that a snapshot keeps, in the settings
 /// table's order (include/hail/settings_table.h): all but threads (a restored world keeps its

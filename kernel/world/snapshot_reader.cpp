@@ -8,6 +8,7 @@
 
 #include "hail/world.h"
 #include "kernel/files/regular_file.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/world/snapshot_format.h"
 #include "kernel/world/step_scratch.h"
 #include "kernel/world/world_checks.h"
@@ -274,6 +275,31 @@ void read_events(snapshot::Reader r, Parsed& p) {
   if (!p.events.restore_touching(keys[0], keys[1])) r.refuse("touching keys not in strictly increasing order");
 }
 
+/// Version 9's MESH section, present only for a world with meshes: this World must have the
+/// same meshes, in the same order (they are not in the snapshot; their hashes are).
+void read_meshes(snapshot::Reader& payload, const MeshSet* meshes) {
+  const std::size_t have = meshes ? meshes->size() : 0;
+  if (payload.left() == 0) {
+    if (have > 0)
+      payload.refuse("it was saved without meshes and this World has " + std::to_string(have) +
+                     ": restore it into a World without meshes");
+    return;
+  }
+  snapshot::Reader r = payload.section(snapshot::kMeshesTag);
+  const std::size_t saved = r.count("mesh count", sizeof(std::uint64_t));
+  if (saved != have)
+    r.refuse("it was saved with " + std::to_string(saved) + " meshes and this World has " + std::to_string(have) +
+             ": add_mesh the same meshes, in the same order, first");
+  for (std::size_t m = 0; m < saved; ++m) {
+    const auto hash = r.value<std::uint64_t>("a mesh hash");
+    if (hash != snapshot::mesh_hash((*meshes)[m]))
+      r.refuse("wrong mesh " + std::to_string(m) + ": it was saved with mesh content hash " + hex(hash) +
+               ", this World's mesh has " + hex(snapshot::mesh_hash((*meshes)[m])) +
+               " (add the mesh it was saved with, placed and with the material it had)");
+  }
+  r.finish();
+}
+
 }  // namespace
 
 void World::restore(std::span<const std::byte> bytes) {
@@ -316,6 +342,7 @@ void World::restore(std::span<const std::byte> bytes) {
   read_spheres(r.section(snapshot::kSpheresTag), p);
   read_cache(r.section(snapshot::kCacheTag), p, p.spheres.size(), layout);
   read_events(r.section(snapshot::kEventsTag), p);
+  read_meshes(r, has_meshes() ? meshes_.get() : nullptr);
   r.finish();
 
   // The only step of the commit that may allocate, taken first: it changes no sphere.

@@ -16,6 +16,7 @@
 #include "hail/world.h"
 #include "kernel/bvh/flat_bvh.h"
 #include "kernel/files/atomic_write.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/world/snapshot_format.h"
 #include "kernel/world/step_scratch.h"
 #include "kernel/world/world_services.h"
@@ -37,6 +38,22 @@ std::uint64_t snapshot::terrain_hash(const Terrain& terrain, std::uint64_t basis
   hash = snapshot::fnv1a(std::as_bytes(h.heights()), hash);
   hash = snapshot::fnv1a(std::as_bytes(std::span<const FlatNode>(bvh.nodes)), hash);
   return snapshot::fnv1a(std::as_bytes(std::span<const std::uint32_t>(bvh.primitive_order)), hash);
+}
+
+std::uint64_t snapshot::mesh_hash(const MeshCollider& mesh) {
+  std::vector<std::byte> head;
+  snapshot::Writer w(head);
+  w.value(std::uint64_t{mesh.triangles.size()}), w.value(std::uint64_t{mesh.bvh.nodes.size()});
+  w.value(std::uint8_t{mesh.two_sided}), w.value(mesh.restitution), w.value(mesh.friction);
+  w.value(mesh.first_feature);
+  std::uint64_t hash = snapshot::fnv1a(head);
+  const TerrainTriangles& t = mesh.triangles;
+  for (const AlignedArray<float>* a : {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.nx,
+                                       &t.ny, &t.nz, &t.d})
+    hash = snapshot::fnv1a(std::as_bytes(std::span<const float>(a->data(), a->size())), hash);
+  hash = snapshot::fnv1a(std::as_bytes(std::span<const std::uint8_t>(t.internal_edges.data(), t.size())), hash);
+  hash = snapshot::fnv1a(std::as_bytes(std::span<const FlatNode>(mesh.bvh.nodes)), hash);
+  return snapshot::fnv1a(std::as_bytes(std::span<const std::uint32_t>(mesh.bvh.primitive_order)), hash);
 }
 
 void World::save(std::vector<std::byte>& out) const {
@@ -115,6 +132,13 @@ void World::save(std::vector<std::byte>& out) const {
     for (const TouchKey& k : keys) w.value(k.key), w.value(k.generations);
   }
   w.end_section();
+
+  if (has_meshes()) {  // a world without meshes writes version 8's bytes
+    w.begin_section(snapshot::kMeshesTag);
+    w.value(std::uint64_t{meshes_->size()});
+    for (std::size_t m = 0; m < meshes_->size(); ++m) w.value(snapshot::mesh_hash((*meshes_)[m]));
+    w.end_section();
+  }
 
   const std::span<const std::byte> payload(out.data() + snapshot::kHeaderBytes, out.size() - snapshot::kHeaderBytes);
   const std::uint64_t length = payload.size(), checksum = snapshot::fnv1a(payload);
