@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "hail/triangle_mesh.h"
 #include "scenes/scenes.h"
 #include "scenes/steep_heightmaps.h"
 
@@ -677,6 +678,116 @@ StressResult small_under_big() {
   return all;
 }
 
+/// An axis-aligned box from lo to hi, wound outwards: a closed mesh (a solid).
+TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
+  std::vector<Vec3> v;
+  for (int k = 0; k < 8; ++k) v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  std::vector<std::uint32_t> idx;
+  for (const auto& q : quads) idx.insert(idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  return TriangleMesh(std::move(v), std::move(idx));
+}
+
+/// The meshes' stress scene (docs/meshes.md): a closed floor 60 m square, an open funnel (a
+/// shell) over it and two walls 1 mm thick at x = 12, one closed (a box) and one a shell (a
+/// single quad), reaching 20 m to each side and 60 m up.
+void add_stress_meshes(World& w) {
+  w.add_mesh(box_mesh({-30, -1, -30}, {30, 0, 30}), {}, 0.3f, 0.5f);
+  std::vector<Vec3> cone;
+  std::vector<std::uint32_t> cone_idx;
+  constexpr std::uint32_t kSides = 24;
+  for (std::uint32_t k = 0; k < kSides; ++k) {
+    const float a = 6.2831853f * float(k) / float(kSides);
+    cone.emplace_back(1.2f * std::cos(a), 1.5f, 1.2f * std::sin(a));
+    cone.emplace_back(5.0f * std::cos(a), 6.0f, 5.0f * std::sin(a));
+  }
+  for (std::uint32_t k = 0; k < kSides; ++k) {
+    const std::uint32_t n = (k + 1) % kSides;
+    cone_idx.insert(cone_idx.end(), {2 * k, 2 * k + 1, 2 * n + 1, 2 * k, 2 * n + 1, 2 * n});
+  }
+  w.add_mesh(TriangleMesh(cone, cone_idx), {}, 0.3f, 0.5f);
+  w.add_mesh(box_mesh({12.0f, 0.0f, -20.0f}, {12.001f, 60.0f, 0.0f}), {}, 0.5f, 0.2f);
+  w.add_mesh(TriangleMesh({{12.0f, 0.0f, 0.0f}, {12.0f, 0.0f, 20.0f}, {12.0f, 60.0f, 20.0f}, {12.0f, 60.0f, 0.0f}},
+                          {0, 1, 2, 0, 2, 3}),
+             {}, 0.5f, 0.2f);
+}
+
+/// Steps a world of add_stress_meshes 360 times, watching every step; also counts as below the
+/// surface each centre under the floor's top (within the floor) and each sphere of `fired` that
+/// crossed x = 12 within the walls' span in a step.
+StressResult watch_meshes(World& w, StressResult r, const std::vector<SphereId>& fired) {
+  StressWatch watch_each(w, 1e5);
+  std::vector<float> x_before(fired.size());
+  const auto t0 = clock_type::now();
+  for (int k = 0; k < 360; ++k) {
+    for (std::size_t f = 0; f < fired.size(); ++f) x_before[f] = w.position(fired[f]).x();
+    w.step(1.0f / 60.0f);
+    watch_each.after_step(w);
+    std::size_t out = 0;
+    const SphereSoA& s = w.soa();
+    for (std::size_t i = 0; i < s.size(); ++i)
+      out += s.py[i] < 0.0f && std::fabs(s.px[i]) < 30.0f && std::fabs(s.pz[i]) < 30.0f;
+    for (std::size_t f = 0; f < fired.size(); ++f) {
+      const Vec3 p = w.position(fired[f]);
+      out += x_before[f] <= 12.0f && p.x() > 12.0f && std::fabs(p.z()) < 19.5f && p.y() < 59.5f;
+    }
+    r.worst.below_surface = std::max(r.worst.below_surface, out);
+  }
+  r.wall_s = std::chrono::duration<double>(clock_type::now() - t0).count();
+  const std::size_t below = r.worst.below_surface;
+  r.worst = watch_each.worst();
+  r.worst.below_surface = below;
+  judge(r);
+  return r;
+}
+
+/// 60 spheres (radii 0.05-0.25 m, 1000 kg/m^3) fired at 20-60 m/s at the two 1 mm walls of
+/// add_stress_meshes, half at each: none crosses a wall, nothing sinks into a mesh or another sphere.
+StressResult mesh_thin_walls() {
+  StressResult r;
+  r.name = "meshes-thin-walls-60-m-s";
+  r.invariants = "60 spheres fired at 20-60 m/s at 1 mm walls (a closed box, a shell) over a mesh floor, 6 s";
+  r.bounds.energy_growth = 0.01;
+  World w(all_threads());
+  add_stress_meshes(w);
+  std::mt19937 rng(51);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<SphereId> fired;
+  for (int k = 0; k < 60; ++k) {
+    const float radius = 0.05f + 0.2f * u(rng);
+    const float z = k % 2 == 0 ? -5.5f + 5.0f * u(rng) : 1.0f + 4.5f * u(rng);  // the closed wall, then the shell
+    fired.push_back(w.add_sphere({.position = {-6.0f - 0.6f * float(k / 2), 0.5f + 5.0f * u(rng), z},
+                                  .velocity = {20.0f + 40.0f * u(rng), 0.0f, 0.0f},
+                                  .radius = radius,
+                                  .mass = 1000.0f * 4.18879f * radius * radius * radius}));
+  }
+  return watch_meshes(w, r, fired);
+}
+
+/// 600 spheres, radii 0.1-0.5 m at 1000 kg/m^3 (masses 1:125), rain into the open funnel of
+/// add_stress_meshes and pile on its floor. The bounds are small-under-big-rain's on terrain.
+StressResult mesh_funnel_rain() {
+  StressResult r;
+  r.name = "meshes-funnel-rain";
+  r.invariants = "600 spheres, radii 0.1-0.5 m at 1000 kg/m^3, rain through an open mesh funnel onto a mesh floor, 6 s";
+  r.bounds.energy_growth = 0.01;
+  r.bounds.sphere_penetration = battery_solver == Solver::SoftStep ? -1.0 : 0.3;
+  r.bounds.ground_penetration = battery_solver == Solver::SoftStep ? 0.16 : 0.08;
+  World w(all_threads());
+  add_stress_meshes(w);
+  std::mt19937 rng(51);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int k = 0; k < 600; ++k) {
+    const float radius = 0.1f + 0.4f * u(rng);
+    // A 5 x 5 lattice a layer, 1.2 m apart and layers 1.1 m apart: no two touch at the start.
+    const float x = -2.4f + 1.2f * float(k % 5) + 0.1f * u(rng), z = -2.4f + 1.2f * float((k / 5) % 5) + 0.1f * u(rng);
+    w.add_sphere({.position = {x, 7.0f + 1.1f * float(k / 25), z},
+                  .radius = radius,
+                  .mass = 1000.0f * 4.18879f * radius * radius * radius});
+  }
+  return watch_meshes(w, r, {});
+}
+
 }  // namespace
 
 void judge(StressResult& r) {
@@ -725,6 +836,8 @@ std::vector<StressCase> stress_cases(Solver solver) {
       {"steep-terrain-rain", false, steep_rains},
       {"wide-mix-rain", false, wide_mix_rain},
       {"small-under-big-rain", false, small_under_big},
+      {"meshes-thin-walls-60-m-s", false, mesh_thin_walls},
+      {"meshes-funnel-rain", false, mesh_funnel_rain},
       {"bowl-pile-10k-20s", true, dense_pile},
       {"bowl-pile-10k-rolling-asleep", true, rolling_pile_asleep},
   };

@@ -73,6 +73,8 @@ void StressWatch::after_step(const World& w, bool check_pairs) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     for (const Plane& p : w.planes())
       ground = std::max(ground, -double(plane_gap(p, s.px[i], s.py[i], s.pz[i], s.radius[i])) / s.radius[i]);
+    if (w.mesh_count() > 0)
+      ground = std::max(ground, double(w.mesh_penetration(Vec3(s.px[i], s.py[i], s.pz[i]), s.radius[i])) / s.radius[i]);
     if (!terrain) continue;
     const Heightmap& h = terrain->heightmap();
     const float x = s.px[i], z = s.pz[i];

@@ -15,7 +15,7 @@ struct StressWorst {
   std::size_t non_finite = 0;     ///< worst count of non-finite components after a step
   std::size_t below_surface = 0;  ///< worst count of centres below the terrain surface
   double sphere_penetration = 0;  ///< worst overlap / smaller radius
-  double ground_penetration = 0;  ///< worst terrain or plane overlap / radius
+  double ground_penetration = 0;  ///< worst terrain, mesh or plane overlap / radius
   double energy_growth = 0;       ///< worst (E - E0) / max(|E0|, energy_scale), E = KE + PE
   double momentum_drift = 0;      ///< worst |p - p0| / max(|p0|, momentum_scale)
   int steps = 0;
