@@ -765,13 +765,17 @@ StressResult mesh_thin_walls() {
 }
 
 /// 600 spheres, radii 0.1-0.5 m at 1000 kg/m^3 (masses 1:125), rain into the open funnel of
-/// add_stress_meshes and pile on its floor. The bounds are small-under-big-rain's on terrain.
+/// add_stress_meshes and pile on its floor. The ground bound is small-under-big-rain's on terrain
+/// (0.019 r measured; 0.36 before meshes had the guard). The sphere bound is 0.4 of the smaller
+/// radius, not terrain's 0.3: 0.35 measured, where the guard moves a light sphere out of the mesh
+/// and into the heavy one pressing it (depenetration parts them in the next steps; 0.28 without
+/// the guard, with the light sphere 0.36 r inside the mesh instead).
 StressResult mesh_funnel_rain() {
   StressResult r;
   r.name = "meshes-funnel-rain";
   r.invariants = "600 spheres, radii 0.1-0.5 m at 1000 kg/m^3, rain through an open mesh funnel onto a mesh floor, 6 s";
   r.bounds.energy_growth = 0.01;
-  r.bounds.sphere_penetration = battery_solver == Solver::SoftStep ? -1.0 : 0.3;
+  r.bounds.sphere_penetration = battery_solver == Solver::SoftStep ? -1.0 : 0.4;
   r.bounds.ground_penetration = battery_solver == Solver::SoftStep ? 0.16 : 0.08;
   World w(all_threads());
   add_stress_meshes(w);

@@ -93,10 +93,6 @@ TEST_CASE("Stress: bowl-pile 10k with rolling resistance is asleep within 15 s",
 TEST_CASE("Stress: spheres fired at 20-60 m/s at 1 mm mesh walls", "[stress][mesh]") {
   run_stress_case("meshes-thin-walls-60-m-s");
 }
-// Fails with the passes solver: a light sphere pressed into the mesh floor or funnel by heavier
-// ones ends 0.36 of its radius deep (bound 0.08, as small-under-big-rain's on terrain, where the
-// terrain guard moves such spheres out; meshes have no guard yet, docs/meshes.md). The soft step
-// passes it.
-TEST_CASE("Stress: mixed radii rain through a mesh funnel", "[stress][mesh][!shouldfail]") {
+TEST_CASE("Stress: mixed radii rain through a mesh funnel", "[stress][mesh]") {
   run_stress_case("meshes-funnel-rain");
 }

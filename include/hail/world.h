@@ -222,13 +222,14 @@ class World {
   /// triangles in world coordinates, their internal edges and a flat BVH, built on the calling
   /// thread (O(n log n) in the triangles, about 150 bytes a triangle: mesh_memory_bytes). Spheres
   /// meet a mesh as they meet the terrain: speculative contacts with the terrain's reduction and
-  /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the ground
-  /// filter, and the ray and sphere-cast queries (QueryHitKind::Mesh); mesh_triangles draws
-  /// them (docs/meshes.md says what a closed mesh and a shell each do). Not yet: the terrain
-  /// guard and lift-out, and shift_origin (it refuses a world with meshes). A snapshot holds each
-  /// mesh's content hash: restore wants the same meshes, added in the same order. Throws InvalidArgument
-  /// (world unchanged) for a bad transform or material, a mesh with no triangle of non-zero area
-  /// where it is placed, or more than 2^30 mesh triangles in all. Wakes every sleeper.
+  /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the guard,
+  /// the ground filter, and the ray and sphere-cast queries (QueryHitKind::Mesh); mesh_triangles
+  /// draws them (docs/meshes.md says what a closed mesh and a shell each do). Not yet: lift-out
+  /// of a sphere added inside a solid, and shift_origin (it refuses a world with meshes). A
+  /// snapshot holds each mesh's content hash: restore wants the same meshes, added in the same
+  /// order. Throws InvalidArgument (world unchanged) for a bad transform or material, a mesh with
+  /// no triangle of non-zero area where it is placed, or more than 2^30 mesh triangles in all.
+  /// Wakes every sleeper.
   std::size_t add_mesh(const TriangleMesh& mesh, const MeshTransform& transform = {}, float restitution = 0.5f,
                        float friction = 0.5f);
   /// Meshes added (add_mesh).

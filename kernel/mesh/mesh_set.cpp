@@ -4,6 +4,7 @@
 #include <string>
 
 #include "hail/errors.h"
+#include "kernel/mesh/mesh_contact.h"
 
 namespace hail {
 
@@ -25,6 +26,39 @@ std::uint32_t MeshSet::mesh_of(std::uint32_t feature) const {
   const auto after = std::upper_bound(meshes_.begin(), meshes_.end(), triangle,
                                       [](std::uint32_t t, const auto& m) { return t < m->first_feature; });
   return static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(after - meshes_.begin() - 1, 0));
+}
+
+bool MeshSet::push_out(float& x, float& y, float& z, float r, const float from[3], int rounds) const {
+  bool moved = false;
+  for (int round = 0; round < rounds; ++round) {
+    const float centre[3] = {x, y, z};
+    SphereTriangleContact deepest{};
+    deepest.gap = 0.0f;
+    for (const auto& m : meshes_) {
+      const TerrainTriangles& t = m->triangles;
+      query_sphere(m->bvh, x, y, z, r, [&](std::uint32_t k) {
+        const float a[3] = {t.v0x[k], t.v0y[k], t.v0z[k]}, b[3] = {t.v1x[k], t.v1y[k], t.v1z[k]},
+                    c[3] = {t.v2x[k], t.v2y[k], t.v2z[k]};
+        float n[3] = {t.nx[k], t.ny[k], t.nz[k]}, d = t.d[k];
+        const float* first = b;  // a shell met from behind: its corners reversed with its normal
+        const float* second = c;
+        if (m->two_sided && n[0] * from[0] + n[1] * from[1] + n[2] * from[2] < d) {
+          n[0] = -n[0], n[1] = -n[1], n[2] = -n[2], d = -d;
+          first = c, second = b;
+        }
+        // As a solid's face from the start's side, every edge a real edge: the move is out of
+        // what the sphere overlaps, whatever the smooth surface around it.
+        SphereTriangleContact st;
+        if (sphere_mesh_triangle_contact(centre, r, a, first, second, n, d, 0, false, 0.0f, st) &&
+            st.gap < deepest.gap)
+          deepest = st;
+      });
+    }
+    if (!(deepest.gap < 0.0f)) break;
+    x += deepest.gap * deepest.n[0], y += deepest.gap * deepest.n[1], z += deepest.gap * deepest.n[2];
+    moved = true;
+  }
+  return moved;
 }
 
 float MeshSet::penetration(float x, float y, float z, float r) const {

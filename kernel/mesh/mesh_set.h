@@ -33,6 +33,12 @@ class MeshSet {
                      float fast_fraction, bool sweep_fast) const {
     for (const auto& m : meshes_) m->find_contacts(spheres, first, last, dt, out, fast_fraction, sweep_fast);
   }
+  /// The guard's move for meshes (Terrain::push_out's for terrain): the centre of a sphere of
+  /// radius r goes out of the deepest overlapping triangle along its contact normal by its
+  /// overlap, then again for what still overlaps, at most `rounds` times. A shell's triangle is
+  /// met from the side `from` (the centre at the step's start) is on, so a sphere pushed across
+  /// a shell within the step comes back to its side. Returns whether it moved. No allocation.
+  bool push_out(float& x, float& y, float& z, float r, const float from[3], int rounds = 4) const;
   /// Deepest overlap of a sphere with any mesh (m, >= 0).
   [[nodiscard]] float penetration(float x, float y, float z, float r) const;
   [[nodiscard]] std::size_t memory_bytes() const;

@@ -306,7 +306,8 @@ struct StepPipeline {
 
   /// Terrain guard, part 2: a sphere that ended the step further from where it started than
   /// its terrain contacts reached may be inside ground it had no contact with; it is moved out
-  /// (Terrain::push_out_spheres). Each sphere on its own, so blocks run in parallel.
+  /// (Terrain::push_out_spheres, and MeshSet::push_out for meshes). Each sphere on its own, so
+  /// blocks run in parallel.
   void guard_terrain() {
     SphereSoA& s = w.spheres;
     std::atomic<std::size_t> pushed{0};  // a sum: the order of adds cannot change it
@@ -335,10 +336,10 @@ struct StepPipeline {
         for (const Contact& c : st.contact_blocks[block])
           if (c.b == kStaticBody && current_gap(s, c) < -kGuardSinkFraction * s.radius[c.a])
             beyond[c.a - first] = static_cast<std::uint8_t>(s.inv_mass[c.a] > 0.0f);
-        const Heightmap& ground = w.terrain->heightmap();
-        for (std::size_t i = first; i < last; ++i)
+        for (std::size_t i = first; w.terrain && i < last; ++i)
           if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
-              s.py[i] < ground.surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i] &&
+              s.py[i] < w.terrain->heightmap().surface_height(s.px[i], s.pz[i]) +
+                            (1.0f - kGuardSinkFraction) * s.radius[i] &&
               (!modes.filtering || meets_ground(s, i, modes.ground)))
             beyond[i - first] = 1;
       }
@@ -355,13 +356,23 @@ struct StepPipeline {
       // step does with those (WorldSettings::continuous_collision). With it on, a fast sphere
       // is flagged only by the mixed-mass rules above: a light sphere a heavy one drove into
       // the ground after its sweep, which would otherwise fall through it.
-      for (std::size_t k = 0; k < flagged_count; ++k) {
-        const std::uint32_t i = flagged[k];
-        const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
-        if (modes.sweeping || !is_fast(v2, params.dt, s.radius[i], w.settings.fast_travel_fraction))
-          w.terrain->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+      std::size_t count = 0;
+      if (w.terrain) {
+        for (std::size_t k = 0; k < flagged_count; ++k) {
+          const std::uint32_t i = flagged[k];
+          const float v2 = s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i];
+          if (modes.sweeping || !is_fast(v2, params.dt, s.radius[i], w.settings.fast_travel_fraction))
+            w.terrain->lift_above_surface(s.px[i], s.py[i], s.pz[i], s.radius[i]);
+        }
+        count += w.terrain->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
       }
-      const std::size_t count = w.terrain->push_out_spheres(s, std::span<const std::uint32_t>(flagged, flagged_count));
+      // Meshes: out of what the sphere overlaps, a shell from the side it started on
+      // (MeshSet::push_out); one sphere at a time, and few are flagged.
+      for (std::size_t k = 0; w.meshes && k < flagged_count; ++k) {
+        const std::uint32_t i = flagged[k];
+        const float from[3] = {st.start_x[i], st.start_y[i], st.start_z[i]};
+        count += w.meshes->push_out(s.px[i], s.py[i], s.pz[i], s.radius[i], from);
+      }
       if (count) pushed += count;
     });
     w.stats.pushed_out += pushed.load();
@@ -1444,7 +1455,7 @@ void World::substep(float scaled) {
                         .sleepers = settings_.sleep && SleepIslands::any_sleeping(spheres_),
                         .detect_pairs = settings_.sphere_collisions && spheres_.size() > 1,
                         .detect_static = terrain_ != nullptr || !planes_.empty() || has_meshes(),
-                        .terrain_guard = terrain_ != nullptr,
+                        .terrain_guard = terrain_ != nullptr || has_meshes(),
                         .pair_margins = settings_.pair_margin_travel > 0.0f && settings_.sphere_collisions,
                         .forces = forces_pending_,
                         .gravity_scaled = gravity_scaled_,
