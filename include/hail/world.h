@@ -197,12 +197,13 @@ class World {
   /// StepStats::lifted_out counts them.
   void set_terrain(std::shared_ptr<const Terrain> terrain, float restitution = 0.5f, float friction = 0.5f);
   /// Moves the world's origin to `offset`: every sphere's position (static ones too) becomes
-  /// position - offset, every plane and the terrain move with them, and velocities, spins,
+  /// position - offset, every plane, the terrain and the meshes move with them, and velocities, spins,
   /// handles and warm-start impulses are kept, so the motion goes on as before, only where
   /// floats are finer. PhysX's PxScene::shiftOrigin: a game whose action wanders far (floats at
   /// 1e5 m are 7.8 mm apart) moves it back near the origin now and then, e.g. when the player
   /// is past 1-2 km out (docs/embedding.md, "Keeping the action near the origin").
-  /// Cost: O(spheres + planes), plus a new Terrain built from terrain()->moved(-offset) (its
+  /// Cost: O(spheres + planes), plus each mesh's collider rebuilt at its position - offset, plus
+  /// a new Terrain built from terrain()->moved(-offset) (its
   /// BVH rebuilt: docs/benchmarks.md, `hail-bench bvh-build`), which this World then holds instead of the
   /// shared one. Warm-start impulses are kept unless the moved terrain's BVH orders its
   /// triangles differently (then they are dropped, as after set_terrain). last_contacts() is
@@ -225,7 +226,7 @@ class World {
   /// internal-edge rule, bounces at their time, continuous collision of fast spheres, the guard,
   /// the ground filter, and the ray and sphere-cast queries (QueryHitKind::Mesh); mesh_triangles
   /// draws them (docs/meshes.md says what a closed mesh and a shell each do). Not yet: lift-out
-  /// of a sphere added inside a solid, and shift_origin (it refuses a world with meshes). A
+  /// of a sphere added inside a solid. shift_origin moves meshes with everything else. A
   /// snapshot holds each mesh's content hash: restore wants the same meshes, added in the same
   /// order. Throws InvalidArgument (world unchanged) for a bad transform or material, a mesh with
   /// no triangle of non-zero area where it is placed, or more than 2^30 mesh triangles in all.

@@ -15,10 +15,39 @@ std::size_t MeshSet::add(const TriangleMesh& mesh, const MeshTransform& transfor
                           " triangles, more than 2^30 (what a contact's feature can number)");
   auto collider =
       std::make_shared<const MeshCollider>(build_mesh_collider(mesh, transform, restitution, friction, triangles_));
+  Source source{std::make_shared<const TriangleMesh>(mesh), transform, restitution, friction};
   meshes_.reserve(meshes_.size() + 1);
+  sources_.reserve(sources_.size() + 1);
   triangles_ += static_cast<std::uint32_t>(collider->triangles.size());
   meshes_.push_back(std::move(collider));
+  sources_.push_back(std::move(source));
   return meshes_.size() - 1;
+}
+
+MeshSet MeshSet::moved(const Vec3& by) const {
+  MeshSet out;
+  for (std::size_t m = 0; m < sources_.size(); ++m) {
+    const Source& s = sources_[m];
+    MeshTransform transform = s.transform;
+    transform.position += by;
+    if (!transform.position.allFinite())
+      throw InvalidArgument("World::shift_origin: mesh " + std::to_string(m) + " would be placed where floats end");
+    auto collider = std::make_shared<const MeshCollider>(
+        build_mesh_collider(*s.mesh, transform, s.restitution, s.friction, out.triangles_));
+    out.triangles_ += static_cast<std::uint32_t>(collider->triangles.size());
+    out.meshes_.push_back(std::move(collider));
+    out.sources_.push_back({s.mesh, transform, s.restitution, s.friction});
+  }
+  return out;
+}
+
+bool MeshSet::same_order(const MeshSet& other) const {
+  if (other.meshes_.size() != meshes_.size()) return false;
+  for (std::size_t m = 0; m < meshes_.size(); ++m)
+    if (meshes_[m]->bvh.primitive_order != other.meshes_[m]->bvh.primitive_order ||
+        meshes_[m]->first_feature != other.meshes_[m]->first_feature)
+      return false;
+  return true;
 }
 
 std::uint32_t MeshSet::mesh_of(std::uint32_t feature) const {

@@ -21,6 +21,15 @@ class MeshSet {
   /// mesh triangles would pass 2^30, what Contact::feature can number).
   std::size_t add(const TriangleMesh& mesh, const MeshTransform& transform, float restitution, float friction);
 
+  /// The same meshes, each placed `by` further (its transform's position + by) and rebuilt from
+  /// its source mesh: World::shift_origin's move. Throws InvalidArgument (this set unchanged)
+  /// where a position would not be finite. A triangle lands where the transform puts it, rounded
+  /// once: by whole metres, exactly the old one moved, as the terrain moves (Terrain::moved).
+  [[nodiscard]] MeshSet moved(const Vec3& by) const;
+  /// Whether every mesh of `other` numbers its triangles in the same BVH order as this one's
+  /// (warm-start impulses name triangles by that order).
+  [[nodiscard]] bool same_order(const MeshSet& other) const;
+
   [[nodiscard]] bool empty() const { return meshes_.empty(); }
   [[nodiscard]] std::size_t size() const { return meshes_.size(); }
   [[nodiscard]] const MeshCollider& operator[](std::size_t i) const { return *meshes_[i]; }
@@ -44,7 +53,15 @@ class MeshSet {
   [[nodiscard]] std::size_t memory_bytes() const;
 
  private:
+  /// What a mesh was built from, for moved(): the mesh (shared with the set's copies), where it
+  /// was placed and its material.
+  struct Source {
+    std::shared_ptr<const TriangleMesh> mesh;
+    MeshTransform transform;
+    float restitution, friction;
+  };
   std::vector<std::shared_ptr<const MeshCollider>> meshes_;
+  std::vector<Source> sources_;
   std::uint32_t triangles_ = 0;  ///< all meshes' triangles: the next mesh's first_feature
 };
 

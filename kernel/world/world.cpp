@@ -246,10 +246,6 @@ float World::mesh_penetration(const Vec3& centre, float radius) const {
 
 void World::shift_origin(const Vec3& offset) {
   require_finite(offset, "World::shift_origin: offset");
-  require(!has_meshes(), [] {
-    return std::string("World::shift_origin: the world has meshes, which do not move with the origin yet "
-                       "(docs/meshes.md)");
-  });
   // Everything is checked (and the moved terrain built) before anything changes, so that a
   // refusal leaves the world as it was.
   for (std::size_t k = 0; k < planes_.size(); ++k) {
@@ -288,6 +284,8 @@ void World::shift_origin(const Vec3& offset) {
     }
     require_terrain_resolvable(*moved_terrain);
   }
+  std::unique_ptr<MeshSet> moved_meshes;
+  if (has_meshes()) moved_meshes = std::make_unique<MeshSet>(meshes_->moved(-offset));
 
   wake_all();  // positions round: contacts that held may not
   for (Plane& p : planes_) p.offset -= p.nx * offset.x() + p.ny * offset.y() + p.nz * offset.z();
@@ -303,6 +301,10 @@ void World::shift_origin(const Vec3& offset) {
     // as after set_terrain).
     if (moved_terrain->bvh().primitive_order != terrain_->bvh().primitive_order) scratch_->contact_cache.clear();
     terrain_ = std::move(moved_terrain);
+  }
+  if (moved_meshes) {  // the same rule for the meshes' triangles (Contact::feature)
+    if (!moved_meshes->same_order(*meshes_)) scratch_->contact_cache.clear();
+    meshes_ = std::move(moved_meshes);
   }
 }
 
