@@ -24,8 +24,10 @@ const char* kind_name(QueryHitKind kind) {
   return "?";
 }
 
-QueryFilter make_filter(std::uint32_t mask, bool terrain, bool planes, std::optional<SphereId> ignore) {
-  return QueryFilter{.mask = mask, .terrain = terrain, .planes = planes, .ignore = ignore.value_or(SphereId{})};
+QueryFilter make_filter(std::uint32_t mask, bool terrain, bool planes, std::optional<SphereId> ignore,
+                        bool meshes = true) {
+  return QueryFilter{
+      .mask = mask, .terrain = terrain, .planes = planes, .ignore = ignore.value_or(SphereId{}), .meshes = meshes};
 }
 
 py::object hit_or_none(const std::optional<QueryHit>& hit) { return hit ? py::cast(*hit) : py::none(); }
@@ -81,35 +83,36 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
   m.attr("KIND_SPHERE") = 0;
   m.attr("KIND_TERRAIN") = 1;
   m.attr("KIND_PLANE") = 2;
+  m.attr("KIND_MESH") = 3;
   m.attr("NO_SPHERE") = pack(SphereId{});
 
-  // Keywords of every query: mask (categories of spheres reported), terrain and planes
+  // Keywords of every query: mask (categories of spheres reported), terrain, planes and meshes
   // (report them), ignore (a handle to leave out), as QueryFilter.
   c.def(
       "raycast",
       [](Self self, const Vec3& origin, const Vec3& direction, float max_distance, std::uint32_t mask, bool terrain,
-         bool planes, std::optional<SphereId> ignore) {
+         bool planes, std::optional<SphereId> ignore, bool meshes) {
         return hit_or_none(self.get().raycast(Ray{origin, direction, max_distance},
-                                              make_filter(mask, terrain, planes, ignore)));
+                                              make_filter(mask, terrain, planes, ignore, meshes)));
       },
       arg("origin"), arg("direction"), arg("max_distance") = kInf, py::kw_only(), arg("mask") = kAllCategories,
-      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(),
+      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
       "raycast(origin, direction, max_distance=inf, *, mask=0xFFFFFFFF, terrain=True, planes=True,\n"
-      "        ignore=None) -> QueryHit | None\n\n"
-      "The closest hit along the ray against spheres, terrain and planes, or None.");
+      "        ignore=None, meshes=True) -> QueryHit | None\n\n"
+      "The closest hit along the ray against spheres, terrain, planes and meshes, or None.");
   c.def(
       "raycast_all",
       [](Self self, const Vec3& origin, const Vec3& direction, float max_distance, std::uint32_t mask, bool terrain,
-         bool planes, std::optional<SphereId> ignore) {
-        return self.get().raycast_all(Ray{origin, direction, max_distance}, make_filter(mask, terrain, planes, ignore));
+         bool planes, std::optional<SphereId> ignore, bool meshes) {
+        return self.get().raycast_all(Ray{origin, direction, max_distance}, make_filter(mask, terrain, planes, ignore, meshes));
       },
       arg("origin"), arg("direction"), arg("max_distance") = kInf, py::kw_only(), arg("mask") = kAllCategories,
-      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(),
+      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
       "Every hit along the ray, nearest first (list of QueryHit).");
   c.def(
       "raycast_batch",
       [](Self self, const py::handle& origins, const py::handle& directions, float max_distance, std::uint32_t mask,
-         bool terrain, bool planes, std::optional<SphereId> ignore) {
+         bool terrain, bool planes, std::optional<SphereId> ignore, bool meshes) {
         const auto o = rows_of_3(origins, "origins");
         const auto d = rows_of_3(directions, "directions");
         if (o.shape(0) != d.shape(0))
@@ -125,7 +128,7 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
         {
           // Const, like every query: the World's own threads answer blocks of rays meanwhile.
           py::gil_scoped_release release;
-          world.raycast_batch(rays, hits, make_filter(mask, terrain, planes, ignore));
+          world.raycast_batch(rays, hits, make_filter(mask, terrain, planes, ignore, meshes));
         }
         py::array out(ray_hit_dtype(), py::array::ShapeContainer{static_cast<py::ssize_t>(n)});
         auto* records = static_cast<RayHitRecord*>(out.mutable_data());
@@ -148,20 +151,20 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
         return out;
       },
       arg("origins"), arg("directions"), arg("max_distance") = kInf, py::kw_only(), arg("mask") = kAllCategories,
-      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(),
+      arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
       "raycast_batch(origins, directions, max_distance=inf, *, ...) -> numpy structured array\n\n"
       "raycast for each row of two (n, 3) arrays, in parallel with the GIL released. Fields\n"
-      "(hail.ray_hit_dtype): hit (bool), kind (KIND_SPHERE, KIND_TERRAIN, KIND_PLANE), sphere\n"
+      "(hail.ray_hit_dtype): hit (bool), kind (KIND_SPHERE, KIND_TERRAIN, KIND_PLANE, KIND_MESH), sphere\n"
       "(handle, NO_SPHERE unless a sphere), index, point, normal, distance (inf for a miss).");
   c.def(
       "sphere_cast",
       [](Self self, const Vec3& origin, const Vec3& direction, float radius, float max_distance, std::uint32_t mask,
-         bool terrain, bool planes, std::optional<SphereId> ignore) {
+         bool terrain, bool planes, std::optional<SphereId> ignore, bool meshes) {
         return hit_or_none(self.get().sphere_cast(Ray{origin, direction, max_distance}, radius,
-                                                  make_filter(mask, terrain, planes, ignore)));
+                                                  make_filter(mask, terrain, planes, ignore, meshes)));
       },
       arg("origin"), arg("direction"), arg("radius"), arg("max_distance") = kInf, py::kw_only(),
-      arg("mask") = kAllCategories, arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(),
+      arg("mask") = kAllCategories, arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
       "The first hit of a sphere of this radius swept along the ray, or None.");
   c.def(
       "overlap_sphere",

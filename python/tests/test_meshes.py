@@ -65,3 +65,6 @@ def test_a_ray_reports_the_mesh_it_hits():
     hit = world.raycast((0.3, 5.0, 0.2), (0, -1, 0))
     assert hit.kind == "mesh" and hit.index == 0
     assert hit.distance == pytest.approx(3.0)
+    assert world.raycast((0.3, 5.0, 0.2), (0, -1, 0), meshes=False) is None
+    batch = world.raycast_batch(np.array([(0.3, 5.0, 0.2)]), np.array([(0, -1, 0)]))
+    assert batch["hit"][0] and batch["kind"][0] == hail.KIND_MESH
