@@ -74,7 +74,8 @@ void bind_mesh(py::module_& m, py::class_<PyWorld>& world) {
         transform.axis = Vec3(axis[0], axis[1], axis[2]);
         transform.degrees = degrees;
         transform.scale = scale;
-        py::gil_scoped_release release;  // the BVH build takes a while for large meshes
+        // With the GIL held: another Python thread could otherwise call into this World while
+        // it changes (step() guards itself with PyWorld::stepping; add_mesh is short).
         return w.add_mesh(mesh, transform, restitution, friction);
       },
       arg("mesh"), py::kw_only(), arg("position") = std::array<float, 3>{0.0f, 0.0f, 0.0f},

@@ -332,6 +332,12 @@ TEST_CASE("hail-bench run --origin D moves the scene out, --home-after K brings 
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("hail-bench run --terrain-as-mesh gives the heightmap's triangles to add_mesh", "[bench][cli][mesh]") {
+  CHECK(contains(refusal(bench::run_command, {"implosion", "--terrain-as-mesh"}), "not to implosion"));
+  CHECK(bench::run_command({"terrain-rain", "--spheres", "64", "--steps", "3", "--threads", "1", "--quiet",
+                            "--terrain-as-mesh"}) == 0);
+}
+
 TEST_CASE("hail-bench (the whole command line): every command refuses an unknown flag and has --help", "[bench][cli]") {
   const auto dir = fresh_dir("hail-test-cli-args-main");
   const std::string capture = (dir / "out.txt").string();
