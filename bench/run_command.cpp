@@ -537,9 +537,10 @@ void add_run_options(CLI::App& app, RunCommandOptions& o) {
     if (o.home_after > 0 && o.origin == 0.0)
       usage_error("--home-after K needs --origin D (a scene moved out to bring home)");
     if (o.params.terrain_as_mesh && (!o.scene_file.empty() || o.scene == "implosion"))
-      usage_error("--terrain-as-mesh applies to the built-in scenes on a heightmap (terrain-rain, bowl-pile, "
-                  "terrain-rain-dem, bullets), not to " +
-                  (o.scene_file.empty() ? o.scene : std::string("--scene")));
+      usage_error(
+          "--terrain-as-mesh applies to the built-in scenes on a heightmap (terrain-rain, bowl-pile, "
+          "terrain-rain-dem, bullets), not to " +
+          (o.scene_file.empty() ? o.scene : std::string("--scene")));
     for (const char* flag : {"--spheres", "--threads", "--steps", "--dt"})
       if (app.count(flag) > 0) o.given.emplace_back(flag);
     o.given_settings = given_setting_flags(app, o.params.settings);

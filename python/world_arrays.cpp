@@ -205,8 +205,7 @@ void bind_world_arrays(py::module_& m, py::class_<PyWorld>& c) {
       "last_impacts", [](Self self) { return copy_records(self.get().last_impacts(), impact_dtype()); },
       "The last step's impacts taken at their exact time (hail.impact_dtype). A copy.");
   c.def_property_readonly(
-      "touch_begin_events",
-      [](Self self) { return copy_records(self.get().touch_begin_events(), touch_dtype()); },
+      "touch_begin_events", [](Self self) { return copy_records(self.get().touch_begin_events(), touch_dtype()); },
       "Touches that began in the last step: structured array (hail.touch_event_dtype) with a, b\n"
       "(handles; b is hail.NO_SPHERE for the ground), with (WITH_SPHERE, WITH_TERRAIN, WITH_PLANE,\n"
       "WITH_MESH) and surface (the plane's or mesh's index). Needs set_events(touch=True). A copy.");

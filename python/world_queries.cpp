@@ -19,7 +19,8 @@ const char* kind_name(QueryHitKind kind) {
     case QueryHitKind::Sphere: return "sphere";
     case QueryHitKind::Terrain: return "terrain";
     case QueryHitKind::Plane: return "plane";
-    case QueryHitKind::Mesh: return "mesh";
+    case QueryHitKind::Mesh:
+      return "mesh";
   }
   return "?";
 }
@@ -63,10 +64,14 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
       .def_property_readonly(
           "kind", [](const QueryHit& h) { return kind_name(h.kind); }, "'sphere', 'terrain', 'plane' or 'mesh'")
       .def_property_readonly(
-          "sphere", [](const QueryHit& h) -> py::object { return h.kind == QueryHitKind::Sphere ? py::cast(h.sphere) : py::none(); },
+          "sphere",
+          [](const QueryHit& h) -> py::object {
+            return h.kind == QueryHitKind::Sphere ? py::cast(h.sphere) : py::none();
+          },
           "the handle of the sphere hit, or None")
       .def_readonly("index", &QueryHit::index, "terrain triangle, plane or mesh index (0 for a sphere)")
-      .def_readonly("triangle", &QueryHit::triangle, "a mesh hit's triangle among all the world's mesh triangles, else 0")
+      .def_readonly("triangle", &QueryHit::triangle,
+                    "a mesh hit's triangle among all the world's mesh triangles, else 0")
       .def_property_readonly(
           "point", [](const QueryHit& h) { return py::make_tuple(h.point.x(), h.point.y(), h.point.z()); },
           "where the surface was met, m")
@@ -104,7 +109,8 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
       "raycast_all",
       [](Self self, const Vec3& origin, const Vec3& direction, float max_distance, std::uint32_t mask, bool terrain,
          bool planes, std::optional<SphereId> ignore, bool meshes) {
-        return self.get().raycast_all(Ray{origin, direction, max_distance}, make_filter(mask, terrain, planes, ignore, meshes));
+        return self.get().raycast_all(Ray{origin, direction, max_distance},
+                                      make_filter(mask, terrain, planes, ignore, meshes));
       },
       arg("origin"), arg("direction"), arg("max_distance") = kInf, py::kw_only(), arg("mask") = kAllCategories,
       arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
@@ -164,8 +170,8 @@ void bind_world_queries(py::module_& m, py::class_<PyWorld>& c) {
                                                   make_filter(mask, terrain, planes, ignore, meshes)));
       },
       arg("origin"), arg("direction"), arg("radius"), arg("max_distance") = kInf, py::kw_only(),
-      arg("mask") = kAllCategories, arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(), arg("meshes") = true,
-      "The first hit of a sphere of this radius swept along the ray, or None.");
+      arg("mask") = kAllCategories, arg("terrain") = true, arg("planes") = true, arg("ignore") = py::none(),
+      arg("meshes") = true, "The first hit of a sphere of this radius swept along the ray, or None.");
   c.def(
       "overlap_sphere",
       [](Self self, const Vec3& centre, float radius, std::uint32_t mask, std::optional<SphereId> ignore) {

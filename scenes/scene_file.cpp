@@ -1182,8 +1182,8 @@ Scene parse_scene_json(const json& doc, const std::string& source_name, const Sc
       } catch (const FileError& e) {
         m.at("file").fail(e.what());
       }
-      meshes.push_back({std::move(*mesh), transform, unit_interval(m, "restitution", 0.5f),
-                        non_negative(m, "friction", 0.5f)});
+      meshes.push_back(
+          {std::move(*mesh), transform, unit_interval(m, "restitution", 0.5f), non_negative(m, "friction", 0.5f)});
     }
   }
 

@@ -240,7 +240,7 @@ TEST_CASE("shift_origin moves meshes by whole metres exactly, and the spheres on
   CHECK(world.position(id) == p - Vec3(4096, 0, -2048));
   for (int k = 0; k < 60; ++k) world.step(1.0f / 60);
   CHECK(world.position(id).y() == Approx(0.5f).margin(0.005f));  // still on the floor, at home
-  CHECK(world.position(id).x() > 1.0f);                         // and still rolling
+  CHECK(world.position(id).x() > 1.0f);                          // and still rolling
 }
 
 TEST_CASE("A sphere rolls across a floor of many triangles without a bump", "[mesh]") {

@@ -471,7 +471,8 @@ TEST_CASE("Every SIMD path's mesh contacts equal the scalar reference's, shell a
   const TriangleMesh sheet(v, idx);
   std::vector<Vec3> box_v;
   for (int k = 0; k < 8; ++k) box_v.emplace_back(k & 1 ? 20.0f : 4.0f, k & 2 ? 1.0f : -3.0f, k & 4 ? 20.0f : 4.0f);
-  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   std::vector<std::uint32_t> box_idx;
   for (const auto& q : quads) box_idx.insert(box_idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
   const TriangleMesh box(box_v, box_idx);
@@ -481,10 +482,21 @@ TEST_CASE("Every SIMD path's mesh contacts equal the scalar reference's, shell a
   SphereSoA s;
   for (int k = 0; k < 401; ++k) {
     const float r = 0.2f + 0.6f * u(rng);
-    s.add({.px = 24.0f * u(rng), .py = -2.5f + 4.0f * u(rng), .pz = 24.0f * u(rng),
-           .vx = 2.0f * u(rng), .vy = k % 23 == 0 ? -200.0f : -6.0f * u(rng), .vz = 0.0f,
-           .wx = 0.0f, .wy = 0.0f, .wz = 0.0f, .radius = r, .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
-           .inv_inertia = 1.0f, .restitution = 0.3f, .friction = 0.7f, .flags = 0});
+    s.add({.px = 24.0f * u(rng),
+           .py = -2.5f + 4.0f * u(rng),
+           .pz = 24.0f * u(rng),
+           .vx = 2.0f * u(rng),
+           .vy = k % 23 == 0 ? -200.0f : -6.0f * u(rng),
+           .vz = 0.0f,
+           .wx = 0.0f,
+           .wy = 0.0f,
+           .wz = 0.0f,
+           .radius = r,
+           .inv_mass = k % 31 == 0 ? 0.0f : 1.0f,
+           .inv_inertia = 1.0f,
+           .restitution = 0.3f,
+           .friction = 0.7f,
+           .flags = 0});
   }
   for (const TriangleMesh* mesh : {&sheet, &box}) {
     const MeshCollider collider = build_mesh_collider(*mesh, {}, 0.4f, 0.6f, 1000);

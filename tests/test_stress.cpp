@@ -93,6 +93,4 @@ TEST_CASE("Stress: bowl-pile 10k with rolling resistance is asleep within 15 s",
 TEST_CASE("Stress: spheres fired at 20-60 m/s at 1 mm mesh walls", "[stress][mesh]") {
   run_stress_case("meshes-thin-walls-60-m-s");
 }
-TEST_CASE("Stress: mixed radii rain through a mesh funnel", "[stress][mesh]") {
-  run_stress_case("meshes-funnel-rain");
-}
+TEST_CASE("Stress: mixed radii rain through a mesh funnel", "[stress][mesh]") { run_stress_case("meshes-funnel-rain"); }

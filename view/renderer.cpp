@@ -228,7 +228,8 @@ void Renderer::build_static_mesh(const Heightmap* terrain, std::span<const Plane
   plane_index_count_ = static_cast<GLsizei>(idx.size()) - terrain_index_count_;
   for (const TerrainTriangle& t : meshes) {  // flat shaded: each triangle its own corners
     const auto base = static_cast<unsigned>(v.size() / 6);
-    for (const Vec3& p : {t.a, t.b, t.c}) v.insert(v.end(), {p.x(), p.y(), p.z(), t.normal.x(), t.normal.y(), t.normal.z()});
+    for (const Vec3& p : {t.a, t.b, t.c})
+      v.insert(v.end(), {p.x(), p.y(), p.z(), t.normal.x(), t.normal.y(), t.normal.z()});
     idx.insert(idx.end(), {base, base + 1, base + 2});
   }
   mesh_index_count_ = static_cast<GLsizei>(idx.size()) - terrain_index_count_ - plane_index_count_;

@@ -46,8 +46,7 @@ class Renderer {
  private:
   void build_sphere_mesh(int subdivisions);
   void build_static_mesh(const Heightmap* terrain, std::span<const Plane> planes,
-                         std::span<const TerrainTriangle> meshes, const Eigen::Vector3f& centre,
-                         float extent);
+                         std::span<const TerrainTriangle> meshes, const Eigen::Vector3f& centre, float extent);
   void draw_lines(const LineList& lines);  // line program and uniforms set
 
   GLuint sphere_program_ = 0, mesh_program_ = 0;

@@ -303,9 +303,9 @@ ContinuousCollision::Event ContinuousCollision::earliest_event(const SphereSoA& 
       if (mesh.two_sided && n[0] * c[0] + n[1] * c[1] + n[2] * c[2] < double{tri.d[k]}) {
         for (int d = 0; d < 3; ++d) std::swap(b[d], cc[d]), n[d] = -n[d];
         // Reversed, edge 0 (a-b) is the old edge 2 (c-a), edge 1 (b-c) the old edge 1, edge 2 the old edge 0.
-        internal = static_cast<std::uint8_t>(((internal & kEdge2Internal) ? kEdge0Internal : 0) |
-                                             (internal & kEdge1Internal) |
-                                             ((internal & kEdge0Internal) ? kEdge2Internal : 0));
+        internal =
+            static_cast<std::uint8_t>(((internal & kEdge2Internal) ? kEdge0Internal : 0) | (internal & kEdge1Internal) |
+                                      ((internal & kEdge0Internal) ? kEdge2Internal : 0));
       }
       SweptHit hit;
       if (!swept_sphere_triangle(c, v, r, a, b, cc, n, internal, t_left, hit)) return -1.0f;

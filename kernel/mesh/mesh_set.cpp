@@ -78,8 +78,7 @@ bool MeshSet::push_out(float& x, float& y, float& z, float r, const float from[3
         // As a solid's face from the start's side, every edge a real edge: the move is out of
         // what the sphere overlaps, whatever the smooth surface around it.
         SphereTriangleContact st;
-        if (sphere_mesh_triangle_contact(centre, r, a, first, second, n, d, 0, false, 0.0f, st) &&
-            st.gap < deepest.gap)
+        if (sphere_mesh_triangle_contact(centre, r, a, first, second, n, d, 0, false, 0.0f, st) && st.gap < deepest.gap)
           deepest = st;
       });
     }

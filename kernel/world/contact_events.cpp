@@ -36,12 +36,15 @@ TouchEvent pair_event(const TouchKey& k) { return {.a = first_of(k), .b = second
 
 TouchEvent ground_event(const TouchKey& k) {
   const auto surface = static_cast<std::uint32_t>(k.key);
-  const ContactWith with = surface == kTerrainSurface  ? ContactWith::Terrain
+  const ContactWith with = surface == kTerrainSurface ? ContactWith::Terrain
                            : (surface & kMeshSurface) ? ContactWith::Mesh
                                                       : ContactWith::Plane;
+  const std::uint32_t index = with == ContactWith::Terrain ? 0u
+                              : with == ContactWith::Mesh  ? surface & ~kMeshSurface
+                                                           : surface - 1u;
   return {.a = {static_cast<std::uint32_t>(k.key >> 32), static_cast<std::uint32_t>(k.generations)},
           .with = with,
-          .surface = with == ContactWith::Terrain ? 0u : with == ContactWith::Mesh ? surface & ~kMeshSurface : surface - 1u};
+          .surface = index};
 }
 
 /// Whether a contact, after its substep's solve, counts as touching (the rule in the header).
@@ -141,7 +144,7 @@ void ContactEventTracker::add_hit(const SphereSoA& s, std::uint32_t a, std::uint
     r.kind = 1;
     r.key = ground_key(first, surface_code(feature)).key;
     const std::uint32_t surface = surface_code(feature);
-    r.event.with = (feature & kPlaneFeature) ? ContactWith::Plane
+    r.event.with = (feature & kPlaneFeature)  ? ContactWith::Plane
                    : (surface & kMeshSurface) ? ContactWith::Mesh
                                               : ContactWith::Terrain;
     r.event.surface = r.event.with == ContactWith::Mesh ? surface & ~kMeshSurface : feature & ~kPlaneFeature;

@@ -54,7 +54,7 @@ struct TouchKey {
 struct EventSurfaces {
   std::span<const Plane> planes;
   float terrain_restitution = 0.0f;
-  const MeshSet* meshes = nullptr;  ///< null: no meshes
+  const MeshSet* meshes = nullptr;     ///< null: no meshes
   float restitution_threshold = 0.0f;  ///< the substep's (World::substep), to undo an impact's impulse
 };
 

@@ -48,8 +48,8 @@ std::uint64_t snapshot::mesh_hash(const MeshCollider& mesh) {
   w.value(mesh.first_feature);
   std::uint64_t hash = snapshot::fnv1a(head);
   const TerrainTriangles& t = mesh.triangles;
-  for (const AlignedArray<float>* a : {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.nx,
-                                       &t.ny, &t.nz, &t.d})
+  for (const AlignedArray<float>* a :
+       {&t.v0x, &t.v0y, &t.v0z, &t.v1x, &t.v1y, &t.v1z, &t.v2x, &t.v2y, &t.v2z, &t.nx, &t.ny, &t.nz, &t.d})
     hash = snapshot::fnv1a(std::as_bytes(std::span<const float>(a->data(), a->size())), hash);
   hash = snapshot::fnv1a(std::as_bytes(std::span<const std::uint8_t>(t.internal_edges.data(), t.size())), hash);
   hash = snapshot::fnv1a(std::as_bytes(std::span<const FlatNode>(mesh.bvh.nodes)), hash);

@@ -34,6 +34,7 @@
 #include "jobs/sync_count.h"
 #include "kernel/broadphase/spatial_order.h"
 #include "kernel/broadphase/sphere_filters.h"
+#include "kernel/mesh/mesh_set.h"
 #include "kernel/solver/contact_impulse.h"
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/depenetrate.h"
@@ -44,7 +45,6 @@
 #include "kernel/solver/step_modes.h"
 #include "kernel/terrain/plane_contacts.h"
 #include "kernel/terrain/terrain_parts.h"
-#include "kernel/mesh/mesh_set.h"
 #include "kernel/world/sleep_islands.h"
 #include "kernel/world/step_heuristics.h"
 #include "kernel/world/step_scratch.h"
@@ -338,8 +338,8 @@ struct StepPipeline {
             beyond[c.a - first] = static_cast<std::uint8_t>(s.inv_mass[c.a] > 0.0f);
         for (std::size_t i = first; w.terrain && i < last; ++i)
           if (!beyond[i - first] && s.inv_mass[i] > 0.0f &&
-              s.py[i] < w.terrain->heightmap().surface_height(s.px[i], s.pz[i]) +
-                            (1.0f - kGuardSinkFraction) * s.radius[i] &&
+              s.py[i] <
+                  w.terrain->heightmap().surface_height(s.px[i], s.pz[i]) + (1.0f - kGuardSinkFraction) * s.radius[i] &&
               (!modes.filtering || meets_ground(s, i, modes.ground)))
             beyond[i - first] = 1;
       }
@@ -1356,12 +1356,12 @@ struct StepPipeline {
     {
       ScopedPhaseTimer timer(t.integrate);
       ScopedTraceRecord record(w.trace, Phase::Integrate);
-      // Speculative contacts are the terrain's and meshes' alone (planes' impacts are the integrator's). The
-      // shock pass leaves no trace of its impulses in the contacts, so with it no bounce can be
-      // told to be a sphere's only impulse. A step whose collision passes bounced nothing (a
-      // pile at rest) does not look.
-      const bool time_bounces = ran.solve && (w.terrain != nullptr || w.meshes != nullptr) && !modes.soft_step() && !shock &&
-                                w.stats.collision_passes > 0;
+      // Speculative contacts are the terrain's and the meshes' alone (planes' impacts are the
+      // integrator's). The shock pass leaves no trace of its impulses in the contacts, so with it
+      // no bounce can be told to be a sphere's only impulse. A step whose collision passes bounced
+      // nothing (a pile at rest) does not look.
+      const bool time_bounces = ran.solve && (w.terrain != nullptr || w.meshes != nullptr) && !modes.soft_step() &&
+                                !shock && w.stats.collision_passes > 0;
       if (time_bounces) st.bounce_timing.plan(st.contacts, w.spheres, params, st.ccd.moved());
       integrate();
       w.stats.timed_bounces = time_bounces ? st.bounce_timing.apply(st.contacts, w.spheres) : 0;
@@ -1474,9 +1474,9 @@ void World::substep(float scaled) {
        .restitution_threshold = std::max(settings_.restitution_threshold, 2.0f * settings_.gravity.norm() * scaled)}};
   arena_->execute([&] { pipeline.run(); });
   if (services_->events.on())
-    services_->events.collect_substep(spheres_, scratch_->contacts, scratch_->impacts,
-                                      {planes_, terrain_restitution_, has_meshes() ? meshes_.get() : nullptr,
-                                       pipeline.params.restitution_threshold});
+    services_->events.collect_substep(
+        spheres_, scratch_->contacts, scratch_->impacts,
+        {planes_, terrain_restitution_, has_meshes() ? meshes_.get() : nullptr, pipeline.params.restitution_threshold});
   if (trace_.enabled()) trace_.finish_step(steps_taken_);
   ++steps_taken_;
 }

@@ -229,7 +229,7 @@ void World::set_terrain(std::shared_ptr<const Terrain> terrain, float restitutio
 }
 
 std::size_t World::add_mesh(const TriangleMesh& mesh, const MeshTransform& transform, float restitution,
-                           float friction) {
+                            float friction) {
   require_material(restitution, friction, "mesh");
   if (!meshes_) meshes_ = std::make_unique<MeshSet>();
   const std::size_t index = meshes_->add(mesh, transform, restitution, friction);

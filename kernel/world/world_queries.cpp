@@ -6,10 +6,10 @@
 // same on any thread count.
 
 #include <algorithm>
-#include <utility>
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "hail/world.h"
 #include "jobs/parallel_blocks.h"
@@ -106,7 +106,8 @@ struct Corners {
   float a[3], b[3], c[3];
 };
 Corners corners(const TerrainTriangles& tri, std::uint32_t k) {
-  return {{tri.v0x[k], tri.v0y[k], tri.v0z[k]}, {tri.v1x[k], tri.v1y[k], tri.v1z[k]}, {tri.v2x[k], tri.v2y[k], tri.v2z[k]}};
+  return {
+      {tri.v0x[k], tri.v0y[k], tri.v0z[k]}, {tri.v1x[k], tri.v1y[k], tri.v1z[k]}, {tri.v2x[k], tri.v2y[k], tri.v2z[k]}};
 }
 
 /// Overlap results by handle index (unique among live spheres).
@@ -316,7 +317,12 @@ std::optional<QueryHit> World::sphere_cast(const Ray& ray, float radius, const Q
       SweptHit h;
       (void)sweep(hit.primitive, h);
       const Vec3 into(static_cast<float>(h.n[0]), static_cast<float>(h.n[1]), static_cast<float>(h.n[2]));
-      keep_if_before(best, {QueryHitKind::Mesh, {}, m, along(r, hit.t) + radius * into, -into, hit.t,
+      keep_if_before(best, {QueryHitKind::Mesh,
+                            {},
+                            m,
+                            along(r, hit.t) + radius * into,
+                            -into,
+                            hit.t,
                             mesh.first_feature + hit.primitive});
     }
   }
