@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hail/triangle_mesh.h"
+#include "scenes/mesh_shapes.h"
 #include "scenes/scenes.h"
 #include "scenes/steep_heightmaps.h"
 
@@ -676,17 +677,6 @@ StressResult small_under_big() {
   all.bounds.sphere_penetration = battery_solver == Solver::SoftStep ? -1.0 : 0.3;
   all.bounds.ground_penetration = battery_solver == Solver::SoftStep ? 0.16 : 0.08;
   return all;
-}
-
-/// An axis-aligned box from lo to hi, wound outwards: a closed mesh (a solid).
-TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
-  std::vector<Vec3> v;
-  for (int k = 0; k < 8; ++k) v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
-  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  std::vector<std::uint32_t> idx;
-  for (const auto& q : quads) idx.insert(idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-  return TriangleMesh(std::move(v), std::move(idx));
 }
 
 /// The meshes' stress scene (docs/meshes.md): a closed floor 60 m square, an open funnel (a

@@ -3,7 +3,6 @@
 // thin walls at 100 m/s, bounces at their time, events and determinism.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,10 +12,13 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "catch.h"
 #include "hail/errors.h"
 #include "hail/triangle_mesh.h"
 #include "hail/world.h"
+#include "scenes/mesh_shapes.h"
 
 using hail::ContactWith;
 using hail::MeshTransform;
@@ -26,6 +28,7 @@ using hail::TriangleMesh;
 using hail::Vec3;
 using hail::World;
 using hail::WorldSettings;
+using hail::bench::box_mesh;
 
 namespace {
 
@@ -35,9 +38,9 @@ namespace fs = std::filesystem;
 class TempFile {
  public:
   TempFile(const std::string& name, const std::string& content) {
+    // The process id and a serial number: unique among concurrent test processes, no clock read.
     static int serial = 0;
-    const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-    dir_ = fs::temp_directory_path() / ("hail-test-mesh-" + std::to_string(stamp) + "-" + std::to_string(serial++));
+    dir_ = fs::temp_directory_path() / ("hail-test-mesh-" + std::to_string(::getpid()) + "-" + std::to_string(serial++));
     fs::create_directories(dir_);
     path_ = (dir_ / name).string();
     std::ofstream(path_, std::ios::binary) << content;
@@ -62,18 +65,6 @@ std::string load_error(Load&& load) {
     return e.what();
   }
   return {};
-}
-
-/// An axis-aligned box from `lo` to `hi`, wound outwards: closed.
-TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
-  std::vector<Vec3> v;
-  for (int k = 0; k < 8; ++k) v.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
-  // Each face as a quad wound counter-clockwise seen from outside.
-  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  std::vector<std::uint32_t> idx;
-  for (const auto& q : quads) idx.insert(idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-  return TriangleMesh(std::move(v), std::move(idx));
 }
 
 /// A flat floor at y = 0 over [-half, half]^2 split into cells x cells quads of two triangles

@@ -25,6 +25,7 @@
 #include "kernel/solver/contact_solve_simd.h"
 #include "kernel/solver/integrate.h"
 #include "kernel/terrain/terrain_parts.h"
+#include "scenes/mesh_shapes.h"
 #include "scenes/solver_problems.h"
 #include "simd_paths.h"
 
@@ -469,13 +470,7 @@ TEST_CASE("Every SIMD path's mesh contacts equal the scalar reference's, shell a
       idx.insert(idx.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
     }
   const TriangleMesh sheet(v, idx);
-  std::vector<Vec3> box_v;
-  for (int k = 0; k < 8; ++k) box_v.emplace_back(k & 1 ? 20.0f : 4.0f, k & 2 ? 1.0f : -3.0f, k & 4 ? 20.0f : 4.0f);
-  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  std::vector<std::uint32_t> box_idx;
-  for (const auto& q : quads) box_idx.insert(box_idx.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-  const TriangleMesh box(box_v, box_idx);
+  const TriangleMesh box = hail::bench::box_mesh({4.0f, -3.0f, 4.0f}, {20.0f, 1.0f, 20.0f});
   REQUIRE(box.closed());
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
